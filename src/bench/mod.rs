@@ -1,0 +1,182 @@
+//! `hroc bench`: every method over the same camera path in one process,
+//! side by side per frame, checked against `noc` (DESIGN.md "Metrics").
+
+pub mod session;
+pub mod table;
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use crate::bvh::Split;
+use crate::error::Result;
+use crate::gpu::Gpu;
+pub use session::{Check, FrameResult, Session, Truth};
+
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    pub scene: String,
+    pub objects: Option<usize>,
+    pub methods: Vec<String>,
+    pub frames: usize,
+    pub resolution: (u32, u32),
+    pub split: Split,
+    pub camera_path: Option<PathBuf>,
+    pub progress: bool,
+}
+
+/// One row of the table. Later methods add fields; these names never change.
+#[derive(Clone, Debug, Serialize)]
+pub struct MethodRow {
+    pub method: String,
+    pub ms_mean: f64,
+    pub ms_p95: f64,
+    pub gpu_ms_mean: f64,
+    pub c_over_n: f64,
+    pub c_over_r: f64,
+    pub false_negatives: u64,
+    pub missing_pixels: u64,
+    /// Mean objects drawn per frame.
+    pub drawn_mean: f64,
+    /// Mean GPU ms per stage, in stage order.
+    pub stages_ms: BTreeMap<String, f64>,
+    /// Wall ms of every frame (warm-up frames included).
+    pub frame_ms: Vec<f64>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    pub scene: String,
+    pub objects: usize,
+    pub triangles: u64,
+    pub resolution: String,
+    pub adapter: String,
+    pub frames: usize,
+    /// Frames at the start left out of the timing statistics (not of the checks).
+    pub warmup_frames: usize,
+    pub split: String,
+    pub bvh_nodes: usize,
+    pub bvh_build_ms: f64,
+    pub rows: Vec<MethodRow>,
+}
+
+#[derive(Default)]
+struct Acc {
+    wall: Vec<f64>,
+    gpu: Vec<f64>,
+    stages: BTreeMap<String, f64>,
+    culled: u64,
+    drawn: u64,
+    fneg: u64,
+    missing: u64,
+}
+
+/// Like the paper (§5.1), the first frames pay for lazy initialisation and
+/// are left out of the timings; every frame is still checked.
+pub fn warmup_frames(frames: usize) -> usize {
+    if frames >= 20 {
+        4
+    } else {
+        0
+    }
+}
+
+pub fn run(gpu: &Gpu, o: &BenchOptions) -> Result<BenchReport> {
+    let mut s = Session::load(gpu, &o.scene, o.objects, o.camera_path.as_deref(), o.frames, o.resolution, o.split)?;
+    let mut cullers = o.methods.iter().filter(|m| *m != "noc").map(|m| s.create(m)).collect::<Result<Vec<_>>>()?;
+    let n = s.renderer.object_count as u64;
+    let frames = s.cameras.len();
+    let warm = warmup_frames(frames);
+    let bar = if o.progress { indicatif::ProgressBar::new(frames as u64) } else { indicatif::ProgressBar::hidden() };
+    bar.set_style(indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames, {elapsed} (eta {eta})").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
+    bar.set_message(format!("bench {}", s.scene.name));
+    let mut accs: BTreeMap<String, Acc> = BTreeMap::new();
+    let mut ref_culled = 0u64;
+    let mut record = |name: &str, k: usize, r: &FrameResult, c: Check| {
+        let a = accs.entry(name.to_string()).or_default();
+        a.wall.push(r.wall_ms);
+        if k >= warm {
+            a.gpu.push(r.gpu_ms());
+            for (st, ms) in &r.stages {
+                *a.stages.entry(st.to_string()).or_default() += ms;
+            }
+        }
+        a.culled += n - c.drawn as u64;
+        a.drawn += c.drawn as u64;
+        a.fneg += c.false_negatives as u64;
+        a.missing += c.missing_pixels as u64;
+    };
+    for k in 0..frames {
+        let (r, truth) = s.truth(k)?;
+        ref_culled += n - truth.visible.len() as u64;
+        if o.methods.iter().any(|m| m == "noc") {
+            let c = s.check(&r, &truth)?;
+            record("noc", k, &r, c);
+        }
+        for c in cullers.iter_mut() {
+            if c.wants_oracle() {
+                c.set_oracle(gpu, &truth.visible)?;
+            }
+            let r = s.run_frame(c.as_mut(), k)?;
+            let chk = s.check(&r, &truth)?;
+            record(c.name(), k, &r, chk);
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let rows = o
+        .methods
+        .iter()
+        .map(|m| {
+            let a = &accs[m.as_str()];
+            let timed = &a.wall[warm.min(a.wall.len().saturating_sub(1))..];
+            let timed_frames = a.gpu.len().max(1) as f64;
+            MethodRow {
+                method: m.clone(),
+                ms_mean: mean(timed),
+                ms_p95: percentile(timed, 0.95),
+                gpu_ms_mean: mean(&a.gpu),
+                c_over_n: a.culled as f64 / (n * frames as u64) as f64,
+                c_over_r: if ref_culled == 0 { if a.culled == 0 { 1.0 } else { f64::INFINITY } } else { a.culled as f64 / ref_culled as f64 },
+                false_negatives: a.fneg,
+                missing_pixels: a.missing,
+                drawn_mean: a.drawn as f64 / frames as f64,
+                stages_ms: a.stages.iter().map(|(k, v)| (k.clone(), v / timed_frames)).collect(),
+                frame_ms: a.wall.clone(),
+            }
+        })
+        .collect();
+    let st = s.scene.stats();
+    Ok(BenchReport {
+        scene: s.scene.name.clone(),
+        objects: st.objects,
+        triangles: st.triangles,
+        resolution: format!("{}x{}", o.resolution.0, o.resolution.1),
+        adapter: gpu.adapter_name(),
+        frames,
+        warmup_frames: warm,
+        split: o.split.to_string(),
+        bvh_nodes: s.bvh.nodes.len(),
+        bvh_build_ms: s.bvh.build_ms,
+        rows,
+    })
+}
+
+pub fn mean(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        0.0
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    }
+}
+
+/// Nearest-rank percentile.
+pub fn percentile(v: &[f64], p: f64) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let rank = ((p * s.len() as f64).ceil() as usize).clamp(1, s.len());
+    s[rank - 1]
+}

@@ -1,0 +1,67 @@
+//! Plain-text and Markdown tables of a bench report.
+
+use super::BenchReport;
+use std::fmt::Write;
+
+/// The table `hroc bench` prints: one row per method.
+pub fn render(r: &BenchReport, markdown: bool) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{}scene {} | {} objects | {} triangles | {} | {} frames ({} warm-up untimed) | BVH {} ({} nodes, {:.1} ms) | {}",
+        if markdown { "" } else { "# " },
+        r.scene,
+        r.objects,
+        r.triangles,
+        r.resolution,
+        r.frames,
+        r.warmup_frames,
+        r.split,
+        r.bvh_nodes,
+        r.bvh_build_ms,
+        r.adapter
+    );
+    let head = ["method", "ms/frame", "p95 ms", "GPU ms", "C/N", "C/R", "false neg", "missing px", "drawn/frame"];
+    let noc = r.rows.iter().find(|x| x.method == "noc").map(|x| x.ms_mean);
+    let mut rows: Vec<Vec<String>> = r
+        .rows
+        .iter()
+        .map(|x| {
+            vec![
+                x.method.clone(),
+                format!("{:.2}", x.ms_mean),
+                format!("{:.2}", x.ms_p95),
+                format!("{:.2}", x.gpu_ms_mean),
+                format!("{:.3}", x.c_over_n),
+                format!("{:.3}", x.c_over_r),
+                x.false_negatives.to_string(),
+                x.missing_pixels.to_string(),
+                format!("{:.0}", x.drawn_mean),
+            ]
+        })
+        .collect();
+    let mut head: Vec<String> = head.iter().map(|s| s.to_string()).collect();
+    if let Some(noc) = noc {
+        head.push("× noc".into());
+        for (row, x) in rows.iter_mut().zip(&r.rows) {
+            row.push(format!("{:.2}", x.ms_mean / noc));
+        }
+    }
+    let widths: Vec<usize> = (0..head.len()).map(|i| rows.iter().map(|r| r[i].len()).chain([head[i].len()]).max().unwrap_or(0)).collect();
+    let line = |cells: &[String]| {
+        let c: Vec<String> = cells.iter().zip(&widths).enumerate().map(|(i, (s, w))| if i == 0 { format!("{s:<w$}") } else { format!("{s:>w$}") }).collect();
+        if markdown {
+            format!("| {} |", c.join(" | "))
+        } else {
+            c.join("  ")
+        }
+    };
+    let _ = writeln!(out, "{}", line(&head));
+    if markdown {
+        let _ = writeln!(out, "|{}|", widths.iter().enumerate().map(|(i, w)| if i == 0 { format!(":{}", "-".repeat(w + 1)) } else { format!("{}:", "-".repeat(w + 1)) }).collect::<Vec<_>>().join("|"));
+    }
+    for row in &rows {
+        let _ = writeln!(out, "{}", line(row));
+    }
+    out
+}

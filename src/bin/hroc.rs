@@ -1,0 +1,235 @@
+//! `hroc`: benchmark, render and inspect occlusion culling methods.
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use hroc::bench::{self, BenchOptions, Session};
+use hroc::bvh::{Bvh, Split};
+use hroc::cull;
+use hroc::gpu::Gpu;
+use hroc::render::views::{self, View};
+use hroc::{Error, Result};
+
+/// The default bench: sized to finish in about a minute on a 2-core CPU with lavapipe.
+const DEFAULT_SCENE: &str = "radial-city";
+const DEFAULT_METHODS: &str = "noc,vfc,ref";
+
+#[derive(Parser)]
+#[command(name = "hroc", version, about = "GPU occlusion culling of massive scenes: benchmark, render, inspect")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Option<Cmd>,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Runs methods side by side over one camera path; one row per method.
+    Bench(BenchArgs),
+    /// Renders one frame of a method to a PNG.
+    Render(RenderArgs),
+    /// Scene statistics and BVH build times.
+    Scene {
+        #[command(subcommand)]
+        cmd: SceneCmd,
+    },
+    /// Lists the methods.
+    Methods,
+}
+
+#[derive(clap::Args)]
+struct SceneArgs {
+    /// Built-in scene key or a .gltf/.glb/.obj path.
+    #[arg(long, default_value = DEFAULT_SCENE)]
+    scene: String,
+    /// Object count of a generated scene (its default when omitted).
+    #[arg(long)]
+    objects: Option<usize>,
+    /// Frames sampled uniformly over the camera path.
+    #[arg(long, default_value_t = 60)]
+    frames: usize,
+    #[arg(long, default_value = "640x360", value_parser = parse_resolution)]
+    resolution: (u32, u32),
+    #[arg(long, value_enum, default_value_t = Split::Sah)]
+    split: Split,
+    /// JSON camera path file (keys of t, eye, target, up, fov_y_deg).
+    #[arg(long)]
+    camera_path: Option<PathBuf>,
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    #[command(flatten)]
+    s: SceneArgs,
+    /// Comma-separated methods, or `all`.
+    #[arg(long, default_value = DEFAULT_METHODS)]
+    methods: String,
+    /// Writes the report as JSON.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Prints the table as Markdown.
+    #[arg(long)]
+    markdown: bool,
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    #[command(flatten)]
+    s: SceneArgs,
+    #[arg(long, default_value = "noc")]
+    method: String,
+    /// Frame of the path to render (earlier frames run first: methods use temporal coherence).
+    #[arg(long, default_value_t = 0)]
+    frame: usize,
+    #[arg(long)]
+    out: PathBuf,
+    #[arg(long, value_enum, default_value_t = View::Color)]
+    view: View,
+}
+
+#[derive(Subcommand)]
+enum SceneCmd {
+    /// Objects, triangles, vertices, BVH nodes, depth and build ms per split.
+    Info {
+        /// Built-in scene key or a .gltf/.glb/.obj path.
+        scene: String,
+        #[arg(long)]
+        objects: Option<usize>,
+    },
+    /// Lists the built-in scenes.
+    List,
+}
+
+fn parse_resolution(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("resolution '{s}' is not WxH"))?;
+    let w: u32 = w.parse().map_err(|_| format!("bad width in '{s}'"))?;
+    let h: u32 = h.parse().map_err(|_| format!("bad height in '{s}'"))?;
+    if w == 0 || h == 0 {
+        return Err(format!("resolution '{s}' has a zero side"));
+    }
+    Ok((w, h))
+}
+
+fn main() -> ExitCode {
+    // The Vulkan loader warns on every start without it (DESIGN.md).
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        let dir = std::env::temp_dir().join("hroc-xdg");
+        if std::fs::create_dir_all(&dir).is_ok() {
+            std::env::set_var("XDG_RUNTIME_DIR", dir);
+        }
+    }
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    // No subcommand: the default bench.
+    let cmd = match cli.cmd {
+        Some(c) => c,
+        None => Cli::parse_from(["hroc", "bench"]).cmd.ok_or_else(|| Error::Arg("no command".into()))?,
+    };
+    match cmd {
+        Cmd::Bench(a) => bench_cmd(a),
+        Cmd::Render(a) => render_cmd(a),
+        Cmd::Scene { cmd: SceneCmd::Info { scene, objects } } => scene_info(&scene, objects),
+        Cmd::Scene { cmd: SceneCmd::List } => {
+            for g in hroc::scene::generators::keys() {
+                println!("{g}");
+            }
+            Ok(())
+        }
+        Cmd::Methods => {
+            for (name, what) in cull::METHODS {
+                println!("{name:<8} {what}");
+            }
+            Ok(())
+        }
+    }
+}
+
+fn check_frames(frames: usize) -> Result<()> {
+    if frames == 0 {
+        return Err(Error::Arg("--frames must be at least 1".into()));
+    }
+    Ok(())
+}
+
+fn bench_cmd(a: BenchArgs) -> Result<()> {
+    check_frames(a.s.frames)?;
+    let methods = cull::parse_methods(&a.methods)?;
+    // Load and check the inputs before touching the GPU: bad files fail fast.
+    let opts = BenchOptions {
+        scene: a.s.scene,
+        objects: a.s.objects,
+        methods,
+        frames: a.s.frames,
+        resolution: a.s.resolution,
+        split: a.s.split,
+        camera_path: a.s.camera_path,
+        progress: true,
+    };
+    let gpu = Gpu::new()?;
+    let report = bench::run(&gpu, &opts)?;
+    print!("{}", bench::table::render(&report, a.markdown));
+    if let Some(path) = a.json {
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Arg(e.to_string()))?;
+        std::fs::write(&path, text).map_err(|e| Error::Io { path, source: e })?;
+    }
+    Ok(())
+}
+
+fn render_cmd(a: RenderArgs) -> Result<()> {
+    check_frames(a.s.frames)?;
+    let methods = cull::parse_methods(&a.method)?;
+    let [method] = methods.as_slice() else {
+        return Err(Error::Arg("render takes one method".into()));
+    };
+    if a.frame >= a.s.frames {
+        return Err(Error::Arg(format!("--frame {} is past the last frame ({} frames)", a.frame, a.s.frames)));
+    }
+    let gpu = Gpu::new()?;
+    let s = &a.s;
+    let mut session = Session::load(&gpu, &s.scene, s.objects, s.camera_path.as_deref(), s.frames, s.resolution, s.split)?;
+    let mut culler = session.create(method)?;
+    let mut last = None;
+    for k in 0..=a.frame {
+        if culler.wants_oracle() {
+            let (_, truth) = session.truth(k)?;
+            culler.set_oracle(&gpu, &truth.visible)?;
+        }
+        last = Some(session.run_frame(culler.as_mut(), k)?);
+    }
+    let lists = last.map(|r| r.lists).unwrap_or_default();
+    let px = views::capture(&gpu, &session.renderer, a.view, &lists)?;
+    views::save_png(&a.out, s.resolution.0, s.resolution.1, &px)?;
+    eprintln!("wrote {}", a.out.display());
+    Ok(())
+}
+
+fn scene_info(spec: &str, objects: Option<usize>) -> Result<()> {
+    let t = std::time::Instant::now();
+    let scene = hroc::scene::load(spec, objects, 0)?;
+    let load_ms = t.elapsed().as_secs_f64() * 1e3;
+    let st = scene.stats();
+    println!("scene      {}", scene.name);
+    println!("objects    {}", st.objects);
+    println!("meshes     {}", st.meshes);
+    println!("triangles  {} ({} stored)", st.triangles, st.unique_triangles);
+    println!("vertices   {}", st.vertices);
+    let b = scene.bounds();
+    println!("bounds     {:?} .. {:?}", b.min.to_array(), b.max.to_array());
+    println!("load ms    {load_ms:.1}");
+    let boxes: Vec<_> = scene.objects.iter().map(|o| o.bounds).collect();
+    println!("{:<6} {:>10} {:>6} {:>10} {:>10}", "split", "BVH nodes", "depth", "build ms", "SAH cost");
+    for split in [Split::Sah, Split::Mid, Split::Eq] {
+        let bvh = Bvh::build(&boxes, split);
+        println!("{:<6} {:>10} {:>6} {:>10.1} {:>10.1}", split.to_string(), bvh.nodes.len(), bvh.depth(), bvh.build_ms, bvh.sah_cost());
+    }
+    Ok(())
+}

@@ -1,0 +1,52 @@
+//! `ref`: the ideal culler. Per frame it draws exactly the objects that own
+//! a pixel in `noc`'s ID target; like the paper's REF the list is prepared
+//! before the frame (outside the timed region) and multi-drawn in one batch.
+
+use super::{Culler, Frame, SceneContext};
+use crate::error::Result;
+use crate::gpu::Gpu;
+use crate::render::{layout::DrawCommand, DrawList};
+
+pub struct Reference {
+    all: Vec<DrawCommand>,
+    list: DrawList,
+}
+
+impl Reference {
+    pub fn new(cx: &SceneContext) -> Self {
+        let n = cx.renderer.object_count;
+        use wgpu::BufferUsages as U;
+        let all = cx.gpu.read(&cx.renderer.commands, 0, n as u64).unwrap_or_default();
+        Reference {
+            all,
+            list: DrawList {
+                commands: cx.gpu.buffer("ref commands", n as u64 * 20, U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
+                count: cx.gpu.buffer("ref count", 4, U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
+                max_count: n,
+            },
+        }
+    }
+}
+
+impl Culler for Reference {
+    fn name(&self) -> &str {
+        "ref"
+    }
+    fn wants_oracle(&self) -> bool {
+        true
+    }
+    fn set_oracle(&mut self, gpu: &Gpu, visible: &[u32]) -> Result<()> {
+        let packed: Vec<DrawCommand> = visible.iter().map(|&o| self.all[o as usize]).collect();
+        if !packed.is_empty() {
+            gpu.queue.write_buffer(&self.list.commands, 0, bytemuck::cast_slice(&packed));
+        }
+        gpu.queue.write_buffer(&self.list.count, 0, bytemuck::bytes_of(&(packed.len() as u32)));
+        gpu.queue.submit([]);
+        gpu.wait()
+    }
+    fn frame(&mut self, f: &mut Frame) -> Result<()> {
+        f.stage("draw");
+        f.draw(&self.list, None);
+        Ok(())
+    }
+}

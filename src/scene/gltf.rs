@@ -1,0 +1,464 @@
+//! glTF 2.0 loader (`.gltf` and `.glb`).
+//!
+//! The node hierarchy of the default scene is flattened into one object per
+//! mesh-primitive instance; a (mesh, primitive) pair used by several nodes
+//! becomes one shared [`Mesh`] (instancing).
+//!
+//! Files are untrusted input. The loader resolves buffers itself (only `data:`
+//! URIs and relative paths inside the asset's folder), parses GLB containers
+//! itself, and checks every accessor against its buffer view and buffer before
+//! the `gltf` crate's reader touches it: that reader indexes and asserts on
+//! out-of-range data. Nothing here may panic on a bad file.
+
+use glam::{Mat4, Quat, Vec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::json::validation::Checked;
+use gltf::mesh::Mode;
+use std::collections::HashMap;
+use std::path::{Component, Path, PathBuf};
+
+use super::{CameraPath, Mesh, Scene};
+use crate::error::{Error, Result};
+
+/// Colour of primitives without a material.
+const DEFAULT_COLOR: [f32; 3] = [0.8, 0.8, 0.8];
+
+/// Elements an accessor without a buffer view (all zeros, then sparse
+/// substitutions) may have: such accessors cost memory that the file's size
+/// does not bound.
+const MAX_ZERO_FILLED: usize = 1 << 24;
+
+pub fn load(path: &Path) -> Result<Scene> {
+    let bytes = std::fs::read(path).map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => Error::NotFound(path.to_path_buf()),
+        _ => Error::Io { path: path.to_path_buf(), source: e },
+    })?;
+    let bad = |msg: String| Error::Malformed { format: "glTF", path: path.to_path_buf(), msg };
+
+    let (json, blob) = if bytes.starts_with(b"glTF") { split_glb(&bytes).map_err(bad)? } else { (&bytes[..], None) };
+    let root: gltf::json::Root = gltf::json::deserialize::from_slice(json).map_err(|e| bad(format!("invalid JSON: {e}")))?;
+    check_position_indices(&root).map_err(bad)?;
+    let doc = gltf::Document::from_json(root).map_err(|e| bad(describe_gltf_error(&e)))?;
+
+    let base = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    };
+    check_uris(&doc, base, path)?;
+    let buffers = read_buffers(&doc, base, blob, path)?;
+
+    // The explicit checks above and in `read_primitive` come first; this only
+    // turns a reader panic we failed to foresee into an error.
+    let scene = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| build_scene(&doc, &buffers, path)))
+        .unwrap_or_else(|_| Err(bad("internal error while reading accessors (the file is inconsistent)".into())))?;
+    Ok(scene)
+}
+
+fn build_scene(doc: &gltf::Document, buffers: &[Vec<u8>], path: &Path) -> Result<Scene> {
+    let bad = |msg: String| Error::Malformed { format: "glTF", path: path.to_path_buf(), msg };
+    let name = path.file_stem().map_or_else(|| "glTF".to_string(), |s| s.to_string_lossy().into_owned());
+    let mut scene = Scene { name, ..Default::default() };
+
+    let nodes: Vec<gltf::Node> = doc.nodes().collect();
+    let roots: Vec<usize> = match doc.default_scene().or_else(|| doc.scenes().next()) {
+        Some(s) => s.nodes().map(|n| n.index()).collect(),
+        // No scene at all: a library of nodes; show every root node.
+        None => {
+            let mut is_child = vec![false; nodes.len()];
+            nodes.iter().flat_map(|n| n.children()).for_each(|c| is_child[c.index()] = true);
+            (0..nodes.len()).filter(|&i| !is_child[i]).collect()
+        }
+    };
+
+    // (mesh, primitive) -> index into scene.meshes, or None when skipped.
+    let mut mesh_of: HashMap<(usize, usize), Option<u32>> = HashMap::new();
+    let mut visited = vec![false; nodes.len()];
+    // Iterative depth-first walk: deep hierarchies must not overflow the stack.
+    let mut stack: Vec<(usize, Mat4)> = roots.iter().rev().map(|&r| (r, Mat4::IDENTITY)).collect();
+    while let Some((ni, parent)) = stack.pop() {
+        // A node reached twice means a cycle or shared subtree, both invalid;
+        // following it could loop forever or blow up exponentially.
+        if std::mem::replace(&mut visited[ni], true) {
+            return Err(bad(format!("node {ni} is reached twice (a cycle, or a node with two parents)")));
+        }
+        let node = &nodes[ni];
+        let world = parent * local_transform(node).map_err(|m| bad(format!("node {ni}{}: {m}", node_name(node))))?;
+        if !world.is_finite() {
+            return Err(bad(format!("node {ni}{}: non-finite world transform", node_name(node))));
+        }
+        if let Some(mesh) = node.mesh() {
+            for prim in mesh.primitives() {
+                let key = (mesh.index(), prim.index());
+                let mi = match mesh_of.get(&key) {
+                    Some(&mi) => mi,
+                    None => {
+                        let mi = match read_primitive(&mesh, &prim, buffers).map_err(bad)? {
+                            Some(m) => {
+                                scene.meshes.push(m);
+                                Some(scene.meshes.len() as u32 - 1)
+                            }
+                            None => None,
+                        };
+                        mesh_of.insert(key, mi);
+                        mi
+                    }
+                };
+                if let Some(mi) = mi {
+                    scene.push_object(mi, world, primitive_color(&prim));
+                }
+            }
+        }
+        for c in node.children().collect::<Vec<_>>().into_iter().rev() {
+            stack.push((c.index(), world));
+        }
+    }
+
+    scene.validate()?;
+    scene.path = CameraPath::orbit(&scene.bounds());
+    Ok(scene)
+}
+
+fn node_name(node: &gltf::Node) -> String {
+    node.name().map_or_else(String::new, |n| format!(" ('{n}')"))
+}
+
+/// The node's local matrix; quaternions are renormalised (exporters often
+/// write slightly non-unit ones), non-finite values are an error.
+fn local_transform(node: &gltf::Node) -> std::result::Result<Mat4, String> {
+    let m = match node.transform() {
+        gltf::scene::Transform::Matrix { matrix } => Mat4::from_cols_array_2d(&matrix),
+        gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
+            let q = Quat::from_array(rotation);
+            if !q.is_finite() || q.length() < 1e-6 {
+                return Err(format!("invalid rotation quaternion {rotation:?}"));
+            }
+            Mat4::from_scale_rotation_translation(Vec3::from(scale), q.normalize(), Vec3::from(translation))
+        }
+    };
+    if m.is_finite() {
+        Ok(m)
+    } else {
+        Err("non-finite transform (matrix, translation, rotation or scale)".into())
+    }
+}
+
+fn primitive_color(prim: &gltf::Primitive) -> [f32; 3] {
+    let material = prim.material();
+    if material.index().is_none() {
+        return DEFAULT_COLOR;
+    }
+    let [r, g, b, _] = material.pbr_metallic_roughness().base_color_factor();
+    let c = [r, g, b];
+    if c.iter().all(|v| v.is_finite()) {
+        c.map(|v| v.clamp(0.0, 1.0))
+    } else {
+        DEFAULT_COLOR
+    }
+}
+
+/// Reads one primitive as a triangle list; `None` for points and lines and
+/// for primitives without triangles.
+fn read_primitive(mesh: &gltf::Mesh, prim: &gltf::Primitive, buffers: &[Vec<u8>]) -> std::result::Result<Option<Mesh>, String> {
+    let what = format!("mesh {} primitive {}", mesh.index(), prim.index());
+    let mode = prim.mode();
+    if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
+        return Ok(None);
+    }
+    let Some(pos_acc) = prim.get(&gltf::Semantic::Positions) else {
+        return Err(format!("{what}: no POSITION attribute"));
+    };
+    check_type(&pos_acc, "POSITION", Dimensions::Vec3, &[DataType::F32])?;
+    check_accessor(&pos_acc)?;
+    let normal_acc = prim.get(&gltf::Semantic::Normals);
+    if let Some(acc) = &normal_acc {
+        check_type(acc, "NORMAL", Dimensions::Vec3, &[DataType::F32])?;
+        check_accessor(acc)?;
+        if acc.count() != pos_acc.count() {
+            return Err(format!("{what}: {} normals for {} positions", acc.count(), pos_acc.count()));
+        }
+    }
+    if let Some(acc) = prim.indices() {
+        check_type(&acc, "indices", Dimensions::Scalar, &[DataType::U8, DataType::U16, DataType::U32])?;
+        check_accessor(&acc)?;
+    }
+
+    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
+    let short = || format!("{what}: accessor data is shorter than its count");
+    let positions: Vec<[f32; 3]> = reader.read_positions().ok_or_else(short)?.collect();
+    if positions.len() != pos_acc.count() {
+        return Err(short());
+    }
+    let normals = match reader.read_normals() {
+        Some(it) => {
+            let n: Vec<[f32; 3]> = it.collect();
+            if n.len() != positions.len() {
+                return Err(short());
+            }
+            unit_normals(n)
+        }
+        None => None,
+    };
+    let vertices: Vec<u32> = match reader.read_indices() {
+        Some(it) => it.into_u32().collect(),
+        None if prim.indices().is_some() => return Err(short()),
+        None => (0..positions.len() as u32).collect(),
+    };
+
+    let indices = match mode {
+        Mode::Triangles if vertices.len() % 3 != 0 => {
+            return Err(format!("{what}: {} indices is not a multiple of 3", vertices.len()));
+        }
+        Mode::Triangles => vertices,
+        // Alternate winding so every strip triangle faces the same way (spec 3.7.2.1).
+        Mode::TriangleStrip => (0..vertices.len().saturating_sub(2))
+            .flat_map(|i| if i % 2 == 0 { [vertices[i], vertices[i + 1], vertices[i + 2]] } else { [vertices[i], vertices[i + 2], vertices[i + 1]] })
+            .collect(),
+        _ => (1..vertices.len().saturating_sub(1)).flat_map(|i| [vertices[i], vertices[i + 1], vertices[0]]).collect(),
+    };
+    if indices.is_empty() {
+        return Ok(None);
+    }
+    let name = match (mesh.name(), mesh.primitives().len()) {
+        (Some(n), 1) => n.to_string(),
+        (Some(n), _) => format!("{n}[{}]", prim.index()),
+        (None, _) => format!("mesh{}[{}]", mesh.index(), prim.index()),
+    };
+    Ok(Some(Mesh::new(name, positions, normals, indices)))
+}
+
+/// File normals normalised, or `None` (compute them) when any is degenerate.
+pub(super) fn unit_normals(normals: Vec<[f32; 3]>) -> Option<Vec<[f32; 3]>> {
+    normals.into_iter().map(|n| Vec3::from(n).try_normalize().map(|v| v.to_array())).collect()
+}
+
+/// The reader decodes with the Rust type the attribute is supposed to have,
+/// so any other accessor type would make it misread or panic.
+fn check_type(acc: &gltf::Accessor, semantic: &str, dims: Dimensions, types: &[DataType]) -> std::result::Result<(), String> {
+    if acc.dimensions() != dims || !types.contains(&acc.data_type()) {
+        return Err(format!(
+            "accessor {}: {semantic} must be {dims:?} of {types:?}, found {:?} of {:?}",
+            acc.index(),
+            acc.dimensions(),
+            acc.data_type()
+        ));
+    }
+    Ok(())
+}
+
+/// Checks that every byte the reader will touch lies inside the accessor's
+/// buffer views, and those inside their buffers (sparse parts included).
+fn check_accessor(acc: &gltf::Accessor) -> std::result::Result<(), String> {
+    let (ai, count, elem) = (acc.index(), acc.count(), acc.size());
+    if count == 0 {
+        return Err(format!("accessor {ai}: count is 0"));
+    }
+    match acc.view() {
+        Some(view) => check_span(&format!("accessor {ai}"), &view, acc.offset(), count, elem)?,
+        None if count > MAX_ZERO_FILLED => {
+            return Err(format!("accessor {ai}: {count} elements without a buffer view (at most {MAX_ZERO_FILLED})"));
+        }
+        None => {}
+    }
+    if let Some(sparse) = acc.sparse() {
+        let n = sparse.count();
+        if n == 0 || n > count {
+            return Err(format!("accessor {ai}: sparse count {n} outside 1..={count}"));
+        }
+        let (indices, values) = (sparse.indices(), sparse.values());
+        check_span(&format!("accessor {ai} sparse indices"), &indices.view(), indices.offset(), n, indices.index_type().size())?;
+        check_span(&format!("accessor {ai} sparse values"), &values.view(), values.offset(), n, elem)?;
+    }
+    Ok(())
+}
+
+fn check_span(what: &str, view: &gltf::buffer::View, offset: usize, count: usize, elem: usize) -> std::result::Result<(), String> {
+    let (vi, buffer) = (view.index(), view.buffer());
+    let view_end = view.offset().checked_add(view.length());
+    if view_end.is_none_or(|end| end > buffer.length()) {
+        return Err(format!(
+            "buffer view {vi}: {} bytes at offset {} exceed buffer {} ({} bytes)",
+            view.length(),
+            view.offset(),
+            buffer.index(),
+            buffer.length()
+        ));
+    }
+    let stride = view.stride().unwrap_or(elem);
+    if stride < elem {
+        return Err(format!("{what}: buffer view {vi} stride {stride} is smaller than the {elem}-byte element"));
+    }
+    let end = stride.checked_mul(count - 1).and_then(|s| s.checked_add(elem)).and_then(|s| s.checked_add(offset));
+    if end.is_none_or(|end| end > view.length()) {
+        return Err(format!(
+            "{what}: {count} elements of {elem} bytes at offset {offset} exceed buffer view {vi} ({} bytes)",
+            view.length()
+        ));
+    }
+    Ok(())
+}
+
+/// `gltf`'s validation indexes the POSITION accessor without a bounds check;
+/// reject an out-of-range one before validating.
+fn check_position_indices(root: &gltf::json::Root) -> std::result::Result<(), String> {
+    let key = Checked::Valid(gltf::json::mesh::Semantic::Positions);
+    for (mi, mesh) in root.meshes.iter().enumerate() {
+        for (pi, prim) in mesh.primitives.iter().enumerate() {
+            if let Some(a) = prim.attributes.get(&key) {
+                if a.value() >= root.accessors.len() {
+                    return Err(format!("mesh {mi} primitive {pi}: POSITION accessor {} does not exist ({} accessors)", a.value(), root.accessors.len()));
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+fn describe_gltf_error(e: &gltf::Error) -> String {
+    match e {
+        gltf::Error::Validation(errors) => {
+            let shown: Vec<String> = errors.iter().take(3).map(|(p, e)| format!("{p}: {e}")).collect();
+            let more = if errors.len() > 3 { format!(" (and {} more)", errors.len() - 3) } else { String::new() };
+            format!("invalid glTF: {}{more}", shown.join("; "))
+        }
+        e => e.to_string(),
+    }
+}
+
+/// Splits a GLB container into its JSON chunk and optional BIN chunk.
+fn split_glb(bytes: &[u8]) -> std::result::Result<(&[u8], Option<Vec<u8>>), String> {
+    let (Some(version), Some(length)) = (u32_at(bytes, 4), u32_at(bytes, 8)) else {
+        return Err(format!("truncated GLB: {} bytes, the header alone needs 12", bytes.len()));
+    };
+    if version != 2 {
+        return Err(format!("unsupported GLB version {version} (expected 2)"));
+    }
+    if length < 12 {
+        return Err(format!("invalid GLB header: total length {length} is below 12"));
+    }
+    if length > bytes.len() {
+        return Err(format!("truncated GLB: header says {length} bytes, file has {}", bytes.len()));
+    }
+    let mut rest = &bytes[12..length];
+    let (json, ty) = take_chunk(&mut rest)?.ok_or("GLB has no JSON chunk")?;
+    if &ty != b"JSON" {
+        return Err(format!("GLB: first chunk is {:?}, expected \"JSON\"", String::from_utf8_lossy(&ty)));
+    }
+    // Chunks of unknown type are to be ignored (GLB spec); BIN is the first after JSON.
+    let bin = match take_chunk(&mut rest)? {
+        Some((d, ty)) if &ty == b"BIN\0" => Some(d.to_vec()),
+        _ => None,
+    };
+    Ok((json, bin))
+}
+
+fn u32_at(b: &[u8], at: usize) -> Option<usize> {
+    let s = b.get(at..at + 4)?;
+    Some(u32::from_le_bytes([s[0], s[1], s[2], s[3]]) as usize)
+}
+
+/// Takes the next chunk (data, type) off `rest`; `None` at the end.
+fn take_chunk<'a>(rest: &mut &'a [u8]) -> std::result::Result<Option<(&'a [u8], [u8; 4])>, String> {
+    if rest.is_empty() {
+        return Ok(None);
+    }
+    let (Some(len), Some(ty)) = (u32_at(rest, 0), rest.get(4..8)) else {
+        return Err("truncated GLB: incomplete chunk header".into());
+    };
+    let ty = [ty[0], ty[1], ty[2], ty[3]];
+    let Some(data) = rest.get(8..8 + len) else {
+        return Err(format!("truncated GLB: chunk of {len} bytes, only {} left", rest.len() - 8));
+    };
+    *rest = &rest[8 + len..];
+    Ok(Some((data, ty)))
+}
+
+/// Rejects buffer and image URIs that could reach outside the asset's folder,
+/// before any file is opened.
+fn check_uris(doc: &gltf::Document, base: &Path, path: &Path) -> Result<()> {
+    let buffer_uris = doc.buffers().filter_map(|b| match b.source() {
+        gltf::buffer::Source::Uri(u) => Some(u),
+        gltf::buffer::Source::Bin => None,
+    });
+    let image_uris = doc.images().filter_map(|i| match i.source() {
+        gltf::image::Source::Uri { uri, .. } => Some(uri),
+        gltf::image::Source::View { .. } => None,
+    });
+    for uri in buffer_uris.chain(image_uris) {
+        resolve_uri(uri, base, path)?;
+    }
+    Ok(())
+}
+
+/// `None` for a `data:` URI, else the file a relative URI names inside `base`.
+fn resolve_uri(uri: &str, base: &Path, path: &Path) -> Result<Option<PathBuf>> {
+    if uri.starts_with("data:") {
+        return Ok(None);
+    }
+    let unsafe_uri = || Error::UnsafeUri { uri: uri.to_string(), path: path.to_path_buf() };
+    let decoded = percent_decode(uri).ok_or_else(|| Error::Malformed {
+        format: "glTF",
+        path: path.to_path_buf(),
+        msg: format!("URI '{uri}' has invalid percent-encoding"),
+    })?;
+    // Any ':' is a scheme (http:, file:) or a drive letter; both are refused.
+    // Both slash kinds separate components so that `..\` is caught everywhere.
+    let normal = !decoded.is_empty()
+        && !decoded.contains([':', '\0'])
+        && !decoded.starts_with(['/', '\\'])
+        && decoded.split(['/', '\\']).all(|c| c != "..")
+        && Path::new(&decoded).components().all(|c| matches!(c, Component::Normal(_) | Component::CurDir));
+    if !normal {
+        return Err(unsafe_uri());
+    }
+    Ok(Some(base.join(decoded)))
+}
+
+fn percent_decode(s: &str) -> Option<String> {
+    let b = s.as_bytes();
+    let mut out = Vec::with_capacity(b.len());
+    let mut i = 0;
+    while i < b.len() {
+        if b[i] == b'%' {
+            let hex = std::str::from_utf8(b.get(i + 1..i + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            i += 3;
+        } else {
+            out.push(b[i]);
+            i += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+fn read_buffers(doc: &gltf::Document, base: &Path, mut blob: Option<Vec<u8>>, path: &Path) -> Result<Vec<Vec<u8>>> {
+    let bad = |msg: String| Error::Malformed { format: "glTF", path: path.to_path_buf(), msg };
+    let mut out = Vec::new();
+    for buffer in doc.buffers() {
+        let bi = buffer.index();
+        let data = match buffer.source() {
+            gltf::buffer::Source::Bin => blob.take().ok_or_else(|| bad(format!("buffer {bi} has no URI and there is no (unused) GLB BIN chunk")))?,
+            gltf::buffer::Source::Uri(uri) => match resolve_uri(uri, base, path)? {
+                None => gltf::buffer::Data::from_source(buffer.source(), None).map_err(|e| bad(format!("buffer {bi}: bad data URI: {e}")))?.0,
+                Some(file) => read_external(&file, base, uri, path)?,
+            },
+        };
+        if data.len() < buffer.length() {
+            return Err(bad(format!("buffer {bi}: {} bytes of data, byteLength says {}", data.len(), buffer.length())));
+        }
+        out.push(data);
+    }
+    Ok(out)
+}
+
+/// Reads a buffer file, refusing symlinks that lead outside the asset's folder.
+fn read_external(file: &Path, base: &Path, uri: &str, path: &Path) -> Result<Vec<u8>> {
+    let io = |e: std::io::Error| match e.kind() {
+        std::io::ErrorKind::NotFound => Error::NotFound(file.to_path_buf()),
+        _ => Error::Io { path: file.to_path_buf(), source: e },
+    };
+    let (real, real_base) = (file.canonicalize().map_err(io)?, base.canonicalize().map_err(io)?);
+    if !real.starts_with(&real_base) {
+        return Err(Error::UnsafeUri { uri: uri.to_string(), path: path.to_path_buf() });
+    }
+    std::fs::read(&real).map_err(io)
+}
