@@ -59,6 +59,7 @@ pub fn random_boxes(n: usize, seed: u64, dist: &str) -> Vec<Aabb> {
         .collect()
 }
 
+#[allow(dead_code)]
 fn main() {
     let args = Args::parse();
     let boxes = random_boxes(args.objects, args.seed, &args.dist);

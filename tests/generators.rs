@@ -40,12 +40,17 @@ fn load_uses_generators() {
     assert_eq!(s.name, "teapots");
 }
 
+/// The path is well formed, spans 10 s and (for scenes with some
+/// structure, not just a handful of objects) stays inside or near the scene.
 fn check_path(key: &str, s: &Scene) {
     let p = &s.path;
     p.validate().unwrap_or_else(|e| panic!("{key}: path {e}"));
     assert!(p.keys.len() >= 11, "{key}: {} keys", p.keys.len());
     assert_eq!(p.keys[0].t, 0.0, "{key}");
     assert!((p.duration() - 10.0).abs() < 1e-3, "{key}: duration {}", p.duration());
+    if s.objects.len() < 100 {
+        return;
+    }
     let b = s.bounds();
     let margin = b.extent() * 0.05 + Vec3::splat(1.0);
     let grown = Aabb::new(b.min - margin, b.max + margin);
@@ -116,11 +121,12 @@ fn deterministic_per_seed() {
         let a = gen(k, 1500, 42);
         let b = gen(k, 1500, 42);
         let c = gen(k, 1500, 43);
-        assert_eq!(boxes(&a), boxes(&b), "{k}: same seed differs");
-        assert_eq!(a.path, b.path, "{k}");
+        assert!(boxes(&a) == boxes(&b), "{k}: same seed, different objects");
+        assert!(a.path == b.path, "{k}: same seed, different path");
         let colors = |s: &Scene| s.objects.iter().map(|o| o.color).collect::<Vec<_>>();
-        assert_eq!(colors(&a), colors(&b), "{k}");
-        assert_ne!(boxes(&a), boxes(&c), "{k}: seed ignored");
+        assert!(colors(&a) == colors(&b), "{k}: same seed, different colours");
+        assert!(boxes(&a) != boxes(&c), "{k}: seed ignored");
+        assert!(a.path != c.path, "{k}: seed ignored by the path");
     }
 }
 
@@ -128,9 +134,9 @@ fn deterministic_per_seed() {
 fn radial_city_fast_shares_the_scene() {
     let a = gen("radial-city", 3000, 9);
     let b = gen("radial-city-fast", 3000, 9);
-    assert_eq!(boxes(&a), boxes(&b));
+    assert!(boxes(&a) == boxes(&b), "RC' must draw RC's objects");
     assert_eq!(a.meshes.len(), b.meshes.len());
-    assert_ne!(a.path, b.path);
+    assert!(a.path != b.path, "RC' needs its own path");
     // RC' turns faster: compare total yaw change over the path.
     let turn = |s: &Scene| {
         let dirs: Vec<Vec3> = (0..=200)

@@ -11,6 +11,7 @@ use std::path::PathBuf;
 use crate::bvh::Split;
 use crate::error::Result;
 use crate::gpu::Gpu;
+use crate::scene::{CameraPath, Scene};
 pub use session::{Check, FrameResult, Session, Truth};
 
 #[derive(Clone, Debug)]
@@ -81,8 +82,20 @@ pub fn warmup_frames(frames: usize) -> usize {
     }
 }
 
+/// Loads the scene and camera path the options name (no GPU needed).
+pub fn load_inputs(o: &BenchOptions) -> Result<(Scene, Option<CameraPath>)> {
+    let scene = crate::scene::load(&o.scene, o.objects, 0)?;
+    let path = o.camera_path.as_deref().map(CameraPath::from_file).transpose()?;
+    Ok((scene, path))
+}
+
 pub fn run(gpu: &Gpu, o: &BenchOptions) -> Result<BenchReport> {
-    let mut s = Session::load(gpu, &o.scene, o.objects, o.camera_path.as_deref(), o.frames, o.resolution, o.split)?;
+    let (scene, path) = load_inputs(o)?;
+    run_scene(gpu, o, scene, path)
+}
+
+pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraPath>) -> Result<BenchReport> {
+    let mut s = Session::new(gpu, scene, path, o.frames, o.resolution, o.split)?;
     let mut cullers = o.methods.iter().filter(|m| *m != "noc").map(|m| s.create(m)).collect::<Result<Vec<_>>>()?;
     let n = s.renderer.object_count as u64;
     let frames = s.cameras.len();

@@ -174,8 +174,9 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         camera_path: a.s.camera_path,
         progress: true,
     };
+    let (scene, path) = bench::load_inputs(&opts)?;
     let gpu = Gpu::new()?;
-    let report = bench::run(&gpu, &opts)?;
+    let report = bench::run_scene(&gpu, &opts, scene, path)?;
     print!("{}", bench::table::render(&report, a.markdown));
     if let Some(path) = a.json {
         let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Arg(e.to_string()))?;
@@ -193,9 +194,11 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     if a.frame >= a.s.frames {
         return Err(Error::Arg(format!("--frame {} is past the last frame ({} frames)", a.frame, a.s.frames)));
     }
-    let gpu = Gpu::new()?;
     let s = &a.s;
-    let mut session = Session::load(&gpu, &s.scene, s.objects, s.camera_path.as_deref(), s.frames, s.resolution, s.split)?;
+    let scene = hroc::scene::load(&s.scene, s.objects, 0)?;
+    let path = s.camera_path.as_deref().map(hroc::scene::CameraPath::from_file).transpose()?;
+    let gpu = Gpu::new()?;
+    let mut session = Session::new(&gpu, scene, path, s.frames, s.resolution, s.split)?;
     let mut culler = session.create(method)?;
     let mut last = None;
     for k in 0..=a.frame {

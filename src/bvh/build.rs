@@ -6,23 +6,26 @@
 //! in parallel (`rayon::join`) into disjoint slices. No temporary tree, no
 //! flattening pass.
 //!
-//! Robustness: every split puts at least one object on each side (any
+//! Robustness: every split puts at least one object on each side (a
 //! heuristic that would not falls back to an equal-count split), so the
-//! recursion ends for all inputs, NaN included. Cost comparisons use
-//! `<` and `total_cmp`, which never panic on NaN; a NaN cost simply loses.
+//! recursion ends for all inputs, NaN included. Cost comparisons use `<` and
+//! sorts use total orders, so NaN never panics; a NaN cost simply loses.
 
-use glam::{Vec3A, Vec4};
+use glam::{BVec3A, UVec3, Vec3A, Vec4};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
 use super::{BvhNode, Split, LEAF_BIT, NO_PARENT};
 use crate::scene::Aabb;
 
-/// Bins of the binned SAH (Wald 2007); 32 keeps its cost within ~1% of a
-/// full sweep on the nodes it is used for.
+/// Bins of the binned SAH (Wald 2007) on large nodes.
 const BINS: usize = 32;
-/// Nodes this small get an exact sweep SAH over sorted centroids: binning
-/// costs O(bins) per node, which dominates near the leaves.
+/// Nodes below this many objects use BINS / 2 bins: each node pays
+/// O(bins) to evaluate them, and near the leaves that dominates.
+const FULL_BINS_MIN: usize = 256;
+/// SAH subtrees this small are built by an exact sweep over presorted
+/// centroids: exact splits where most of the tree's nodes are, without the
+/// per-node cost of bins.
 const SWEEP_MAX: usize = 32;
 /// Keeps the index lane of [`Prim`] a normal float (exponent >= 128).
 const INDEX_TAG: u32 = 0x4000_0000;
@@ -43,14 +46,18 @@ struct Prim {
 }
 
 impl Prim {
+    const ZERO: Prim = Prim { lo: Vec4::ZERO, hi: Vec4::ZERO };
+    fn new(b: &Aabb, object: u32) -> Prim {
+        Prim { lo: b.min.extend(f32::from_bits(object | INDEX_TAG)), hi: b.max.extend(0.0) }
+    }
     fn min(&self) -> Vec3A {
         Vec3A::from_vec4(self.lo)
     }
     fn max(&self) -> Vec3A {
         Vec3A::from_vec4(self.hi)
     }
-    fn new(b: &Aabb, object: u32) -> Prim {
-        Prim { lo: b.min.extend(f32::from_bits(object | INDEX_TAG)), hi: b.max.extend(0.0) }
+    fn bounds(&self) -> Bounds {
+        Bounds { min: self.min(), max: self.max() }
     }
     fn object(&self) -> u32 {
         self.lo.w.to_bits() & !INDEX_TAG
@@ -73,16 +80,11 @@ struct Bounds {
 
 impl Bounds {
     const EMPTY: Bounds = Bounds { min: Vec3A::splat(f32::INFINITY), max: Vec3A::splat(f32::NEG_INFINITY) };
-    fn grow(&mut self, min: Vec3A, max: Vec3A) {
-        self.min = self.min.min(min);
-        self.max = self.max.max(max);
+    fn point(c: Vec3A) -> Bounds {
+        Bounds { min: c, max: c }
     }
-    fn grow_prim(&mut self, p: &Prim) {
-        self.grow(p.min(), p.max());
-    }
-    fn union(mut self, o: Bounds) -> Bounds {
-        self.grow(o.min, o.max);
-        self
+    fn union(self, o: Bounds) -> Bounds {
+        Bounds { min: self.min.min(o.min), max: self.max.max(o.max) }
     }
     fn extent(&self) -> Vec3A {
         (self.max - self.min).max(Vec3A::ZERO)
@@ -92,18 +94,6 @@ impl Bounds {
     fn half_area(&self, s: f32) -> f32 {
         let e = (self.max * s - self.min * s).max(Vec3A::ZERO);
         e.x * e.y + e.y * e.z + e.z * e.x
-    }
-}
-
-fn centroid_bounds(prims: &[Prim]) -> Bounds {
-    let f = |b: Bounds, p: &Prim| {
-        let c = p.centroid();
-        Bounds { min: b.min.min(c), max: b.max.max(c) }
-    };
-    if prims.len() >= PAR_BIN_MIN {
-        prims.par_chunks(4096).map(|ch| ch.iter().fold(Bounds::EMPTY, f)).reduce(|| Bounds::EMPTY, Bounds::union)
-    } else {
-        prims.iter().fold(Bounds::EMPTY, f)
     }
 }
 
@@ -117,34 +107,59 @@ fn area_scale(b: &Bounds) -> f32 {
     }
 }
 
+fn centroid_bounds(prims: &[Prim]) -> Bounds {
+    let f = |b: Bounds, p: &Prim| b.union(Bounds::point(p.centroid()));
+    if prims.len() >= PAR_BIN_MIN {
+        prims.par_chunks(4096).map(|ch| ch.iter().fold(Bounds::EMPTY, f)).reduce(|| Bounds::EMPTY, Bounds::union)
+    } else {
+        prims.iter().fold(Bounds::EMPTY, f)
+    }
+}
+
 pub(super) fn build(boxes: &[Aabb], split: Split) -> (Vec<BvhNode>, Vec<u32>) {
     let n = boxes.len();
     if n == 0 {
         return (Vec::new(), Vec::new());
     }
     assert!(n <= (LEAF_BIT / 2) as usize, "BVH holds at most 2^30 objects");
-    let mut prims: Vec<Prim> = boxes
-        .par_iter()
-        .enumerate()
-        .with_min_len(4096)
-        .map(|(i, b)| Prim::new(b, i as u32))
-        .collect();
+    let mut prims: Vec<Prim> = boxes.par_iter().enumerate().with_min_len(4096).map(|(i, b)| Prim::new(b, i as u32)).collect();
+    // Out-of-place partitions ping-pong between `prims` and `scratch`.
+    let mut scratch = vec![Prim::ZERO; if split == Split::Eq { 0 } else { n }];
     let mut nodes = vec![BvhNode { min: [0.0; 3], child: 0, max: [0.0; 3], parent: 0 }; 2 * n - 1];
-    let leaf_of = Builder { split, leaf_of: (0..n).map(|_| AtomicU32::new(u32::MAX)).collect() };
+    let builder = Builder { split, leaf_of: (0..n).map(|_| AtomicU32::new(u32::MAX)).collect() };
     let (root, rest) = nodes.split_first_mut().expect("n >= 1");
-    *root = if n == 1 {
-        leaf_of.leaf(&prims[0], 0, NO_PARENT)
-    } else {
-        let cb = centroid_bounds(&prims);
-        let b = leaf_of.subtree(&mut prims, cb, rest, 1, 0);
-        node(&b, 1, NO_PARENT)
-    };
-    let leaf_of_object = leaf_of.leaf_of.into_iter().map(AtomicU32::into_inner).collect();
+    builder.child(Work { prims: &mut prims, scratch: &mut scratch }, None, root, rest, 1, 0, NO_PARENT);
+    let leaf_of_object = builder.leaf_of.into_iter().map(AtomicU32::into_inner).collect();
     (nodes, leaf_of_object)
 }
 
 fn node(b: &Bounds, child: u32, parent: u32) -> BvhNode {
     BvhNode { min: b.min.to_array(), child, max: b.max.to_array(), parent }
+}
+
+/// A node's objects and an equally long scratch area (empty for EQ, which
+/// partitions in place).
+struct Work<'a> {
+    prims: &'a mut [Prim],
+    scratch: &'a mut [Prim],
+}
+
+impl<'a> Work<'a> {
+    /// Splits at `nl`; `moved` says the objects now live in `scratch`.
+    fn split_at(self, nl: usize, moved: bool) -> (Work<'a>, Work<'a>) {
+        let (prims, scratch) = if moved { (self.scratch, self.prims) } else { (self.prims, self.scratch) };
+        let (lp, rp) = prims.split_at_mut(nl);
+        let (ls, rs) = scratch.split_at_mut(nl.min(scratch.len()));
+        (Work { prims: lp, scratch: ls }, Work { prims: rp, scratch: rs })
+    }
+}
+
+/// A chosen split: left count, whether the objects moved to scratch, and
+/// the children's centroid bounds when they came for free.
+struct Cut {
+    nl: usize,
+    moved: bool,
+    cbs: Option<(Bounds, Bounds)>,
 }
 
 struct Builder {
@@ -161,53 +176,69 @@ impl Builder {
         BvhNode { min: p.lo.truncate().to_array(), child: LEAF_BIT | o, max: p.hi.truncate().to_array(), parent }
     }
 
-    /// Builds the descendants of node `me` (which holds `prims`, n >= 2) into
-    /// `out` (2n - 2 nodes, global index `base` = the children's pair) and
-    /// returns the bounds of `prims`. Depth-first pair allocation: the left
-    /// child's subtree follows the pair, then the right child's.
-    fn subtree(&self, prims: &mut [Prim], cb: Bounds, out: &mut [BvhNode], base: u32, me: u32) -> Bounds {
-        let n = prims.len();
+    /// Node `me` (child of `parent`) holding `w.prims`: writes it to `slot`
+    /// and its descendants to `out` (2n - 2 nodes, the first at global index
+    /// `base`), and returns its bounds. Pairs are allocated depth first: the
+    /// children's pair, then the left subtree, then the right.
+    ///
+    /// Nodes are stored in place, never returned: a returned node is written
+    /// in pieces and reloaded whole, and the failed store forwarding cost
+    /// ~25% of the sweep builder's time.
+    #[allow(clippy::too_many_arguments)]
+    fn child(&self, w: Work, cb: Option<Bounds>, slot: &mut BvhNode, out: &mut [BvhNode], base: u32, me: u32, parent: u32) -> Bounds {
+        let n = w.prims.len();
+        if n == 1 {
+            let p = &w.prims[0];
+            *slot = self.leaf(p, me, parent);
+            return p.bounds();
+        }
+        let b = if self.split == Split::Sah && n <= SWEEP_MAX {
+            self.sweep_subtree(w.prims, out, base, me)
+        } else {
+            let cb = cb.unwrap_or_else(|| centroid_bounds(w.prims));
+            self.subtree(w, cb, out, base, me)
+        };
+        *slot = node(&b, base, parent);
+        b
+    }
+
+    fn subtree(&self, mut w: Work, cb: Bounds, out: &mut [BvhNode], base: u32, me: u32) -> Bounds {
+        let n = w.prims.len();
         debug_assert!(n >= 2 && out.len() == 2 * n - 2);
-        let (nl, child_cb) = self.split(prims, &cb);
+        let cut = self.split(&mut w, &cb);
+        let nl = cut.nl;
         debug_assert!(nl >= 1 && nl < n);
-        let (lp, rp) = prims.split_at_mut(nl);
-        let (pair, desc) = out.split_at_mut(2);
+        let (lw, rw) = w.split_at(nl, cut.moved);
+        let ([ls, rs], desc) = out.split_first_chunk_mut::<2>().expect("n >= 2");
         let (ld, rd) = desc.split_at_mut(2 * nl - 2);
-        let (lcb, rcb) = child_cb.map_or((None, None), |(l, r)| (Some(l), Some(r)));
+        let (lcb, rcb) = cut.cbs.map_or((None, None), |(l, r)| (Some(l), Some(r)));
         let (lbase, rbase) = (base + 2, base + 2 * nl as u32);
-        let mut left = move || self.child(lp, lcb, ld, lbase, base, me);
-        let mut right = move || self.child(rp, rcb, rd, rbase, base + 1, me);
-        let ((lb, ln), (rb, rn)) = if n >= PAR_MIN { rayon::join(left, right) } else { (left(), right()) };
-        pair[0] = ln;
-        pair[1] = rn;
+        let left = move || self.child(lw, lcb, ls, ld, lbase, base, me);
+        let right = move || self.child(rw, rcb, rs, rd, rbase, base + 1, me);
+        let (lb, rb) = if n >= PAR_MIN { rayon::join(left, right) } else { (left(), right()) };
         lb.union(rb)
     }
 
-    /// Node `me` (child of `parent`) holding `prims`; returns its bounds and node.
-    fn child(&self, prims: &mut [Prim], cb: Option<Bounds>, out: &mut [BvhNode], base: u32, me: u32, parent: u32) -> (Bounds, BvhNode) {
-        if let [p] = prims {
-            let b = Bounds { min: p.min(), max: p.max() };
-            return (b, self.leaf(p, me, parent));
-        }
-        let cb = cb.unwrap_or_else(|| centroid_bounds(prims));
-        let b = self.subtree(prims, cb, out, base, me);
-        (b, node(&b, base, parent))
-    }
-
-    /// Reorders `prims` and returns the left count (1..n) and, when known for
-    /// free, the children's centroid bounds.
-    fn split(&self, prims: &mut [Prim], cb: &Bounds) -> (usize, Option<(Bounds, Bounds)>) {
-        let n = prims.len();
+    fn split(&self, w: &mut Work, cb: &Bounds) -> Cut {
+        let n = w.prims.len();
         if n == 2 {
-            return (1, None);
+            return Cut { nl: 1, moved: false, cbs: None };
         }
         let found = match self.split {
-            Split::Sah if n <= SWEEP_MAX => sweep_sah(prims).map(|nl| (nl, None)),
-            Split::Sah => binned_sah(prims, cb),
-            Split::Mid => middle(prims, cb),
+            Split::Sah => binned_sah(w, cb),
+            Split::Mid => middle(w, cb),
             Split::Eq => None,
         };
-        found.filter(|&(nl, _)| nl > 0 && nl < n).unwrap_or_else(|| (equal_counts(prims, cb), None))
+        match found {
+            Some(cut) if cut.nl > 0 && cut.nl < n => cut,
+            // Both heuristics only cut where bins/centroids say both sides
+            // are non-empty, so this is for inputs like NaN.
+            Some(Cut { moved, .. }) => {
+                let prims = if moved { &mut *w.scratch } else { &mut *w.prims };
+                Cut { nl: equal_counts(prims, cb), moved, cbs: None }
+            }
+            None => Cut { nl: equal_counts(w.prims, cb), moved: false, cbs: None },
+        }
     }
 }
 
@@ -224,53 +255,43 @@ fn equal_counts(prims: &mut [Prim], cb: &Bounds) -> usize {
     mid
 }
 
-/// Hoare partition; evaluates `left` exactly once per element, which lets
-/// the predicate accumulate per-side data.
-fn partition(prims: &mut [Prim], mut left: impl FnMut(&Prim) -> bool) -> usize {
-    // prims[..i] go left, prims[j..] go right, [i, j) is unexamined.
-    let (mut i, mut j) = (0, prims.len());
-    loop {
-        while i < j && left(&prims[i]) {
-            i += 1;
-        }
-        if i == j {
-            return i;
-        }
-        // prims[i] goes right; look for a left one from the end.
-        j -= 1;
-        while i < j && !left(&prims[j]) {
-            j -= 1;
-        }
-        if i == j {
-            return i;
-        }
-        prims.swap(i, j);
-        i += 1;
-    }
-}
-
-/// Partition that also returns both sides' centroid bounds.
-fn partition_cb(prims: &mut [Prim], left: impl Fn(Vec3A) -> bool) -> (usize, Option<(Bounds, Bounds)>) {
+/// Branch-free out-of-place partition of `w.prims` into `w.scratch`: lefts
+/// from the front, rights from the back. Every object is stored to both
+/// ends and one cursor advances, which costs two stores instead of a ~50%
+/// mispredicted branch (random boxes split unpredictably). Also returns the
+/// centroid bounds of both sides.
+fn partition(w: &mut Work, left: impl Fn(Vec3A) -> bool) -> Cut {
+    let n = w.prims.len();
+    let dst = &mut w.scratch[..n];
+    let (mut l, mut r) = (0usize, n);
     let (mut lb, mut rb) = (Bounds::EMPTY, Bounds::EMPTY);
-    let nl = partition(prims, |p| {
+    let inf = Vec3A::INFINITY;
+    for p in w.prims.iter() {
         let c = p.centroid();
-        let l = left(c);
-        let b = if l { &mut lb } else { &mut rb };
-        b.grow(c, c);
-        l
-    });
-    (nl, Some((lb, rb)))
+        let go = left(c);
+        // l < r holds until the last object, where l == r - 1.
+        dst[l] = *p;
+        dst[r - 1] = *p;
+        l += go as usize;
+        r -= !go as usize;
+        let m = BVec3A::splat(go);
+        lb.min = lb.min.min(Vec3A::select(m, c, inf));
+        lb.max = lb.max.max(Vec3A::select(m, c, -inf));
+        rb.min = rb.min.min(Vec3A::select(m, inf, c));
+        rb.max = rb.max.max(Vec3A::select(m, -inf, c));
+    }
+    Cut { nl: l, moved: true, cbs: Some((lb, rb)) }
 }
 
 /// MID: spatial middle of the centroid bounds on the longest axis.
-fn middle(prims: &mut [Prim], cb: &Bounds) -> Option<(usize, Option<(Bounds, Bounds)>)> {
+fn middle(w: &mut Work, cb: &Bounds) -> Option<Cut> {
     let e = cb.max - cb.min;
     if !(e.max_element() > 0.0) {
         return None;
     }
     let axis = e.max_position();
     let mid = cb.min[axis] * 0.5 + cb.max[axis] * 0.5;
-    Some(partition_cb(prims, |c| c[axis] < mid))
+    Some(partition(w, |c| c[axis] < mid))
 }
 
 #[derive(Clone, Copy)]
@@ -282,26 +303,27 @@ struct Bin {
 type Bins = [[Bin; BINS]; 3];
 const EMPTY_BINS: Bins = [[Bin { b: Bounds::EMPTY, n: 0 }; BINS]; 3];
 
-/// Maps centroids to bins on all three axes; a zero scale (flat axis)
-/// sends everything to bin 0. NaN maps to 0 too (`as` saturates).
+/// Maps centroids to `count` bins on all three axes; a zero scale (flat
+/// axis) sends everything to bin 0, and so does NaN (`as` saturates).
 #[derive(Clone, Copy)]
 struct Binner {
     min: Vec3A,
     scale: Vec3A,
+    count: usize,
 }
 
 impl Binner {
-    fn index(&self, c: Vec3A) -> glam::UVec3 {
-        ((c - self.min) * self.scale).as_uvec3().min(glam::UVec3::splat(BINS as u32 - 1))
+    fn index(&self, c: Vec3A) -> UVec3 {
+        ((c - self.min) * self.scale).as_uvec3().min(UVec3::splat(self.count as u32 - 1))
     }
     fn bin(&self, prims: &[Prim]) -> Bins {
         let mut bins = EMPTY_BINS;
         for p in prims {
             let k = self.index(p.centroid());
-            let (min, max) = (p.min(), p.max());
-            for a in 0..3 {
-                let bin = &mut bins[a][k[a] as usize];
-                bin.b.grow(min, max);
+            let b = p.bounds();
+            for (a, bins) in bins.iter_mut().enumerate() {
+                let bin = &mut bins[k[a] as usize];
+                bin.b = bin.b.union(b);
                 bin.n += 1;
             }
         }
@@ -317,39 +339,44 @@ fn merge_bins(mut a: Bins, b: Bins) -> Bins {
     a
 }
 
-/// Binned SAH over all three axes (cost = A_L·N_L + A_R·N_R; one object per
+/// Binned SAH over all three axes (cost = A_L·N_L + A_R·N_R: one object per
 /// leaf, so no leaf-cost termination). Returns None when no plane separates
 /// the objects (coincident centroids, NaN).
-fn binned_sah(prims: &mut [Prim], cb: &Bounds) -> Option<(usize, Option<(Bounds, Bounds)>)> {
+fn binned_sah(w: &mut Work, cb: &Bounds) -> Option<Cut> {
+    let n = w.prims.len();
+    let count = if n >= FULL_BINS_MIN { BINS } else { BINS / 2 };
     let e = cb.max - cb.min;
-    // Slightly under BINS so the largest centroid still lands in the last bin.
-    let scale = Vec3A::select(e.cmpgt(Vec3A::ZERO), Vec3A::splat(BINS as f32 * 0.9999) / e, Vec3A::ZERO);
+    // Slightly under `count` so the largest centroid lands in the last bin.
+    let scale = Vec3A::select(e.cmpgt(Vec3A::ZERO), Vec3A::splat(count as f32 * 0.9999) / e, Vec3A::ZERO);
     let scale = Vec3A::select(scale.is_finite_mask(), scale, Vec3A::ZERO);
     if scale.cmpeq(Vec3A::ZERO).all() {
         return None;
     }
-    let binner = Binner { min: cb.min, scale };
-    let bins = if prims.len() >= PAR_BIN_MIN {
-        prims.par_chunks(8192).map(|ch| binner.bin(ch)).reduce(|| EMPTY_BINS, merge_bins)
+    let binner = Binner { min: cb.min, scale, count };
+    let bins = if n >= PAR_BIN_MIN {
+        w.prims.par_chunks(8192).map(|ch| binner.bin(ch)).reduce(|| EMPTY_BINS, merge_bins)
     } else {
-        binner.bin(prims)
+        binner.bin(w.prims)
     };
-    let node = bins[0].iter().fold(Bounds::EMPTY, |b, x| b.union(x.b));
+    let node = bins[0][..count].iter().fold(Bounds::EMPTY, |b, x| b.union(x.b));
     let s = area_scale(&node);
     let mut best = (f32::INFINITY, 0usize, 0usize); // cost, axis, first right bin
     for (a, bins) in bins.iter().enumerate() {
         if scale[a] == 0.0 {
             continue;
         }
-        let mut right = [0f32; BINS];
+        let bins = &bins[..count];
+        let mut right = [f32::NAN; BINS];
         let (mut acc, mut cnt) = (Bounds::EMPTY, 0u32);
-        for i in (1..BINS).rev() {
+        for i in (1..count).rev() {
             acc = acc.union(bins[i].b);
             cnt += bins[i].n;
-            right[i] = if cnt > 0 { acc.half_area(s) * cnt as f32 } else { f32::NAN };
+            if cnt > 0 {
+                right[i] = acc.half_area(s) * cnt as f32;
+            }
         }
         let (mut acc, mut cnt) = (Bounds::EMPTY, 0u32);
-        for i in 1..BINS {
+        for i in 1..count {
             acc = acc.union(bins[i - 1].b);
             cnt += bins[i - 1].n;
             // NaN (empty right side) and empty left sides never win.
@@ -363,44 +390,137 @@ fn binned_sah(prims: &mut [Prim], cb: &Bounds) -> Option<(usize, Option<(Bounds,
         return None;
     }
     let (_, axis, split) = best;
-    Some(partition_cb(prims, |c| {
-        (((c[axis] - binner.min[axis]) * binner.scale[axis]) as u32).min(BINS as u32 - 1) < split as u32
-    }))
+    let (min, scale, last) = (binner.min[axis], binner.scale[axis], count as u32 - 1);
+    // Same arithmetic as `Binner::index`, so the sides match the bin counts.
+    Some(partition(w, |c| (((c[axis] - min) * scale) as u32).min(last) < split as u32))
 }
 
-/// Exact SAH for small nodes: sort by centroid on each axis and sweep every
-/// split position. Both sides are non-empty by construction.
-fn sweep_sah(prims: &mut [Prim]) -> Option<usize> {
-    let n = prims.len();
-    let node = prims.iter().fold(Bounds::EMPTY, |mut b, p| {
-        b.grow_prim(p);
-        b
-    });
-    let s = area_scale(&node);
-    let mut right = [0f32; SWEEP_MAX];
-    let mut best = (f32::INFINITY, usize::MAX, 0usize);
-    for axis in 0..3 {
-        prims.sort_unstable_by(|a, b| a.c(axis).total_cmp(&b.c(axis)));
-        let mut acc = Bounds::EMPTY;
-        for i in (1..n).rev() {
-            acc.grow_prim(&prims[i]);
-            right[i] = acc.half_area(s) * (n - i) as f32;
+/// Total order of f32 as u32 (same as `f32::total_cmp`), for integer sorts.
+fn sort_key(f: f32) -> u32 {
+    let b = f.to_bits();
+    if b & 0x8000_0000 != 0 {
+        !b
+    } else {
+        b | 0x8000_0000
+    }
+}
+
+/// State of an exact sweep-SAH build of <= SWEEP_MAX objects: centroids are
+/// sorted once per axis and each split stably partitions the three orders
+/// (the O(n log n) scheme of Wald & Havran 2006, in miniature), so no node
+/// sorts again. Objects are referred to by local u8 index.
+struct Sweep<'a> {
+    prims: &'a [Prim],
+    bounds: [Bounds; SWEEP_MAX],
+    order: [[u8; SWEEP_MAX]; 3],
+    scale: f32,
+}
+
+impl<'a> Sweep<'a> {
+    fn new(prims: &'a [Prim]) -> Self {
+        let n = prims.len();
+        debug_assert!(n <= SWEEP_MAX);
+        let mut bounds = [Bounds::EMPTY; SWEEP_MAX];
+        let mut all = Bounds::EMPTY;
+        for (b, p) in bounds.iter_mut().zip(prims) {
+            *b = p.bounds();
+            all = all.union(*b);
         }
-        let mut acc = Bounds::EMPTY;
-        for i in 1..n {
-            acc.grow_prim(&prims[i - 1]);
-            let cost = acc.half_area(s) * i as f32 + right[i];
-            if cost < best.0 {
-                best = (cost, axis, i);
+        let mut order = [[0u8; SWEEP_MAX]; 3];
+        for (a, ord) in order.iter_mut().enumerate() {
+            let mut keys = [0u64; SWEEP_MAX];
+            for (i, (k, p)) in keys.iter_mut().zip(prims).enumerate() {
+                *k = (sort_key(p.c(a)) as u64) << 8 | i as u64;
+            }
+            keys[..n].sort_unstable();
+            for (o, k) in ord.iter_mut().zip(&keys[..n]) {
+                *o = *k as u8;
             }
         }
+        // One scale for the whole small subtree: its nodes are at most 32
+        // objects apart in size, far from f32's range limits.
+        Sweep { prims, bounds, order, scale: area_scale(&all) }
     }
-    let (_, axis, i) = best;
-    if axis == usize::MAX {
-        return None;
+
+    /// Splits the objects at `order[*][lo..hi]` (n >= 2) at the cheapest
+    /// position on any axis; returns the split position, lo < k < hi.
+    fn split(&mut self, lo: usize, hi: usize) -> usize {
+        let n = hi - lo;
+        if n == 2 {
+            return lo + 1;
+        }
+        let s = self.scale;
+        let b = &self.bounds;
+        let ord = &self.order;
+        // The three axes advance in lockstep: independent dependency chains.
+        let mut right = [[0f32; 3]; SWEEP_MAX];
+        let mut acc = [Bounds::EMPTY; 3];
+        for i in (lo + 1..hi).rev() {
+            for a in 0..3 {
+                acc[a] = acc[a].union(b[ord[a][i] as usize]);
+                right[i][a] = acc[a].half_area(s) * (hi - i) as f32;
+            }
+        }
+        // NaN costs never win; the default is then a median on axis 0.
+        let mut best = (f32::INFINITY, 0usize, lo + n / 2);
+        let mut acc = [Bounds::EMPTY; 3];
+        for i in lo + 1..hi {
+            for a in 0..3 {
+                acc[a] = acc[a].union(b[ord[a][i - 1] as usize]);
+                let cost = acc[a].half_area(s) * (i - lo) as f32 + right[i][a];
+                if cost < best.0 {
+                    best = (cost, a, i);
+                }
+            }
+        }
+        let (_, axis, k) = best;
+        let mut left = [false; SWEEP_MAX];
+        for &i in &self.order[axis][lo..k] {
+            left[i as usize] = true;
+        }
+        for (a, ord) in self.order.iter_mut().enumerate() {
+            if a == axis {
+                continue;
+            }
+            let mut tmp = [0u8; SWEEP_MAX];
+            let (mut l, mut r) = (0, k - lo);
+            for &i in &ord[lo..hi] {
+                let slot = if left[i as usize] { &mut l } else { &mut r };
+                tmp[*slot] = i;
+                *slot += 1;
+            }
+            ord[lo..hi].copy_from_slice(&tmp[..n]);
+        }
+        k
     }
-    if axis != 2 {
-        prims.sort_unstable_by(|a, b| a.c(axis).total_cmp(&b.c(axis)));
+}
+
+impl Builder {
+    /// SAH subtree of <= SWEEP_MAX objects; same contract as `subtree`.
+    fn sweep_subtree(&self, prims: &[Prim], out: &mut [BvhNode], base: u32, me: u32) -> Bounds {
+        let mut sw = Sweep::new(prims);
+        self.sweep_node(&mut sw, 0, prims.len(), out, base, me)
     }
-    Some(i)
+
+    fn sweep_node(&self, sw: &mut Sweep, lo: usize, hi: usize, out: &mut [BvhNode], base: u32, me: u32) -> Bounds {
+        let k = sw.split(lo, hi);
+        let nl = k - lo;
+        let ([ls, rs], desc) = out.split_first_chunk_mut::<2>().expect("n >= 2");
+        let (ld, rd) = desc.split_at_mut(2 * nl - 2);
+        let lb = self.sweep_child(sw, lo, k, ls, ld, base + 2, base, me);
+        let rb = self.sweep_child(sw, k, hi, rs, rd, base + 2 * nl as u32, base + 1, me);
+        lb.union(rb)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn sweep_child(&self, sw: &mut Sweep, lo: usize, hi: usize, slot: &mut BvhNode, out: &mut [BvhNode], base: u32, me: u32, parent: u32) -> Bounds {
+        if hi - lo == 1 {
+            let i = sw.order[0][lo] as usize;
+            *slot = self.leaf(&sw.prims[i], me, parent);
+            return sw.bounds[i];
+        }
+        let b = self.sweep_node(sw, lo, hi, out, base, me);
+        *slot = node(&b, base, parent);
+        b
+    }
 }

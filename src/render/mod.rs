@@ -379,3 +379,25 @@ pub fn f16_to_f32(h: u16) -> f32 {
         e => (1.0 + frac / 1024.0) * 2f32.powi(e - 15),
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn scenes_over_the_device_limits_are_refused() {
+        let scene = crate::scene::load("radial-city", Some(500), 1).unwrap();
+        assert!(check_limits(&scene, &wgpu::Limits::default()).is_ok());
+        let tiny = wgpu::Limits { max_buffer_size: 4096, max_storage_buffer_binding_size: 4096, ..Default::default() };
+        let e = check_limits(&scene, &tiny).unwrap_err();
+        assert!(matches!(e, Error::OverDeviceLimits(_)), "{e}");
+        assert!(e.to_string().contains("the device allows 4096"), "{e}");
+    }
+
+    #[test]
+    fn half_floats_decode() {
+        assert_eq!(f16_to_f32(0x3c00), 1.0);
+        assert_eq!(f16_to_f32(0x4800), 8.0);
+        assert_eq!(f16_to_f32(0), 0.0);
+    }
+}

@@ -20,6 +20,10 @@ use std::path::{Component, Path, PathBuf};
 use super::{CameraPath, Mesh, Scene};
 use crate::error::{Error, Result};
 
+/// Result of checks that know the problem but not the file: the caller wraps
+/// the message into `Error::Malformed`.
+type Msg<T> = std::result::Result<T, String>;
+
 /// Colour of primitives without a material.
 const DEFAULT_COLOR: [f32; 3] = [0.8, 0.8, 0.8];
 
@@ -124,7 +128,7 @@ fn node_name(node: &gltf::Node) -> String {
 
 /// The node's local matrix; quaternions are renormalised (exporters often
 /// write slightly non-unit ones), non-finite values are an error.
-fn local_transform(node: &gltf::Node) -> std::result::Result<Mat4, String> {
+fn local_transform(node: &gltf::Node) -> Msg<Mat4> {
     let m = match node.transform() {
         gltf::scene::Transform::Matrix { matrix } => Mat4::from_cols_array_2d(&matrix),
         gltf::scene::Transform::Decomposed { translation, rotation, scale } => {
@@ -158,7 +162,7 @@ fn primitive_color(prim: &gltf::Primitive) -> [f32; 3] {
 
 /// Reads one primitive as a triangle list; `None` for points and lines and
 /// for primitives without triangles.
-fn read_primitive(mesh: &gltf::Mesh, prim: &gltf::Primitive, buffers: &[Vec<u8>]) -> std::result::Result<Option<Mesh>, String> {
+fn read_primitive(mesh: &gltf::Mesh, prim: &gltf::Primitive, buffers: &[Vec<u8>]) -> Msg<Option<Mesh>> {
     let what = format!("mesh {} primitive {}", mesh.index(), prim.index());
     let mode = prim.mode();
     if !matches!(mode, Mode::Triangles | Mode::TriangleStrip | Mode::TriangleFan) {
@@ -205,7 +209,7 @@ fn read_primitive(mesh: &gltf::Mesh, prim: &gltf::Primitive, buffers: &[Vec<u8>]
     };
 
     let indices = match mode {
-        Mode::Triangles if vertices.len() % 3 != 0 => {
+        Mode::Triangles if !vertices.len().is_multiple_of(3) => {
             return Err(format!("{what}: {} indices is not a multiple of 3", vertices.len()));
         }
         Mode::Triangles => vertices,
@@ -221,6 +225,7 @@ fn read_primitive(mesh: &gltf::Mesh, prim: &gltf::Primitive, buffers: &[Vec<u8>]
     let name = match (mesh.name(), mesh.primitives().len()) {
         (Some(n), 1) => n.to_string(),
         (Some(n), _) => format!("{n}[{}]", prim.index()),
+        (None, 1) => format!("mesh{}", mesh.index()),
         (None, _) => format!("mesh{}[{}]", mesh.index(), prim.index()),
     };
     Ok(Some(Mesh::new(name, positions, normals, indices)))
@@ -233,21 +238,16 @@ pub(super) fn unit_normals(normals: Vec<[f32; 3]>) -> Option<Vec<[f32; 3]>> {
 
 /// The reader decodes with the Rust type the attribute is supposed to have,
 /// so any other accessor type would make it misread or panic.
-fn check_type(acc: &gltf::Accessor, semantic: &str, dims: Dimensions, types: &[DataType]) -> std::result::Result<(), String> {
+fn check_type(acc: &gltf::Accessor, semantic: &str, dims: Dimensions, types: &[DataType]) -> Msg<()> {
     if acc.dimensions() != dims || !types.contains(&acc.data_type()) {
-        return Err(format!(
-            "accessor {}: {semantic} must be {dims:?} of {types:?}, found {:?} of {:?}",
-            acc.index(),
-            acc.dimensions(),
-            acc.data_type()
-        ));
+        return Err(format!("accessor {}: {semantic} must be {dims:?} of {types:?}, found {:?} of {:?}", acc.index(), acc.dimensions(), acc.data_type()));
     }
     Ok(())
 }
 
 /// Checks that every byte the reader will touch lies inside the accessor's
 /// buffer views, and those inside their buffers (sparse parts included).
-fn check_accessor(acc: &gltf::Accessor) -> std::result::Result<(), String> {
+fn check_accessor(acc: &gltf::Accessor) -> Msg<()> {
     let (ai, count, elem) = (acc.index(), acc.count(), acc.size());
     if count == 0 {
         return Err(format!("accessor {ai}: count is 0"));
@@ -271,7 +271,7 @@ fn check_accessor(acc: &gltf::Accessor) -> std::result::Result<(), String> {
     Ok(())
 }
 
-fn check_span(what: &str, view: &gltf::buffer::View, offset: usize, count: usize, elem: usize) -> std::result::Result<(), String> {
+fn check_span(what: &str, view: &gltf::buffer::View, offset: usize, count: usize, elem: usize) -> Msg<()> {
     let (vi, buffer) = (view.index(), view.buffer());
     let view_end = view.offset().checked_add(view.length());
     if view_end.is_none_or(|end| end > buffer.length()) {
@@ -289,17 +289,14 @@ fn check_span(what: &str, view: &gltf::buffer::View, offset: usize, count: usize
     }
     let end = stride.checked_mul(count - 1).and_then(|s| s.checked_add(elem)).and_then(|s| s.checked_add(offset));
     if end.is_none_or(|end| end > view.length()) {
-        return Err(format!(
-            "{what}: {count} elements of {elem} bytes at offset {offset} exceed buffer view {vi} ({} bytes)",
-            view.length()
-        ));
+        return Err(format!("{what}: {count} elements of {elem} bytes at offset {offset} exceed buffer view {vi} ({} bytes)", view.length()));
     }
     Ok(())
 }
 
 /// `gltf`'s validation indexes the POSITION accessor without a bounds check;
 /// reject an out-of-range one before validating.
-fn check_position_indices(root: &gltf::json::Root) -> std::result::Result<(), String> {
+fn check_position_indices(root: &gltf::json::Root) -> Msg<()> {
     let key = Checked::Valid(gltf::json::mesh::Semantic::Positions);
     for (mi, mesh) in root.meshes.iter().enumerate() {
         for (pi, prim) in mesh.primitives.iter().enumerate() {
@@ -325,7 +322,7 @@ fn describe_gltf_error(e: &gltf::Error) -> String {
 }
 
 /// Splits a GLB container into its JSON chunk and optional BIN chunk.
-fn split_glb(bytes: &[u8]) -> std::result::Result<(&[u8], Option<Vec<u8>>), String> {
+fn split_glb(bytes: &[u8]) -> Msg<(&[u8], Option<Vec<u8>>)> {
     let (Some(version), Some(length)) = (u32_at(bytes, 4), u32_at(bytes, 8)) else {
         return Err(format!("truncated GLB: {} bytes, the header alone needs 12", bytes.len()));
     };
@@ -357,7 +354,7 @@ fn u32_at(b: &[u8], at: usize) -> Option<usize> {
 }
 
 /// Takes the next chunk (data, type) off `rest`; `None` at the end.
-fn take_chunk<'a>(rest: &mut &'a [u8]) -> std::result::Result<Option<(&'a [u8], [u8; 4])>, String> {
+fn take_chunk<'a>(rest: &mut &'a [u8]) -> Msg<Option<(&'a [u8], [u8; 4])>> {
     if rest.is_empty() {
         return Ok(None);
     }

@@ -8,6 +8,7 @@ pub mod camera;
 pub mod generators;
 pub mod gltf;
 pub mod obj;
+pub mod paths;
 
 use glam::{Mat4, Vec3};
 use std::path::Path;

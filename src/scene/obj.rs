@@ -17,12 +17,12 @@ pub fn load(path: &Path) -> Result<Scene> {
     })?;
     let bad = |msg: String| Error::Malformed { format: "OBJ", path: path.to_path_buf(), msg };
 
+    // `..Default::default()` covers fields that tobj features may add.
+    #[allow(clippy::needless_update)]
     let options = tobj::LoadOptions { triangulate: true, single_index: true, ignore_points: true, ignore_lines: true, ..Default::default() };
     // tobj can overflow integer arithmetic on absurd face indices; debug
     // builds would panic there, so a panic is reported as a malformed file.
-    let parsed = std::panic::catch_unwind(|| {
-        tobj::load_obj_buf(&mut &bytes[..], &options, |_mtllib| Err(tobj::LoadError::GenericFailure))
-    });
+    let parsed = std::panic::catch_unwind(|| tobj::load_obj_buf(&mut &bytes[..], &options, |_mtllib| Err(tobj::LoadError::GenericFailure)));
     let (models, _materials) = match parsed {
         Ok(Ok(r)) => r,
         Ok(Err(tobj::LoadError::ReadError)) => return Err(bad("not a text file (invalid UTF-8)".into())),
@@ -40,9 +40,8 @@ pub fn load(path: &Path) -> Result<Scene> {
         }
         let positions: Vec<[f32; 3]> = m.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
         // Faces may give normals for some corners only; then compute them all.
-        let normals = (m.normals.len() == m.positions.len())
-            .then(|| m.normals.chunks_exact(3).map(|n| [n[0], n[1], n[2]]).collect())
-            .and_then(super::gltf::unit_normals);
+        let normals =
+            (m.normals.len() == m.positions.len()).then(|| m.normals.chunks_exact(3).map(|n| [n[0], n[1], n[2]]).collect()).and_then(super::gltf::unit_normals);
         let mesh_name = if model.name.is_empty() { format!("object{i}") } else { model.name };
         scene.meshes.push(Mesh::new(mesh_name, positions, normals, m.indices));
         scene.push_object(scene.meshes.len() as u32 - 1, Mat4::IDENTITY, color(i as u64));

@@ -7,7 +7,7 @@ use glam::{Quat, Vec3};
 use std::f32::consts::{FRAC_PI_2, PI};
 
 use super::rng::Rng;
-use super::shapes::{block, box_at, cylinder, gable, icosphere, pyramid, Part};
+use super::shapes::{block, box_at, cylinder, gable, icosphere, pyramid};
 use super::{trs, walk_path, Builder, Clearance};
 use crate::scene::CameraPath;
 

@@ -153,6 +153,21 @@ impl Polyline {
         *self.cum.last().unwrap()
     }
 
+    /// Distance from `p` to the nearest point of the polyline.
+    pub fn distance(&self, p: Vec3) -> f32 {
+        if self.pts.len() == 1 {
+            return p.distance(self.pts[0]);
+        }
+        self.pts
+            .windows(2)
+            .map(|w| {
+                let d = w[1] - w[0];
+                let t = ((p - w[0]).dot(d) / d.length_squared()).clamp(0.0, 1.0);
+                p.distance(w[0] + d * t)
+            })
+            .fold(f32::INFINITY, f32::min)
+    }
+
     /// Point at arc length `s`, extrapolated along the end segments.
     pub fn at(&self, s: f32) -> Vec3 {
         if self.pts.len() == 1 {
@@ -255,4 +270,18 @@ impl Clearance {
         }
         (lo..=hi).any(|x| (lo_z..=hi_z).any(|z| self.grid.get(&(x, z)).is_some_and(|ix| ix.iter().any(|&i| hit(&self.pts[i as usize])))))
     }
+}
+
+/// Eye points of a flight through a box centred on the origin with half
+/// size `half`: from near the -X face to near the +X face, weaving in Y and
+/// Z so the view keeps turning into new parts of the volume.
+pub(crate) fn flight(rng: &mut Rng, half: Vec3, points: usize) -> Vec<Vec3> {
+    let (py, pz) = (rng.range(0.0, std::f32::consts::TAU), rng.range(0.0, std::f32::consts::TAU));
+    (0..points)
+        .map(|i| {
+            let s = i as f32 / (points - 1) as f32;
+            let a = s * std::f32::consts::TAU;
+            Vec3::new(half.x * (-0.9 + 1.7 * s), half.y * 0.35 * (py + a * 0.8).sin(), half.z * 0.45 * (pz + a * 1.2).sin())
+        })
+        .collect()
 }
