@@ -19,9 +19,9 @@ struct Args {
     runs: usize,
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Box distribution: uniform or clustered.
-    #[arg(long, default_value = "uniform")]
-    dist: String,
+    /// Box distribution.
+    #[arg(long, value_enum, default_value_t = Dist::Uniform)]
+    dist: Dist,
     /// Only this split (default: all).
     #[arg(long)]
     split: Option<Split>,
@@ -42,28 +42,39 @@ impl Rng {
     }
 }
 
-/// `uniform`: centres uniform in a 100³ cube, sides uniform in [0.1, 2].
-/// `clustered`: the same boxes gathered around 64 random cluster centres.
-pub fn random_boxes(n: usize, seed: u64, dist: &str) -> Vec<Aabb> {
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum Dist {
+    /// Centres uniform in a 100³ cube, sides uniform in [0.1, 2].
+    Uniform,
+    /// The same boxes gathered around 64 random cluster centres.
+    Clustered,
+    /// Uniform centres, sizes log-uniform over two decades (0.05–5), like
+    /// the `satellites` scene's mix of small and large objects.
+    Varied,
+}
+
+pub fn random_boxes(n: usize, seed: u64, dist: Dist) -> Vec<Aabb> {
     let mut rng = Rng(seed);
     let clusters: Vec<Vec3> = (0..64).map(|_| rng.vec() * 100.0).collect();
     (0..n)
         .map(|i| {
             let c = match dist {
-                "clustered" => clusters[i % clusters.len()] + (rng.vec() - 0.5) * 8.0,
+                Dist::Clustered => clusters[i % clusters.len()] + (rng.vec() - 0.5) * 8.0,
                 _ => rng.vec() * 100.0,
             };
-            let h = (Vec3::splat(0.1) + rng.vec() * 1.9) * 0.5;
+            let h = match dist {
+                Dist::Varied => Vec3::splat(0.05 * 100f32.powf(rng.next())) * (Vec3::splat(0.5) + rng.vec()) * 0.5,
+                _ => (Vec3::splat(0.1) + rng.vec() * 1.9) * 0.5,
+            };
             Aabb::new(c - h, c + h)
         })
         .collect()
 }
 
-#[allow(dead_code)]
 fn main() {
     let args = Args::parse();
-    let boxes = random_boxes(args.objects, args.seed, &args.dist);
-    println!("{} {} boxes, {} threads, median of {} builds", args.objects, args.dist, rayon::current_num_threads(), args.runs);
+    let boxes = random_boxes(args.objects, args.seed, args.dist);
+    println!("{} {:?} boxes, {} threads, median of {} builds", args.objects, args.dist, rayon::current_num_threads(), args.runs);
     println!("{:<5} {:>10} {:>10} {:>10} {:>6} {:>9}", "split", "median ms", "min ms", "SAH cost", "depth", "nodes");
     for split in args.split.map_or(Split::ALL.to_vec(), |s| vec![s]) {
         let bvh = Bvh::build(&boxes, split); // warm-up (thread pool, page faults)

@@ -3,6 +3,11 @@
 
 struct Frame {
     view_proj: mat4x4<f32>,
+    // Columns x, y, z: the near-plane offsets of a pixel ray (dir =
+    // ray_dirs * (ndc.x, ndc.y, 1, 0) reaches the near plane at t = 1),
+    // built from the camera basis: unprojecting through the inverse
+    // view-projection loses the direction to cancellation.
+    ray_dirs: mat4x4<f32>,
     eye: vec4<f32>,          // xyz: camera position
     light_dir: vec4<f32>,    // xyz: direction towards the light
     viewport: vec4<f32>,     // width, height, 1/width, 1/height
@@ -51,6 +56,14 @@ fn flat_id(wid: vec3<u32>, nwg: vec3<u32>, lid: u32, size: u32) -> u32 {
     return (wid.y * nwg.x + wid.x) * size + lid;
 }
 
+// Indirect draw arguments (VkDrawIndirectCommand), for box draws.
+struct DrawArgs {
+    vertex_count: u32,
+    instance_count: u32,
+    first_vertex: u32,
+    first_instance: u32,
+}
+
 // Conservative box-vs-frustum test (positive vertex per plane).
 fn box_in_frustum(planes: array<vec4<f32>, 6>, bmin: vec3<f32>, bmax: vec3<f32>) -> bool {
     for (var i = 0u; i < 6u; i++) {
@@ -61,4 +74,35 @@ fn box_in_frustum(planes: array<vec4<f32>, 6>, bmin: vec3<f32>, bmax: vec3<f32>)
         }
     }
     return true;
+}
+
+struct Box {
+    min: vec3<f32>,
+    max: vec3<f32>,
+}
+
+// Size of one pixel at unit distance from the eye.
+fn pixel_angle(f: Frame) -> f32 {
+    return 2.0 * length(f.ray_dirs[1].xyz) / f.near * f.viewport.w;
+}
+
+// A node's box grown so that rasterizing it, or casting a ray into it,
+// never loses a pixel that the geometry inside covers: half a pixel at the
+// box's farthest corner (rasterizers snap vertices to a sub-pixel grid, so
+// a face lying on the surface it bounds can lose an edge pixel), plus a
+// little for float rounding (DESIGN.md "Where conservativeness is lost").
+fn padded_box(n: BvhNode, eye: vec3<f32>, pixel: f32) -> Box {
+    let far = length(max(abs(n.min - eye), abs(n.max - eye)));
+    let scale = max(max(abs(n.min.x), abs(n.min.y)), max(max(abs(n.min.z), abs(n.max.x)), max(abs(n.max.y), abs(n.max.z))));
+    let pad = 0.5 * pixel * far + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
+    return Box(n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
+}
+
+// True when the box reaches within `frame.near` of the near plane or behind
+// it (this includes every box that holds the eye). Such a box loses
+// fragments to clipping, so it cannot be tested by rasterization (§6).
+fn crosses_near(planes: array<vec4<f32>, 6>, near: f32, b: Box) -> bool {
+    let p = planes[4];
+    let v = select(b.max, b.min, p.xyz >= vec3<f32>(0.0)); // nearest corner
+    return dot(p.xyz, v) + p.w <= near;
 }

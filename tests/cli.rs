@@ -87,7 +87,7 @@ fn no_vulkan_adapter_says_how_to_get_lavapipe() {
 #[test]
 fn scene_info_for_every_builtin_scene_and_a_gltf_file() {
     let mut specs: Vec<String> = hroc::scene::generators::keys().iter().map(|s| s.to_string()).collect();
-    specs.push(concat!(env!("CARGO_MANIFEST_DIR"), "/../shared/gltf-samples/Duck.gltf").to_string());
+    specs.push(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/data/gltf-samples/Duck.gltf").to_string());
     for spec in specs {
         let small = ["scene", "info", spec.as_str(), "--objects", "500"];
         let args: &[&str] = if spec.ends_with(".gltf") { &small[..3] } else { &small };

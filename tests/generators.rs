@@ -294,7 +294,8 @@ impl<'a> Caster<'a> {
 fn occlusion_estimate() {
     let only = std::env::var("SCENES").ok();
     let n: Option<usize> = std::env::var("OBJECTS").ok().and_then(|v| v.parse().ok());
-    let (w, h) = (240usize, 135usize);
+    let w: usize = std::env::var("RES").ok().and_then(|v| v.parse().ok()).unwrap_or(240);
+    let h = w * 9 / 16;
     for g in generators::all() {
         if only.as_ref().is_some_and(|o| !o.split(',').any(|k| k == g.key)) {
             continue;
@@ -335,5 +336,27 @@ fn occlusion_estimate() {
             sum_vis / frames as f32 * 100.0,
             line
         );
+    }
+}
+
+/// Per-mesh triangle counts and instance counts, for tuning budgets:
+/// `cargo test --release --test generators -- --ignored --nocapture mesh_report`.
+#[test]
+#[ignore]
+fn mesh_report() {
+    let only = std::env::var("SCENES").ok();
+    for g in generators::all() {
+        if only.as_ref().is_some_and(|o| !o.split(',').any(|k| k == g.key)) {
+            continue;
+        }
+        let s = gen(g.key, g.default_objects, 1);
+        let mut uses = vec![0usize; s.meshes.len()];
+        for o in &s.objects {
+            uses[o.mesh as usize] += 1;
+        }
+        println!("{} ({} triangles):", g.key, s.stats().triangles);
+        for (m, u) in s.meshes.iter().zip(uses) {
+            println!("  {:20} {:6} tris x {:6} = {:8}", m.name, m.triangle_count(), u, m.triangle_count() * u);
+        }
     }
 }

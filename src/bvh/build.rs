@@ -11,7 +11,7 @@
 //! recursion ends for all inputs, NaN included. Cost comparisons use `<` and
 //! sorts use total orders, so NaN never panics; a NaN cost simply loses.
 
-use glam::{BVec3A, UVec3, Vec3A, Vec4};
+use glam::{Vec3A, Vec4};
 use rayon::prelude::*;
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -27,6 +27,11 @@ const FULL_BINS_MIN: usize = 256;
 /// centroids: exact splits where most of the tree's nodes are, without the
 /// per-node cost of bins.
 const SWEEP_MAX: usize = 32;
+/// From this depth on only equal-count splits are made. That bounds the
+/// recursion (and the GPU's traversal stacks) for adversarial inputs such as
+/// exponentially spaced objects, where MID or SAH may peel off one object
+/// per level: depth < 64 + 32 for any input of up to 2^30 objects.
+const HEURISTIC_DEPTH: u32 = 64;
 /// Keeps the index lane of [`Prim`] a normal float (exponent >= 128).
 const INDEX_TAG: u32 = 0x4000_0000;
 /// Subtrees smaller than this are built on the calling thread.
@@ -128,7 +133,8 @@ pub(super) fn build(boxes: &[Aabb], split: Split) -> (Vec<BvhNode>, Vec<u32>) {
     let mut nodes = vec![BvhNode { min: [0.0; 3], child: 0, max: [0.0; 3], parent: 0 }; 2 * n - 1];
     let builder = Builder { split, leaf_of: (0..n).map(|_| AtomicU32::new(u32::MAX)).collect() };
     let (root, rest) = nodes.split_first_mut().expect("n >= 1");
-    builder.child(Work { prims: &mut prims, scratch: &mut scratch }, None, root, rest, 1, 0, NO_PARENT);
+    let at = Place { me: 0, parent: NO_PARENT, base: 1, depth: 0 };
+    builder.child(Work { prims: &mut prims, scratch: &mut scratch }, None, root, rest, at);
     let leaf_of_object = builder.leaf_of.into_iter().map(AtomicU32::into_inner).collect();
     (nodes, leaf_of_object)
 }
@@ -162,6 +168,16 @@ struct Cut {
     cbs: Option<(Bounds, Bounds)>,
 }
 
+/// Where a node goes: its own index, its parent's, the global index of its
+/// children's pair (its subtree's first descendant), and its depth.
+#[derive(Clone, Copy)]
+struct Place {
+    me: u32,
+    parent: u32,
+    base: u32,
+    depth: u32,
+}
+
 struct Builder {
     split: Split,
     /// Written once per object from whichever thread makes its leaf.
@@ -176,55 +192,57 @@ impl Builder {
         BvhNode { min: p.lo.truncate().to_array(), child: LEAF_BIT | o, max: p.hi.truncate().to_array(), parent }
     }
 
-    /// Node `me` (child of `parent`) holding `w.prims`: writes it to `slot`
-    /// and its descendants to `out` (2n - 2 nodes, the first at global index
-    /// `base`), and returns its bounds. Pairs are allocated depth first: the
-    /// children's pair, then the left subtree, then the right.
+    /// Builds the node at `at` holding `w.prims`: writes it to `slot` and its
+    /// descendants to `out` (2n - 2 nodes, the first at `at.base`), and
+    /// returns its bounds. Pairs are allocated depth first: the children's
+    /// pair, then the left subtree, then the right.
     ///
     /// Nodes are stored in place, never returned: a returned node is written
     /// in pieces and reloaded whole, and the failed store forwarding cost
     /// ~25% of the sweep builder's time.
-    #[allow(clippy::too_many_arguments)]
-    fn child(&self, w: Work, cb: Option<Bounds>, slot: &mut BvhNode, out: &mut [BvhNode], base: u32, me: u32, parent: u32) -> Bounds {
+    fn child(&self, w: Work, cb: Option<Bounds>, slot: &mut BvhNode, out: &mut [BvhNode], at: Place) -> Bounds {
         let n = w.prims.len();
         if n == 1 {
             let p = &w.prims[0];
-            *slot = self.leaf(p, me, parent);
+            *slot = self.leaf(p, at.me, at.parent);
             return p.bounds();
         }
-        let b = if self.split == Split::Sah && n <= SWEEP_MAX {
-            self.sweep_subtree(w.prims, out, base, me)
+        let b = if self.split == Split::Sah && n <= SWEEP_MAX && at.depth < HEURISTIC_DEPTH {
+            self.sweep_subtree(w.prims, out, at.base, at.me)
         } else {
             let cb = cb.unwrap_or_else(|| centroid_bounds(w.prims));
-            self.subtree(w, cb, out, base, me)
+            self.subtree(w, cb, out, at)
         };
-        *slot = node(&b, base, parent);
+        *slot = node(&b, at.base, at.parent);
         b
     }
 
-    fn subtree(&self, mut w: Work, cb: Bounds, out: &mut [BvhNode], base: u32, me: u32) -> Bounds {
+    fn subtree(&self, mut w: Work, cb: Bounds, out: &mut [BvhNode], at: Place) -> Bounds {
         let n = w.prims.len();
         debug_assert!(n >= 2 && out.len() == 2 * n - 2);
-        let cut = self.split(&mut w, &cb);
+        let cut = self.split(&mut w, &cb, at.depth);
         let nl = cut.nl;
         debug_assert!(nl >= 1 && nl < n);
         let (lw, rw) = w.split_at(nl, cut.moved);
         let ([ls, rs], desc) = out.split_first_chunk_mut::<2>().expect("n >= 2");
         let (ld, rd) = desc.split_at_mut(2 * nl - 2);
         let (lcb, rcb) = cut.cbs.map_or((None, None), |(l, r)| (Some(l), Some(r)));
-        let (lbase, rbase) = (base + 2, base + 2 * nl as u32);
-        let left = move || self.child(lw, lcb, ls, ld, lbase, base, me);
-        let right = move || self.child(rw, rcb, rs, rd, rbase, base + 1, me);
+        let depth = at.depth + 1;
+        let lat = Place { me: at.base, parent: at.me, base: at.base + 2, depth };
+        let rat = Place { me: at.base + 1, parent: at.me, base: at.base + 2 * nl as u32, depth };
+        let left = move || self.child(lw, lcb, ls, ld, lat);
+        let right = move || self.child(rw, rcb, rs, rd, rat);
         let (lb, rb) = if n >= PAR_MIN { rayon::join(left, right) } else { (left(), right()) };
         lb.union(rb)
     }
 
-    fn split(&self, w: &mut Work, cb: &Bounds) -> Cut {
+    fn split(&self, w: &mut Work, cb: &Bounds, depth: u32) -> Cut {
         let n = w.prims.len();
         if n == 2 {
             return Cut { nl: 1, moved: false, cbs: None };
         }
         let found = match self.split {
+            _ if depth >= HEURISTIC_DEPTH => None,
             Split::Sah => binned_sah(w, cb),
             Split::Mid => middle(w, cb),
             Split::Eq => None,
@@ -264,29 +282,25 @@ fn partition(w: &mut Work, left: impl Fn(Vec3A) -> bool) -> Cut {
     let n = w.prims.len();
     let dst = &mut w.scratch[..n];
     let (mut l, mut r) = (0usize, n);
-    let (mut lb, mut rb) = (Bounds::EMPTY, Bounds::EMPTY);
-    let inf = Vec3A::INFINITY;
     for p in w.prims.iter() {
-        let c = p.centroid();
-        let go = left(c);
+        let go = left(p.centroid());
         // l < r holds until the last object, where l == r - 1.
         dst[l] = *p;
         dst[r - 1] = *p;
         l += go as usize;
         r -= !go as usize;
-        let m = BVec3A::splat(go);
-        lb.min = lb.min.min(Vec3A::select(m, c, inf));
-        lb.max = lb.max.max(Vec3A::select(m, c, -inf));
-        rb.min = rb.min.min(Vec3A::select(m, inf, c));
-        rb.max = rb.max.max(Vec3A::select(m, -inf, c));
     }
-    Cut { nl: l, moved: true, cbs: Some((lb, rb)) }
+    // A second pass over the (cached) result is cheaper than tracking both
+    // sides' bounds with selects in the loop above.
+    let (lp, rp) = dst.split_at(l);
+    Cut { nl: l, moved: true, cbs: Some((centroid_bounds(lp), centroid_bounds(rp))) }
 }
 
 /// MID: spatial middle of the centroid bounds on the longest axis.
 fn middle(w: &mut Work, cb: &Bounds) -> Option<Cut> {
     let e = cb.max - cb.min;
-    if !(e.max_element() > 0.0) {
+    let widest = e.max_element();
+    if widest.is_nan() || widest <= 0.0 {
         return None;
     }
     let axis = e.max_position();
@@ -304,17 +318,20 @@ type Bins = [[Bin; BINS]; 3];
 const EMPTY_BINS: Bins = [[Bin { b: Bounds::EMPTY, n: 0 }; BINS]; 3];
 
 /// Maps centroids to `count` bins on all three axes; a zero scale (flat
-/// axis) sends everything to bin 0, and so does NaN (`as` saturates).
+/// axis) sends everything to bin 0, and so does NaN.
 #[derive(Clone, Copy)]
 struct Binner {
     min: Vec3A,
     scale: Vec3A,
-    count: usize,
+    last: Vec3A,
 }
 
 impl Binner {
-    fn index(&self, c: Vec3A) -> UVec3 {
-        ((c - self.min) * self.scale).as_uvec3().min(UVec3::splat(self.count as u32 - 1))
+    /// Bin per axis (lane 3 is meaningless). Clamped in float first, so the
+    /// conversion is a plain truncation; `max` returns its second operand
+    /// for NaN, so NaN lands in bin 0.
+    fn index(&self, c: Vec3A) -> [u32; 4] {
+        truncate(((c - self.min) * self.scale).max(Vec3A::ZERO).min(self.last))
     }
     fn bin(&self, prims: &[Prim]) -> Bins {
         let mut bins = EMPTY_BINS;
@@ -346,13 +363,13 @@ fn binned_sah(w: &mut Work, cb: &Bounds) -> Option<Cut> {
     let n = w.prims.len();
     let count = if n >= FULL_BINS_MIN { BINS } else { BINS / 2 };
     let e = cb.max - cb.min;
-    // Slightly under `count` so the largest centroid lands in the last bin.
-    let scale = Vec3A::select(e.cmpgt(Vec3A::ZERO), Vec3A::splat(count as f32 * 0.9999) / e, Vec3A::ZERO);
+    // The largest centroid maps to `count` and is clamped into the last bin.
+    let scale = Vec3A::select(e.cmpgt(Vec3A::ZERO), Vec3A::splat(count as f32) / e, Vec3A::ZERO);
     let scale = Vec3A::select(scale.is_finite_mask(), scale, Vec3A::ZERO);
     if scale.cmpeq(Vec3A::ZERO).all() {
         return None;
     }
-    let binner = Binner { min: cb.min, scale, count };
+    let binner = Binner { min: cb.min, scale, last: Vec3A::splat(count as f32 - 1.0) };
     let bins = if n >= PAR_BIN_MIN {
         w.prims.par_chunks(8192).map(|ch| binner.bin(ch)).reduce(|| EMPTY_BINS, merge_bins)
     } else {
@@ -360,7 +377,7 @@ fn binned_sah(w: &mut Work, cb: &Bounds) -> Option<Cut> {
     };
     let node = bins[0][..count].iter().fold(Bounds::EMPTY, |b, x| b.union(x.b));
     let s = area_scale(&node);
-    let mut best = (f32::INFINITY, 0usize, 0usize); // cost, axis, first right bin
+    let mut best = Best::NONE; // pos: first bin of the right side
     for (a, bins) in bins.iter().enumerate() {
         if scale[a] == 0.0 {
             continue;
@@ -381,18 +398,54 @@ fn binned_sah(w: &mut Work, cb: &Bounds) -> Option<Cut> {
             cnt += bins[i - 1].n;
             // NaN (empty right side) and empty left sides never win.
             let cost = acc.half_area(s) * cnt as f32 + right[i];
-            if cnt > 0 && cost < best.0 {
-                best = (cost, a, i);
+            if cnt > 0 {
+                best.offer(cost, (2 * cnt as usize).abs_diff(n), a, i);
             }
         }
     }
-    if !best.0.is_finite() {
+    if !best.key.is_finite() {
         return None;
     }
-    let (_, axis, split) = best;
-    let (min, scale, last) = (binner.min[axis], binner.scale[axis], count as u32 - 1);
-    // Same arithmetic as `Binner::index`, so the sides match the bin counts.
-    Some(partition(w, |c| (((c[axis] - min) * scale) as u32).min(last) < split as u32))
+    let Best { axis, pos: split, .. } = best;
+    // The same arithmetic as the binning, so the sides match the bin counts.
+    Some(partition(w, |c| binner.index(c)[axis] < split as u32))
+}
+
+/// Truncates non-negative in-range floats to integers, four lanes at once
+/// (`as u32` per lane compiles to scalar conversions with saturation fix-ups).
+#[cfg(target_arch = "x86_64")]
+fn truncate(v: Vec3A) -> [u32; 4] {
+    // SAFETY: SSE2 is part of the x86_64 baseline, so the instruction exists.
+    bytemuck::cast(unsafe { std::arch::x86_64::_mm_cvttps_epi32(v.into()) })
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn truncate(v: Vec3A) -> [u32; 4] {
+    [v.x as u32, v.y as u32, v.z as u32, 0]
+}
+
+/// Cheapest split found so far. Costs are nudged by the imbalance |nl - nr|
+/// (1e-6 relative, plus 1e-30 absolute for zero costs), so near-ties go to
+/// the more balanced split: identical boxes or points on a line have equal
+/// (often zero) costs everywhere, and taking the first would peel off one
+/// object per level. Branch-free in the sweep's inner loop.
+#[derive(Clone, Copy)]
+struct Best {
+    key: f32,
+    axis: usize,
+    pos: usize,
+}
+
+impl Best {
+    const NONE: Best = Best { key: f32::INFINITY, axis: 0, pos: 0 };
+    /// NaN costs fail the comparison and are never taken.
+    fn offer(&mut self, cost: f32, imbalance: usize, axis: usize, pos: usize) {
+        let imb = imbalance as f32;
+        let key = cost * (1.0 + 1e-6 * imb) + 1e-30 * imb;
+        if key < self.key {
+            *self = Best { key, axis, pos };
+        }
+    }
 }
 
 /// Total order of f32 as u32 (same as `f32::total_cmp`), for integer sorts.
@@ -437,8 +490,9 @@ impl<'a> Sweep<'a> {
                 *o = *k as u8;
             }
         }
-        // One scale for the whole small subtree: its nodes are at most 32
-        // objects apart in size, far from f32's range limits.
+        // One scale for the whole small subtree: its areas relative to its
+        // root only underflow for objects ~1e-19 of its size, where any
+        // split is as good as another.
         Sweep { prims, bounds, order, scale: area_scale(&all) }
     }
 
@@ -462,18 +516,16 @@ impl<'a> Sweep<'a> {
             }
         }
         // NaN costs never win; the default is then a median on axis 0.
-        let mut best = (f32::INFINITY, 0usize, lo + n / 2);
+        let mut best = Best { pos: lo + n / 2, ..Best::NONE };
         let mut acc = [Bounds::EMPTY; 3];
         for i in lo + 1..hi {
             for a in 0..3 {
                 acc[a] = acc[a].union(b[ord[a][i - 1] as usize]);
                 let cost = acc[a].half_area(s) * (i - lo) as f32 + right[i][a];
-                if cost < best.0 {
-                    best = (cost, a, i);
-                }
+                best.offer(cost, (2 * (i - lo)).abs_diff(n), a, i);
             }
         }
-        let (_, axis, k) = best;
+        let Best { axis, pos: k, .. } = best;
         let mut left = [false; SWEEP_MAX];
         for &i in &self.order[axis][lo..k] {
             left[i as usize] = true;

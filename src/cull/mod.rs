@@ -6,6 +6,7 @@
 //! records every list drawn, so the benchmark can check what was drawn
 //! against `noc` without trusting the method.
 
+pub mod hroc;
 pub mod noc;
 pub mod reference;
 pub mod vfc;
@@ -101,6 +102,12 @@ pub trait Culler {
 
     /// Records (and may submit) the frame's culling passes and draws.
     fn frame(&mut self, f: &mut Frame) -> Result<()>;
+
+    /// Per-frame method statistics of the frame just run (set sizes,
+    /// nodes per ray...). Called after the frame, outside the timed region.
+    fn stats(&mut self, _gpu: &Gpu) -> Result<Vec<(&'static str, f64)>> {
+        Ok(Vec::new())
+    }
 }
 
 /// What a culler may build from.
@@ -116,6 +123,11 @@ pub const METHODS: &[(&str, &str)] = &[
     ("noc", "no culling: draw every object"),
     ("vfc", "GPU view-frustum culling"),
     ("ref", "ideal: draw exactly the objects visible in noc's ID target"),
+    ("hroc-na", "HROC without accelerations"),
+    ("hroc-cr", "HROC with counter read-back"),
+    ("hroc-of", "HROC with occluder filtering"),
+    ("hroc-cr+of", "HROC with counter read-back and occluder filtering"),
+    ("hroc", "HROC, the default variant (cr+of)"),
 ];
 
 pub fn method_names() -> Vec<&'static str> {
@@ -147,6 +159,7 @@ pub fn create(name: &str, cx: &SceneContext) -> Result<Box<dyn Culler>> {
         "noc" => Box::new(noc::NoCulling),
         "vfc" => Box::new(vfc::FrustumCuller::new(cx)),
         "ref" => Box::new(reference::Reference::new(cx)),
+        h if hroc::Variant::parse(h).is_some() => Box::new(hroc::Hroc::new(h, hroc::Variant::parse(h).unwrap_or(hroc::Variant { cr: true, of: true }), cx)?),
         _ => return Err(Error::Arg(format!("unknown method '{name}'"))),
     })
 }

@@ -7,6 +7,7 @@ use bytemuck::{Pod, Zeroable};
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
 pub struct FrameUniform {
     pub view_proj: [[f32; 4]; 4],
+    pub ray_dirs: [[f32; 4]; 4],
     pub eye: [f32; 4],
     pub light_dir: [f32; 4],
     pub viewport: [f32; 4],
@@ -44,6 +45,16 @@ pub struct DrawCommand {
     pub first_instance: u32,
 }
 
+/// `VkDrawIndirectCommand` (box draws).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Pod, Zeroable)]
+pub struct DrawArgs {
+    pub vertex_count: u32,
+    pub instance_count: u32,
+    pub first_vertex: u32,
+    pub first_instance: u32,
+}
+
 /// Uniform of `shaders/compact.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, Pod, Zeroable)]
@@ -61,6 +72,7 @@ pub fn mirrored_sizes() -> Vec<(&'static str, usize)> {
         ("ObjectData", size_of::<ObjectData>()),
         ("ObjectBounds", size_of::<ObjectBounds>()),
         ("DrawCommand", size_of::<DrawCommand>()),
+        ("DrawArgs", size_of::<DrawArgs>()),
         ("BvhNode", size_of::<crate::bvh::BvhNode>()),
     ]
 }

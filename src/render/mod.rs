@@ -23,6 +23,8 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("draw.wgsl", include_str!("../../shaders/draw.wgsl")),
     ("compact.wgsl", include_str!("../../shaders/compact.wgsl")),
     ("vfc.wgsl", include_str!("../../shaders/vfc.wgsl")),
+    ("hroc_groups.wgsl", include_str!("../../shaders/hroc_groups.wgsl")),
+    ("hroc_test.wgsl", include_str!("../../shaders/hroc_test.wgsl")),
 ];
 pub const COMMON_WGSL: &str = include_str!("../../shaders/common.wgsl");
 
@@ -258,6 +260,7 @@ impl Renderer {
         let (w, h) = (self.targets.width as f32, self.targets.height as f32);
         FrameUniform {
             view_proj: vp.to_cols_array_2d(),
+            ray_dirs: camera.ray_dirs(self.aspect()).to_cols_array_2d(),
             eye: camera.eye.extend(1.0).to_array(),
             light_dir: self.light_dir.extend(0.0).to_array(),
             viewport: [w, h, 1.0 / w, 1.0 / h],

@@ -28,6 +28,17 @@ impl Camera {
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
         self.proj(aspect) * self.view()
     }
+
+    /// Columns x, y, z: world offsets such that the ray through NDC (x, y)
+    /// is `eye + t * (x * X + y * Y + Z)`, reaching the near plane at t = 1.
+    pub fn ray_dirs(&self, aspect: f32) -> Mat4 {
+        let forward = (self.target - self.eye).normalize();
+        let right = forward.cross(self.up).normalize();
+        let up = right.cross(forward);
+        let ty = (self.fov_y_deg.to_radians() * 0.5).tan();
+        let n = self.near;
+        Mat4::from_cols((right * ty * aspect * n).extend(0.0), (up * ty * n).extend(0.0), (forward * n).extend(0.0), Vec4::W)
+    }
 }
 
 /// The six frustum planes (left, right, bottom, top, near, far) of a

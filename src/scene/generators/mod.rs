@@ -273,15 +273,18 @@ impl Clearance {
 }
 
 /// Eye points of a flight through a box centred on the origin with half
-/// size `half`: from near the -X face to near the +X face, weaving in Y and
-/// Z so the view keeps turning into new parts of the volume.
+/// size `half`: three quarters of a loop around the centre at about half
+/// the box's reach, weaving up and down and in and out, so the view always
+/// looks across the volume rather than out of it.
 pub(crate) fn flight(rng: &mut Rng, half: Vec3, points: usize) -> Vec<Vec3> {
-    let (py, pz) = (rng.range(0.0, std::f32::consts::TAU), rng.range(0.0, std::f32::consts::TAU));
+    use std::f32::consts::TAU;
+    let (a0, py, pr) = (rng.range(0.0, TAU), rng.range(0.0, TAU), rng.range(0.0, TAU));
     (0..points)
         .map(|i| {
             let s = i as f32 / (points - 1) as f32;
-            let a = s * std::f32::consts::TAU;
-            Vec3::new(half.x * (-0.9 + 1.7 * s), half.y * 0.35 * (py + a * 0.8).sin(), half.z * 0.45 * (pz + a * 1.2).sin())
+            let a = a0 + s * TAU * 0.75;
+            let r = 0.5 + 0.15 * (pr + s * TAU * 1.5).sin();
+            Vec3::new(half.x * r * a.cos(), half.y * 0.35 * (py + s * TAU).sin(), half.z * r * a.sin())
         })
         .collect()
 }

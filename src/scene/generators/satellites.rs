@@ -11,7 +11,7 @@ use super::shapes::{block, box_at, cone, cylinder, icosphere, rock, torus, uv_sp
 use super::{flight, walk_path, Builder, Clearance, Polyline};
 use crate::scene::CameraPath;
 
-const CELL: f32 = 4.5;
+const CELL: f32 = 4.0;
 
 fn panel_pair(span: f32, w: f32) -> Part {
     box_at(Vec3::new(-(0.6 + span * 0.5), 0.0, 0.0), Vec3::new(span, 0.04, w)).with(box_at(Vec3::new(0.6 + span * 0.5, 0.0, 0.0), Vec3::new(span, 0.04, w)))
@@ -59,15 +59,15 @@ struct Kind {
 pub(super) fn build(b: &mut Builder) -> CameraPath {
     let n = b.n;
     let planets = (n / 5_000).clamp(2, 10).min(n);
-    let gx = (((n as f32 * 1.2) / 0.4).cbrt().ceil() as usize).max(4);
-    let gy = ((gx as f32 * 0.4).round() as usize).max(2);
+    let gx = (((n as f32 * 1.2) / 0.33).cbrt().ceil() as usize).max(4);
+    let gy = ((gx as f32 * 0.33).round() as usize).max(2);
     let half = Vec3::new(gx as f32, gy as f32, gx as f32) * CELL * 0.5;
     let pts = flight(&mut b.rng, half, 25);
     let path = walk_path(pts.clone(), 20.0, 31);
     let clear = Clearance::new(&[&path], 5.0, 5.0, 5.0);
 
-    // Planets beside the flight, alternately left and right, close enough
-    // to fill much of the view when passed.
+    // Planets beside the flight, mostly on the inner side of the loop where
+    // the view looks, close enough to fill much of it when passed.
     let line = Polyline::new(pts);
     let mut bodies = vec![];
     let planet_mesh = b.mesh("planet", uv_sphere(1.0, 64, 32));
@@ -76,25 +76,29 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         let s = line.length() * (i as f32 + 0.6) / planets as f32;
         let p = line.at(s);
         let dir = (line.at(s + 1.0) - p).normalize_or_zero();
-        let side = dir.cross(Vec3::Y).normalize_or_zero() * if i % 2 == 0 { 1.0 } else { -1.0 };
-        let r = half.y * b.rng.range(0.5, 0.9);
+        let mut side = dir.cross(Vec3::Y).normalize_or_zero();
+        if (side.dot(-p) < 0.0) != (i % 3 == 2) {
+            side = -side;
+        }
+        let mut r = half.y * b.rng.range(0.5, 0.9);
         let gap = b.rng.range(8.0, 20.0);
-        let mut c = p + side * (r + gap) + Vec3::Y * b.rng.range(-0.3, 0.3) * r;
-        // The flight curves: push the planet out until it clears all of it.
+        let lift = b.rng.range(-0.3, 0.3);
+        // The flight curves back: shrink the planet until it clears all of it.
+        let mut c = p;
         for _ in 0..16 {
-            let d = line.distance(c);
-            if d >= r + 8.0 {
+            c = p + side * (r + gap) + Vec3::Y * lift * r;
+            if line.distance(c) >= r + 8.0 {
                 break;
             }
-            c += side * (r + 8.0 - d + 1.0);
+            r *= 0.85;
         }
         bodies.push((c, r));
         let color = hsv(b.rng.f32(), b.rng.range(0.3, 0.7), b.rng.range(0.5, 0.8));
         b.push(planet_mesh, Mat4::from_scale_rotation_translation(Vec3::splat(r), Quat::IDENTITY, c), color);
-        if i == 0 && b.left() > 0 {
-            let tilt = Quat::from_rotation_x(0.3) * Quat::from_rotation_z(0.2);
+        let ring = Mat4::from_scale_rotation_translation(Vec3::splat(r), Quat::from_rotation_x(0.3) * Quat::from_rotation_z(0.2), c);
+        if i == 0 && b.left() > 0 && !clear.blocks(&b.bounds(ring_mesh, &ring)) {
             let c2 = b.rng.tint([0.75, 0.7, 0.6], 0.1);
-            b.push(ring_mesh, Mat4::from_scale_rotation_translation(Vec3::splat(r), tilt, c), c2);
+            b.push(ring_mesh, ring, c2);
         }
     }
 
@@ -105,8 +109,8 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         Kind { mesh: b.mesh("sat-b", satellite_b()), weight: 2.0, size: (1.5, 4.5), hue: None },
         Kind { mesh: b.mesh("station", station()), weight: 0.15, size: (6.0, 12.0), hue: None },
         Kind { mesh: b.mesh("rock-1", rock(1, 0.4, &mut rr)), weight: 3.0, size: (0.6, 2.0), hue: Some(0.08) },
-        Kind { mesh: b.mesh("rock-2", rock(2, 0.4, &mut rr)), weight: 1.5, size: (1.5, 3.5), hue: Some(0.08) },
-        Kind { mesh: b.mesh("rock-3", rock(3, 0.45, &mut rr)), weight: 0.2, size: (3.5, 8.0), hue: Some(0.06) },
+        Kind { mesh: b.mesh("rock-2", rock(2, 0.4, &mut rr)), weight: 0.8, size: (1.5, 3.5), hue: Some(0.08) },
+        Kind { mesh: b.mesh("rock-3", rock(3, 0.45, &mut rr)), weight: 0.1, size: (3.5, 8.0), hue: Some(0.06) },
         Kind { mesh: b.mesh("ico-0", icosphere(0)), weight: 2.0, size: (0.6, 1.5), hue: Some(-1.0) },
         Kind { mesh: b.mesh("ico-1", icosphere(1)), weight: 1.5, size: (1.0, 3.0), hue: Some(-1.0) },
         Kind { mesh: b.mesh("ico-2", icosphere(2)), weight: 0.4, size: (2.5, 4.5), hue: Some(-1.0) },
@@ -125,7 +129,7 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         let cell = Vec3::new((c % gx) as f32, (c / gx % gy) as f32, (c / (gx * gy)) as f32);
         let pos = -half + (cell + Vec3::splat(0.5) + (Vec3::new(b.rng.f32(), b.rng.f32(), b.rng.f32()) - 0.5) * 0.6) * CELL;
         let k = &kinds[b.rng.weighted(&weights)];
-        let size = b.rng.log_range(k.size.0, k.size.1);
+        let size = b.rng.log_range(k.size.0, k.size.1) * 1.2;
         let mesh_size = b.scene.meshes[k.mesh as usize].bounds.extent().max_element();
         let rot = Quat::from_axis_angle(b.rng.unit_vec3(), b.rng.range(0.0, TAU));
         let m = Mat4::from_scale_rotation_translation(Vec3::splat(size / mesh_size), rot, pos);

@@ -1,0 +1,108 @@
+// HROC compute passes (paper §3.2, §4.2; thesis III.3):
+// extract — one thread per effective occluder walks the BVH bottom-up;
+// collect — one thread per node gathers occludee groups (unknown nodes),
+//           frustum-culls them and splits those that cross the near plane;
+// merge   — next V = O ∪ D;  filter — next V = objects owning a pixel (OF).
+
+const NIL: u32 = 0u;
+const UNKNOWN: u32 = 1u;
+const VISIBLE: u32 = 2u;
+const STACK: u32 = 64u; // >= BVH depth + 1, checked on the host
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(2) var<storage, read> leaf_of_object: array<u32>;
+@group(0) @binding(3) var<storage, read> occluders: array<u32>;      // O marks
+@group(0) @binding(4) var<storage, read_write> state: array<atomic<u32>>;
+@group(0) @binding(5) var<storage, read_write> groups: array<DrawArgs>;
+@group(0) @binding(6) var<storage, read_write> group_count: array<atomic<u32>>;
+@group(0) @binding(7) var<storage, read_write> occludees: array<u32>; // U marks
+@group(0) @binding(8) var<storage, read> drawn: array<u32>;           // D marks
+@group(0) @binding(9) var<storage, read_write> visible: array<u32>;   // next V
+@group(0) @binding(10) var ids: texture_2d<u32>;
+
+fn sibling(n: u32) -> u32 {
+    let c = nodes[nodes[n].parent].child;
+    return select(c, c + 1u, n == c);
+}
+
+@compute @workgroup_size(256)
+fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = flat_id(wid, nwg, lid, 256u);
+    if i >= frame.object_count || occluders[i] == 0u {
+        return;
+    }
+    // Atomic max makes the result independent of thread order: a node
+    // marked unknown by its sibling's walk becomes visible by its own.
+    var n = leaf_of_object[i];
+    loop {
+        if atomicMax(&state[n], VISIBLE) == VISIBLE || n == 0u {
+            break; // another walk went on from here, or the root
+        }
+        atomicMax(&state[sibling(n)], UNKNOWN);
+        n = nodes[n].parent;
+    }
+}
+
+fn emit_group(n: u32) {
+    let slot = atomicAdd(&group_count[0], 1u);
+    groups[slot] = DrawArgs(36u, 1u, 0u, n);
+}
+
+@compute @workgroup_size(256)
+fn collect(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let g = flat_id(wid, nwg, lid, 256u);
+    if g >= frame.node_count {
+        return;
+    }
+    let s = atomicLoad(&state[g]);
+    // No occluder at all: the root is the one group.
+    let root_group = g == 0u && s == NIL;
+    if s != UNKNOWN && !root_group {
+        return;
+    }
+    // Adaptive grouping: a group crossing the near plane (or holding the
+    // eye) is replaced by its children; such leaves are visible untested.
+    var stack: array<u32, STACK>;
+    stack[0] = g;
+    var sp = 1u;
+    while sp > 0u {
+        sp -= 1u;
+        let n = stack[sp];
+        let node = nodes[n];
+        let b = padded_box(node, frame.eye.xyz, pixel_angle(frame));
+        if !box_in_frustum(frame.planes, b.min, b.max) {
+            continue;
+        }
+        if !crosses_near(frame.planes, frame.near, b) {
+            emit_group(n);
+        } else if (node.child & LEAF_BIT) != 0u {
+            occludees[node.child & ~LEAF_BIT] = 1u;
+        } else if sp + 2u <= STACK {
+            stack[sp] = node.child;
+            stack[sp + 1u] = node.child + 1u;
+            sp += 2u;
+        }
+    }
+}
+
+@compute @workgroup_size(256)
+fn merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = flat_id(wid, nwg, lid, 256u);
+    if i < frame.object_count {
+        visible[i] = select(0u, 1u, occluders[i] != 0u || drawn[i] != 0u);
+    }
+}
+
+// Occluder filtering (§4.2): the item buffer decides the next occluders.
+@compute @workgroup_size(16, 16)
+fn filter_occluders(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(ids);
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    let id = textureLoad(ids, gid.xy, 0).r;
+    if id != 0u {
+        visible[id - 1u] = 1u;
+    }
+}
