@@ -81,20 +81,24 @@ struct Box {
     max: vec3<f32>,
 }
 
+// Box padding in pixels at the far corner: 16 times the 1/256-pixel vertex
+// snapping of common rasterizers.
+const PIXEL_PAD: f32 = 0.0625;
+
 // Size of one pixel at unit distance from the eye.
 fn pixel_angle(f: Frame) -> f32 {
     return 2.0 * length(f.ray_dirs[1].xyz) / f.near * f.viewport.w;
 }
 
 // A node's box grown so that rasterizing it, or casting a ray into it,
-// never loses a pixel that the geometry inside covers: half a pixel at the
+// never loses a pixel that the geometry inside covers: a fraction of a pixel at the
 // box's farthest corner (rasterizers snap vertices to a sub-pixel grid, so
 // a face lying on the surface it bounds can lose an edge pixel), plus a
 // little for float rounding (DESIGN.md "Where conservativeness is lost").
 fn padded_box(n: BvhNode, eye: vec3<f32>, pixel: f32) -> Box {
     let far = length(max(abs(n.min - eye), abs(n.max - eye)));
     let scale = max(max(abs(n.min.x), abs(n.min.y)), max(max(abs(n.min.z), abs(n.max.x)), max(abs(n.max.y), abs(n.max.z))));
-    let pad = 0.5 * pixel * far + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
+    let pad = PIXEL_PAD * pixel * far + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
     return Box(n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
 }
 

@@ -41,6 +41,9 @@ pub struct MethodRow {
     pub drawn_mean: f64,
     /// Mean GPU ms per stage, in stage order.
     pub stages_ms: BTreeMap<String, f64>,
+    /// Mean per frame of the method's own statistics (HROC: V, O, G, U, D,
+    /// rays, nodes_per_ray). Empty for methods without any.
+    pub stats: BTreeMap<String, f64>,
     /// Wall ms of every frame (warm-up frames included).
     pub frame_ms: Vec<f64>,
 }
@@ -66,6 +69,7 @@ struct Acc {
     wall: Vec<f64>,
     gpu: Vec<f64>,
     stages: BTreeMap<String, f64>,
+    stats: BTreeMap<String, f64>,
     culled: u64,
     drawn: u64,
     fneg: u64,
@@ -105,8 +109,11 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     bar.set_message(format!("bench {}", s.scene.name));
     let mut accs: BTreeMap<String, Acc> = BTreeMap::new();
     let mut ref_culled = 0u64;
-    let mut record = |name: &str, k: usize, r: &FrameResult, c: Check| {
+    let mut record = |name: &str, k: usize, r: &FrameResult, c: Check, stats: Vec<(&'static str, f64)>| {
         let a = accs.entry(name.to_string()).or_default();
+        for (st, v) in stats {
+            *a.stats.entry(st.to_string()).or_default() += v;
+        }
         a.wall.push(r.wall_ms);
         if k >= warm {
             a.gpu.push(r.gpu_ms());
@@ -124,7 +131,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         ref_culled += n - truth.visible.len() as u64;
         if o.methods.iter().any(|m| m == "noc") {
             let c = s.check(&r, &truth)?;
-            record("noc", k, &r, c);
+            record("noc", k, &r, c, Vec::new());
         }
         for c in cullers.iter_mut() {
             if c.wants_oracle() {
@@ -132,7 +139,8 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
             }
             let r = s.run_frame(c.as_mut(), k)?;
             let chk = s.check(&r, &truth)?;
-            record(c.name(), k, &r, chk);
+            let stats = c.stats(gpu)?;
+            record(c.name(), k, &r, chk, stats);
         }
         bar.inc(1);
     }
@@ -155,6 +163,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
                 missing_pixels: a.missing,
                 drawn_mean: a.drawn as f64 / frames as f64,
                 stages_ms: a.stages.iter().map(|(k, v)| (k.clone(), v / timed_frames)).collect(),
+                stats: a.stats.iter().map(|(k, v)| (k.clone(), v / frames as f64)).collect(),
                 frame_ms: a.wall.clone(),
             }
         })

@@ -30,6 +30,9 @@ pub fn node_states(bvh: &Bvh, occluders: &[bool]) -> Vec<u32> {
     state
 }
 
+/// `PIXEL_PAD` in common.wgsl.
+pub const PIXEL_PAD: f32 = 0.0625;
+
 /// `pixel_angle` in common.wgsl: one pixel's size at unit distance.
 pub fn pixel_angle(ray_dirs: &Mat4, near: f32, height: u32) -> f32 {
     2.0 * ray_dirs.y_axis.truncate().length() / near / height as f32
@@ -39,7 +42,7 @@ pub fn pixel_angle(ray_dirs: &Mat4, near: f32, height: u32) -> f32 {
 pub fn padded(b: Aabb, eye: Vec3, pixel: f32) -> Aabb {
     let far = (b.min - eye).abs().max((b.max - eye).abs()).length();
     let scale = b.min.abs().max(b.max.abs()).max_element();
-    let pad = 0.5 * pixel * far + 1e-4 * (b.max - b.min).length() + 1e-6 * (scale + eye.length()) + 1e-7;
+    let pad = PIXEL_PAD * pixel * far + 1e-4 * (b.max - b.min).length() + 1e-6 * (scale + eye.length()) + 1e-7;
     Aabb::new(b.min - Vec3::splat(pad), b.max + Vec3::splat(pad))
 }
 
@@ -80,10 +83,13 @@ pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3
 }
 
 /// Leaves in the subtrees of `groups` that a ray through some pixel centre
-/// enters (box grown by `grow`) no deeper than the occlusion map there plus
-/// `tolerance` (in depth-buffer units). With a shrinking `grow` and negative
-/// tolerance this is what the GPU must find; with generous ones, all it may.
-pub fn ray_marked(bvh: &Bvh, groups: &[u32], view_proj: &Mat4, ray_dirs: &Mat4, eye: Vec3, (w, h): (u32, u32), depth: &[f32], grow: f32, tolerance: f32) -> Vec<bool> {
+/// enters no deeper than the occlusion map there plus `tolerance` (in
+/// depth-buffer units). Boxes are first padded as the shaders pad them when
+/// `pixel` is given, then grown by `grow` times their diagonal. With
+/// no padding, a shrinking `grow` and a negative tolerance this is what the
+/// GPU must find; with padding and generous ones, all it may find.
+#[allow(clippy::too_many_arguments)]
+pub fn ray_marked(bvh: &Bvh, groups: &[u32], view_proj: &Mat4, ray_dirs: &Mat4, eye: Vec3, (w, h): (u32, u32), depth: &[f32], pixel: Option<f32>, grow: f32, tolerance: f32) -> Vec<bool> {
     let n_obj = bvh.leaf_of_object.len();
     let mut in_group = vec![false; bvh.nodes.len()];
     for &g in groups {
@@ -106,13 +112,13 @@ pub fn ray_marked(bvh: &Bvh, groups: &[u32], view_proj: &Mat4, ray_dirs: &Mat4, 
             let limit = depth[(y * w + x) as usize] + tolerance;
             let mut stack = vec![0u32];
             while let Some(n) = stack.pop() {
-                let b = bvh.aabb(n);
+                let b = pixel.map_or(bvh.aabb(n), |px| padded(bvh.aabb(n), eye, px));
                 let g = Vec3::splat(grow * (b.max - b.min).length().max(1e-3));
                 let (t0, t1) = ((b.min - g - eye) / dir, (b.max + g - eye) / dir);
                 let enter = t0.min(t1).max_element();
                 let exit = t0.max(t1).min_element();
                 let t = enter.max(1.0);
-                if exit < t || !exit.is_finite() && exit.is_nan() {
+                if exit < t || exit.is_nan() {
                     continue;
                 }
                 let d = (c0.z + t * c1.z) / (c0.w + t * c1.w);

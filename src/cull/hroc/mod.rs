@@ -179,14 +179,14 @@ impl Hroc {
             vertex: wgpu::VertexState { module: &test_module, entry_point: Some("box_vs"), compilation_options: Default::default(), buffers: &[] },
             // Front faces only: they alone can be the nearest surface of a
             // box in front of the near plane (adaptive grouping ensures that).
-            primitive: wgpu::PrimitiveState { cull_mode: None, front_face: wgpu::FrontFace::Ccw, ..Default::default() },
+            primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(false),
                 depth_compare: Some(wgpu::CompareFunction::LessEqual),
                 stencil: Default::default(),
                 // Toward the camera, so a face on the surface it bounds passes.
-                bias: wgpu::DepthBiasState { constant: -16, slope_scale: -1.0, clamp: 0.0 },
+                bias: wgpu::DepthBiasState { constant: -16, slope_scale: 0.0, clamp: 0.0 },
             }),
             multisample: Default::default(),
             fragment: Some(wgpu::FragmentState { module: &test_module, entry_point: Some("box_fs"), compilation_options: Default::default(), targets: &[] }),
@@ -271,6 +271,13 @@ impl Hroc {
             occluders: gpu.read::<u32>(&self.occluders, 0, self.n as u64)?.iter().map(|&x| x != 0).collect(),
             occludees: gpu.read::<u32>(&self.occludees, 0, self.n as u64)?.iter().map(|&x| x != 0).collect(),
         })
+    }
+}
+
+impl Hroc {
+    /// This frame's packed occluder list V (drawing it alone rebuilds the occlusion map).
+    pub fn occluder_list(&self) -> &DrawList {
+        &self.v_list
     }
 }
 

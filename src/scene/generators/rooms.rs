@@ -270,15 +270,23 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
     }
 
     // Keep-out zones in front of every doorway, so doors stay passable.
-    let mut door_zones: Vec<Aabb> = vec![];
+    // Per room: each zone is listed for the two rooms the door joins.
+    let rooms = side * side;
+    let mut door_zones: Vec<Vec<Aabb>> = vec![vec![]; rooms];
     for (i, col) in door_v.iter().enumerate() {
-        for d in col.iter().flatten() {
-            door_zones.push(Aabb::new(Vec3::new(xs[i] - 1.0, 0.0, d - DOOR_W * 0.5 - 0.3), Vec3::new(xs[i] + 1.0, DOOR_H, d + DOOR_W * 0.5 + 0.3)));
+        for (r, d) in col.iter().enumerate() {
+            let Some(d) = d else { continue };
+            let zone = Aabb::new(Vec3::new(xs[i] - 1.0, 0.0, d - DOOR_W * 0.5 - 0.3), Vec3::new(xs[i] + 1.0, DOOR_H, d + DOOR_W * 0.5 + 0.3));
+            door_zones[r * side + i - 1].push(zone);
+            door_zones[r * side + i].push(zone);
         }
     }
     for (j, row) in door_h.iter().enumerate() {
-        for d in row.iter().flatten() {
-            door_zones.push(Aabb::new(Vec3::new(d - DOOR_W * 0.5 - 0.3, 0.0, zs[j] - 1.0), Vec3::new(d + DOOR_W * 0.5 + 0.3, DOOR_H, zs[j] + 1.0)));
+        for (c, d) in row.iter().enumerate() {
+            let Some(d) = d else { continue };
+            let zone = Aabb::new(Vec3::new(d - DOOR_W * 0.5 - 0.3, 0.0, zs[j] - 1.0), Vec3::new(d + DOOR_W * 0.5 + 0.3, DOOR_H, zs[j] + 1.0));
+            door_zones[(j - 1) * side + c].push(zone);
+            door_zones[j * side + c].push(zone);
         }
     }
 
@@ -301,7 +309,6 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
 
     // Furniture: each piece goes into a random room, not into doorways,
     // other furniture or the path; a quarter are small things on tops.
-    let rooms = side * side;
     let mut placed: Vec<Vec<Aabb>> = vec![vec![]; rooms];
     let mut tops: Vec<Vec<(Vec3, f32)>> = vec![vec![]; rooms]; // (centre of top, radius)
     let mut failures = 0;
@@ -340,7 +347,7 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
             let m = trs(pos, yaw, Vec3::ONE);
             let bx = b.bounds(f.mesh, &m);
             let inside = bx.min.x >= lo.x && bx.max.x <= hi.x && bx.min.z >= lo.z && bx.max.z <= hi.z;
-            if !inside || clear.blocks(&bx) || door_zones.iter().any(|z| z.overlaps(&bx)) {
+            if !inside || clear.blocks(&bx) || door_zones[ri].iter().any(|z| z.overlaps(&bx)) {
                 continue;
             }
             best = Some((m, bx));
