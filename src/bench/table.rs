@@ -3,6 +3,60 @@
 use super::BenchReport;
 use std::fmt::Write;
 
+/// Aligned rows, as Markdown or plain text; the first column left-aligned.
+fn grid(head: &[String], rows: &[Vec<String>], markdown: bool) -> String {
+    let widths: Vec<usize> = (0..head.len()).map(|i| rows.iter().map(|r| r[i].len()).chain([head[i].len()]).max().unwrap_or(0)).collect();
+    let line = |cells: &[String]| {
+        let c: Vec<String> = cells.iter().zip(&widths).enumerate().map(|(i, (s, w))| if i == 0 { format!("{s:<w$}") } else { format!("{s:>w$}") }).collect();
+        if markdown {
+            format!("| {} |", c.join(" | "))
+        } else {
+            c.join("  ")
+        }
+    };
+    let mut out = String::new();
+    let _ = writeln!(out, "{}", line(head));
+    if markdown {
+        let _ = writeln!(out, "|{}|", widths.iter().enumerate().map(|(i, w)| if i == 0 { format!(":{}", "-".repeat(w + 1)) } else { format!("{}:", "-".repeat(w + 1)) }).collect::<Vec<_>>().join("|"));
+    }
+    for row in rows {
+        let _ = writeln!(out, "{}", line(row));
+    }
+    out
+}
+
+/// GPU ms per stage (the paper's Figure 6) and method statistics, per method.
+pub fn breakdown(r: &BenchReport, markdown: bool) -> String {
+    let mut stages: Vec<String> = Vec::new();
+    let mut stats: Vec<String> = Vec::new();
+    for row in &r.rows {
+        for k in row.stages_ms.keys() {
+            if !stages.contains(k) {
+                stages.push(k.clone());
+            }
+        }
+        for k in row.stats.keys() {
+            if !stats.contains(k) {
+                stats.push(k.clone());
+            }
+        }
+    }
+    let mut head = vec!["method".to_string()];
+    head.extend(stages.iter().map(|s| format!("{s} ms")));
+    head.extend(stats.iter().map(|s| format!("|{s}|").replace("|nodes_per_ray|", "nodes/ray").replace("|rays|", "rays")));
+    let rows: Vec<Vec<String>> = r
+        .rows
+        .iter()
+        .map(|row| {
+            let mut cells = vec![row.method.clone()];
+            cells.extend(stages.iter().map(|s| row.stages_ms.get(s).map_or("-".into(), |v| format!("{v:.2}"))));
+            cells.extend(stats.iter().map(|s| row.stats.get(s).map_or("-".into(), |v| if *v >= 100.0 { format!("{v:.0}") } else { format!("{v:.1}") })));
+            cells
+        })
+        .collect();
+    grid(&head, &rows, markdown)
+}
+
 /// The table `hroc bench` prints: one row per method.
 pub fn render(r: &BenchReport, markdown: bool) -> String {
     let mut out = String::new();
@@ -47,21 +101,6 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
             row.push(format!("{:.2}", x.ms_mean / noc));
         }
     }
-    let widths: Vec<usize> = (0..head.len()).map(|i| rows.iter().map(|r| r[i].len()).chain([head[i].len()]).max().unwrap_or(0)).collect();
-    let line = |cells: &[String]| {
-        let c: Vec<String> = cells.iter().zip(&widths).enumerate().map(|(i, (s, w))| if i == 0 { format!("{s:<w$}") } else { format!("{s:>w$}") }).collect();
-        if markdown {
-            format!("| {} |", c.join(" | "))
-        } else {
-            c.join("  ")
-        }
-    };
-    let _ = writeln!(out, "{}", line(&head));
-    if markdown {
-        let _ = writeln!(out, "|{}|", widths.iter().enumerate().map(|(i, w)| if i == 0 { format!(":{}", "-".repeat(w + 1)) } else { format!("{}:", "-".repeat(w + 1)) }).collect::<Vec<_>>().join("|"));
-    }
-    for row in &rows {
-        let _ = writeln!(out, "{}", line(row));
-    }
+    out.push_str(&grid(&head, &rows, markdown));
     out
 }

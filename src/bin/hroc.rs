@@ -13,7 +13,7 @@ use hroc::{Error, Result};
 
 /// The default bench: sized to finish in about a minute on a 2-core CPU with lavapipe.
 const DEFAULT_SCENE: &str = "radial-city";
-const DEFAULT_METHODS: &str = "noc,vfc,ref";
+const DEFAULT_METHODS: &str = "noc,vfc,ref,hroc";
 
 #[derive(Parser)]
 #[command(name = "hroc", version, about = "GPU occlusion culling of massive scenes: benchmark, render, inspect")]
@@ -70,6 +70,9 @@ struct BenchArgs {
     /// Prints the table as Markdown.
     #[arg(long)]
     markdown: bool,
+    /// Also prints GPU ms per stage and per-frame method statistics.
+    #[arg(long)]
+    breakdown: bool,
 }
 
 #[derive(clap::Args)]
@@ -178,6 +181,9 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
     let gpu = Gpu::new()?;
     let report = bench::run_scene(&gpu, &opts, scene, path)?;
     print!("{}", bench::table::render(&report, a.markdown));
+    if a.breakdown {
+        print!("\n{}", bench::table::breakdown(&report, a.markdown));
+    }
     if let Some(path) = a.json {
         let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Arg(e.to_string()))?;
         std::fs::write(&path, text).map_err(|e| Error::Io { path, source: e })?;
@@ -209,7 +215,16 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
         last = Some(session.run_frame(culler.as_mut(), k)?);
     }
     let lists = last.map(|r| r.lists).unwrap_or_default();
-    let px = views::capture(&gpu, &session.renderer, a.view, &lists)?;
+    let px = if a.view == View::Groups {
+        let nodes = culler.tested_nodes(&gpu)?.ok_or_else(|| Error::Arg(format!("{method} tests no boxes; the groups view is for box-testing methods (hroc)")))?;
+        let mut px = views::capture(&gpu, &session.renderer, View::Color, &lists)?;
+        let boxes: Vec<_> = nodes.iter().map(|&n| (session.bvh.aabb(n), if session.bvh.is_leaf(n) { [255, 220, 0, 255] } else { [255, 40, 40, 255] })).collect();
+        let vp = session.cameras[a.frame].view_proj(session.renderer.aspect());
+        views::draw_boxes(&mut px, s.resolution, &vp, &boxes);
+        px
+    } else {
+        views::capture(&gpu, &session.renderer, a.view, &lists)?
+    };
     views::save_png(&a.out, s.resolution.0, s.resolution.1, &px)?;
     eprintln!("wrote {}", a.out.display());
     Ok(())

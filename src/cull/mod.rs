@@ -108,6 +108,12 @@ pub trait Culler {
     fn stats(&mut self, _gpu: &Gpu) -> Result<Vec<(&'static str, f64)>> {
         Ok(Vec::new())
     }
+
+    /// BVH nodes whose boxes the method rasterized in its last frame (for
+    /// `hroc render --view groups`); `None` for methods that test no boxes.
+    fn tested_nodes(&self, _gpu: &Gpu) -> Result<Option<Vec<u32>>> {
+        Ok(None)
+    }
 }
 
 /// What a culler may build from.

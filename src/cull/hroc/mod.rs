@@ -354,6 +354,10 @@ impl Culler for Hroc {
         Ok(())
     }
 
+    fn tested_nodes(&self, gpu: &Gpu) -> Result<Option<Vec<u32>>> {
+        Ok(Some(self.debug_state(gpu)?.groups))
+    }
+
     fn stats(&mut self, gpu: &Gpu) -> Result<Vec<(&'static str, f64)>> {
         let c = self.counts(gpu)?;
         self.last = c;
