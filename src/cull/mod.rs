@@ -165,7 +165,9 @@ pub fn create(name: &str, cx: &SceneContext) -> Result<Box<dyn Culler>> {
         "noc" => Box::new(noc::NoCulling),
         "vfc" => Box::new(vfc::FrustumCuller::new(cx)),
         "ref" => Box::new(reference::Reference::new(cx)),
-        h if hroc::Variant::parse(h).is_some() => Box::new(hroc::Hroc::new(h, hroc::Variant::parse(h).unwrap_or(hroc::Variant { cr: true, of: true }), cx)?),
-        _ => return Err(Error::Arg(format!("unknown method '{name}'"))),
+        _ => match hroc::Variant::parse(name) {
+            Some(v) => Box::new(hroc::Hroc::new(name, v, cx)?),
+            None => return Err(Error::Arg(format!("unknown method '{name}'"))),
+        },
     })
 }
