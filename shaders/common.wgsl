@@ -41,6 +41,11 @@ struct BvhNode {
 
 const LEAF_BIT: u32 = 0x80000000u;
 
+// Child pairs start at odd indices (src/bvh validates it): O(1) sibling.
+fn sibling(n: u32) -> u32 {
+    return select(n - 1u, n + 1u, (n & 1u) == 1u);
+}
+
 // VkDrawIndexedIndirectCommand; first_instance carries the object id.
 struct DrawCommand {
     index_count: u32,

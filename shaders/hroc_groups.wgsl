@@ -21,10 +21,7 @@ const STACK: u32 = 64u; // >= BVH depth + 1, checked on the host
 @group(0) @binding(9) var<storage, read_write> visible: array<u32>;   // next V
 @group(0) @binding(10) var ids: texture_2d<u32>;
 
-fn sibling(n: u32) -> u32 {
-    let c = nodes[nodes[n].parent].child;
-    return select(c, c + 1u, n == c);
-}
+
 
 @compute @workgroup_size(256)
 fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {

@@ -44,10 +44,7 @@ fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) node: u32) -> 
     return out;
 }
 
-fn sibling(n: u32) -> u32 {
-    let c = nodes[nodes[n].parent].child;
-    return select(c, c + 1u, n == c);
-}
+
 
 // Marks a leaf and propagates "visited" up while the sibling is done too.
 fn mark_leaf(leaf: u32, group: u32) {

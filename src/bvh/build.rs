@@ -2,10 +2,10 @@
 //!
 //! SAH: binned SAH over all three axes (32 bins, 16 below 256 objects) down
 //! to 32 objects, then an exact sweep SAH. On 120k random boxes this gives a
-//! lower SAH cost than obvhs 0.4's PLOC + reinsertion presets, in about half
-//! the medium preset's time (`examples/bvh_build.rs`). MID and EQ are the
-//! thesis's alternatives: centroid-bounds middle and median on the longest
-//! axis.
+//! lower SAH cost than obvhs 0.4's fastest and medium presets (PLOC +
+//! reinsertion), built faster than medium (`examples/bvh_build.rs`). MID and
+//! EQ are the thesis's alternatives: centroid-bounds middle, and median on
+//! the longest axis.
 //!
 //! Nodes are written straight into the final layout: a subtree of `n` leaves
 //! owns `2n - 1` nodes, so once a node is split into `nl` and `n - nl`
