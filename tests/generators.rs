@@ -26,7 +26,17 @@ fn keys_and_table() {
         assert!(!g.description.is_empty());
         assert!(g.default_objects >= 1 && g.paper_objects >= g.default_objects, "{k}");
     }
-    let paper = [("rooms", 2_753), ("downtown", 31_392), ("figures", 72_000), ("fantasy", 7_437), ("factory", 46_600), ("radial-city", 73_812), ("satellites", 120_000), ("library", 40_000), ("teapots", 5_000)];
+    let paper = [
+        ("rooms", 2_753),
+        ("downtown", 31_392),
+        ("figures", 72_000),
+        ("fantasy", 7_437),
+        ("factory", 46_600),
+        ("radial-city", 73_812),
+        ("satellites", 120_000),
+        ("library", 40_000),
+        ("teapots", 5_000),
+    ];
     for (k, n) in paper {
         assert_eq!(generators::find(k).unwrap().paper_objects, n, "{k}");
     }
@@ -167,8 +177,10 @@ fn large_scenes_share_meshes_and_generate_fast() {
 #[test]
 fn scenes_grow_with_object_count() {
     for k in EXPECTED {
-        let small = gen(k, 2_000, 1).bounds().extent();
-        let large = gen(k, 32_000, 1).bounds().extent();
+        let (small, large) = (gen(k, 2_000, 1), gen(k, 32_000, 1));
+        check_path(k, &small);
+        check_path(k, &large);
+        let (small, large) = (small.bounds().extent(), large.bounds().extent());
         let (sa, la) = (small.x * small.z, large.x * large.z);
         assert!(la > 2.0 * sa, "{k}: footprint {sa} -> {la}");
     }
@@ -191,7 +203,12 @@ impl<'a> Caster<'a> {
         let tris = scene
             .meshes
             .iter()
-            .map(|m| m.indices.chunks_exact(3).map(|t| t.iter().map(|&i| Vec3::from(m.vertices[i as usize].position)).collect::<Vec<_>>().try_into().unwrap()).collect())
+            .map(|m| {
+                m.indices
+                    .chunks_exact(3)
+                    .map(|t| t.iter().map(|&i| Vec3::from(m.vertices[i as usize].position)).collect::<Vec<_>>().try_into().unwrap())
+                    .collect()
+            })
             .collect();
         let inv = scene.objects.iter().map(|o| o.transform.inverse()).collect();
         let mut c = Caster { scene, tris, inv, nodes: vec![], order: (0..scene.objects.len() as u32).collect() };
@@ -209,7 +226,13 @@ impl<'a> Caster<'a> {
         }
         let cb = self.order[lo..hi].iter().fold(Aabb::EMPTY, |b, &i| b.grow_point(objs[i as usize].bounds.center()));
         let e = cb.extent();
-        let axis = if e.x >= e.y && e.x >= e.z { 0 } else if e.y >= e.z { 1 } else { 2 };
+        let axis = if e.x >= e.y && e.x >= e.z {
+            0
+        } else if e.y >= e.z {
+            1
+        } else {
+            2
+        };
         let mid = (lo + hi) / 2;
         self.order[lo..hi].select_nth_unstable_by(mid - lo, |&a, &b| objs[a as usize].bounds.center()[axis].total_cmp(&objs[b as usize].bounds.center()[axis]));
         let first = self.nodes.len();
@@ -228,10 +251,11 @@ impl<'a> Caster<'a> {
         (tn <= tf).then_some(tn)
     }
 
-    fn hit_object(&self, i: usize, o: Vec3, d: Vec3, tmax: f32) -> Option<f32> {
+    fn hit_object(&self, i: usize, o: Vec3, d: Vec3, tmax: f32) -> Option<(f32, Vec3)> {
         let m = &self.inv[i];
         let (lo, ld) = (m.transform_point3(o), m.transform_vector3(d));
         let mut best = tmax;
+        let mut normal = Vec3::ZERO;
         for [a, b, c] in &self.tris[self.scene.objects[i].mesh as usize] {
             let (e1, e2) = (*b - *a, *c - *a);
             let p = ld.cross(e2);
@@ -252,12 +276,16 @@ impl<'a> Caster<'a> {
             let t = e2.dot(q) / det;
             if t > 1e-4 && t < best {
                 best = t;
+                normal = e1.cross(e2);
             }
         }
-        (best < tmax).then_some(best)
+        // World normal: inverse transpose of the object transform.
+        let n = glam::Mat3::from_mat4(*m).transpose() * normal;
+        (best < tmax).then_some((best, n.normalize_or_zero()))
     }
 
-    fn cast(&self, o: Vec3, d: Vec3, near: f32) -> Option<usize> {
+    /// Nearest hit: object and world normal of the triangle hit.
+    fn cast(&self, o: Vec3, d: Vec3, near: f32) -> Option<(usize, Vec3)> {
         let inv_d = d.recip();
         let mut best = (f32::INFINITY, None);
         let mut stack = vec![0usize];
@@ -268,9 +296,9 @@ impl<'a> Caster<'a> {
             }
             if count > 0 {
                 for &i in &self.order[first as usize..(first + count) as usize] {
-                    if let Some(t) = self.hit_object(i as usize, o, d, best.0) {
+                    if let Some((t, n)) = self.hit_object(i as usize, o, d, best.0) {
                         if t > near {
-                            best = (t, Some(i as usize));
+                            best = (t, Some((i as usize, n)));
                         }
                     }
                 }
@@ -304,8 +332,13 @@ fn occlusion_estimate() {
         let caster = Caster::new(&s);
         let (near, far) = hroc::scene::camera::clip_planes(&s.bounds(), &s.path);
         let (mut sum_hidden, mut sum_vis, mut frames) = (0.0, 0.0, 0);
+        let (mut hits, mut back_hits) = (0usize, 0usize);
         let mut line = String::new();
-        for cam in s.path.frames(11, near, far) {
+        let img_dir = std::env::var("IMG").ok();
+        let mut sheet = image::RgbImage::new(2 * w as u32, 2 * h as u32);
+        let sheet_frames: Vec<usize> = std::env::var("SHEET").map(|v| v.split(',').filter_map(|f| f.parse().ok()).collect()).unwrap_or(vec![0, 3, 6, 9]);
+        for (fi, cam) in s.path.frames(11, near, far).into_iter().enumerate() {
+            let mut img = image::RgbImage::new(w as u32, h as u32);
             let vp = cam.view_proj(16.0 / 9.0);
             let planes = frustum_planes(&vp);
             let in_frustum = s.objects.iter().filter(|o| aabb_in_frustum(&planes, o.bounds.min, o.bounds.max)).count();
@@ -316,10 +349,23 @@ fn occlusion_estimate() {
                     let ndc = Vec3::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / h as f32 * 2.0, 1.0);
                     let p = inv.project_point3(ndc);
                     let d = (p - cam.eye).normalize();
-                    if let Some(i) = caster.cast(cam.eye, d, near) {
+                    let mut px = [40u8, 50, 70];
+                    if let Some((i, n)) = caster.cast(cam.eye, d, near) {
                         seen[i] = true;
+                        hits += 1;
+                        // Triangles are wound CCW seen from outside: a first hit
+                        // on a back face means a flipped triangle (or an open mesh).
+                        if n.dot(d) > 0.0 {
+                            back_hits += 1;
+                        }
+                        let shade = 0.35 + 0.65 * n.dot(Vec3::new(0.4, 0.8, 0.3).normalize()).abs();
+                        px = s.objects[i].color.map(|c| ((c * shade).clamp(0.0, 1.0).powf(1.0 / 2.2) * 255.0) as u8);
                     }
+                    img.put_pixel(x as u32, y as u32, image::Rgb(px));
                 }
+            }
+            if let Some(q) = sheet_frames.iter().position(|&f| f == fi) {
+                image::imageops::replace(&mut sheet, &img, (q % 2 * w) as i64, (q / 2 * h) as i64);
             }
             let visible = seen.iter().filter(|&&v| v).count();
             let hidden = 1.0 - visible as f32 / in_frustum.max(1) as f32;
@@ -328,12 +374,16 @@ fn occlusion_estimate() {
             sum_vis += visible as f32 / s.objects.len() as f32;
             frames += 1;
         }
+        if let Some(dir) = &img_dir {
+            sheet.save(format!("{dir}/{}.png", g.key)).unwrap();
+        }
         println!(
-            "{:17} N {:6}: in-frustum objects hidden by occlusion avg {:.0}%, visible avg {:.1}% of N; per frame (hidden/in-frustum):{}",
+            "{:17} N {:6}: in-frustum objects hidden by occlusion avg {:.0}%, visible avg {:.1}% of N, back-face hits {:.2}%; per frame (hidden/in-frustum):{}",
             g.key,
             s.objects.len(),
             sum_hidden / frames as f32 * 100.0,
             sum_vis / frames as f32 * 100.0,
+            back_hits as f32 / hits.max(1) as f32 * 100.0,
             line
         );
     }
@@ -356,7 +406,16 @@ fn mesh_report() {
         }
         println!("{} ({} triangles):", g.key, s.stats().triangles);
         for (m, u) in s.meshes.iter().zip(uses) {
-            println!("  {:20} {:6} tris x {:6} = {:8}", m.name, m.triangle_count(), u, m.triangle_count() * u);
+            let (lo, hi) = (m.bounds.min, m.bounds.max);
+            println!(
+                "  {:20} {:6} tris x {:6} = {:8}  bounds {:.2?} .. {:.2?}",
+                m.name,
+                m.triangle_count(),
+                u,
+                m.triangle_count() * u,
+                lo.to_array(),
+                hi.to_array()
+            );
         }
     }
 }

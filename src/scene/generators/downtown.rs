@@ -8,7 +8,7 @@ use std::f32::consts::{FRAC_PI_2, PI};
 
 use super::rng::Rng;
 use super::shapes::{block, box_at, cylinder, gable, icosphere, pyramid};
-use super::{trs, walk_path, Builder, Clearance};
+use super::{grid_walk, trs, walk_path, Builder, Clearance};
 use crate::scene::CameraPath;
 
 const STREET: f32 = 12.0;
@@ -58,17 +58,24 @@ struct Prop {
 }
 
 fn prop_meshes(b: &mut Builder) -> Vec<Prop> {
-    let lamp = cylinder(0.08, 6.0, 6).with(box_at(Vec3::new(0.0, 6.0, 0.7), Vec3::new(0.12, 0.1, 1.5))).with(box_at(Vec3::new(0.0, 5.9, 1.35), Vec3::new(0.3, 0.15, 0.5)));
+    let lamp = cylinder(0.08, 6.0, 6)
+        .with(box_at(Vec3::new(0.0, 6.0, 0.7), Vec3::new(0.12, 0.1, 1.5)))
+        .with(box_at(Vec3::new(0.0, 5.9, 1.35), Vec3::new(0.3, 0.15, 0.5)));
     let tree = cylinder(0.18, 2.5, 6).with(icosphere(1).scaled(Vec3::new(2.2, 2.6, 2.2)).at(Vec3::Y * 4.2));
-    let bench = block(1.8, 0.06, 0.5).at(Vec3::Y * 0.45).with(box_at(Vec3::new(0.0, 0.75, -0.22), Vec3::new(1.8, 0.4, 0.05))).with(block(0.08, 0.45, 0.45).at(Vec3::X * -0.8)).with(block(0.08, 0.45, 0.45).at(Vec3::X * 0.8));
-    let wheel = cylinder(0.33, 0.22, 8).rotated(Quat::from_rotation_z(FRAC_PI_2));
+    let bench = block(1.8, 0.06, 0.5)
+        .at(Vec3::Y * 0.45)
+        .with(box_at(Vec3::new(0.0, 0.75, -0.22), Vec3::new(1.8, 0.4, 0.05)))
+        .with(block(0.08, 0.45, 0.45).at(Vec3::X * -0.8))
+        .with(block(0.08, 0.45, 0.45).at(Vec3::X * 0.8));
+    // Wheel centred on its axle, axle along x.
+    let wheel = cylinder(0.33, 0.22, 8).at(Vec3::Y * -0.11).rotated(Quat::from_rotation_z(FRAC_PI_2));
     let mut car = block(1.8, 0.7, 4.3).at(Vec3::Y * 0.3).with(block(1.6, 0.55, 2.2).at(Vec3::new(0.0, 1.0, -0.2)));
     for (x, z) in [(-0.8, -1.4), (0.8, -1.4), (-0.8, 1.4), (0.8, 1.4)] {
-        car.append(&wheel.clone().at(Vec3::new(x + 0.11f32.copysign(x), 0.33, z)));
+        car.append(&wheel.clone().at(Vec3::new(x * 1.125, 0.33, z)));
     }
     let mut van = block(2.1, 2.2, 6.0).at(Vec3::Y * 0.4).with(block(2.1, 1.2, 1.2).at(Vec3::new(0.0, 0.4, 3.5)));
     for (x, z) in [(-0.95, -2.0), (0.95, -2.0), (-0.95, 3.3), (0.95, 3.3)] {
-        van.append(&wheel.clone().scaled(Vec3::splat(1.2)).at(Vec3::new(x + 0.12f32.copysign(x), 0.4, z)));
+        van.append(&wheel.clone().scaled(Vec3::splat(1.2)).at(Vec3::new(x * 1.105, 0.4, z)));
     }
     let bin = cylinder(0.3, 0.9, 10);
     let hydrant = cylinder(0.15, 0.6, 8).with(cylinder(0.1, 0.2, 8).at(Vec3::Y * 0.6)).with(box_at(Vec3::Y * 0.4, Vec3::new(0.45, 0.1, 0.1)));
@@ -99,53 +106,14 @@ fn street_lines(rng: &mut Rng, count: usize) -> Vec<f32> {
     v.iter().map(|x| x - mid).collect()
 }
 
-/// A self-avoiding drive over intersections, mostly straight, about
-/// `blocks` block lengths long, preferring interior streets.
-fn route(rng: &mut Rng, side: usize, blocks: usize) -> Vec<(usize, usize)> {
-    let (lo, hi) = if side >= 3 { (1, side - 1) } else { (0, side) };
-    let mut best = vec![];
-    for _ in 0..24 {
-        let mut walk = vec![(lo + rng.below(hi - lo + 1), lo + rng.below(hi - lo + 1))];
-        let mut dir = rng.below(4);
-        let mut straight = 0;
-        while walk.len() <= blocks {
-            let (i, j) = *walk.last().unwrap();
-            let mut dirs = [dir, (dir + 1) % 4, (dir + 3) % 4];
-            if straight >= 2 && rng.chance(0.5) {
-                dirs.swap(0, 1 + rng.below(2));
-            }
-            let next = dirs.iter().find_map(|&d| {
-                let (di, dj) = [(1i64, 0i64), (0, 1), (-1, 0), (0, -1)][d];
-                let (ni, nj) = (i as i64 + di, j as i64 + dj);
-                let ok = ni >= lo as i64 && nj >= lo as i64 && ni <= hi as i64 && nj <= hi as i64 && !walk.contains(&(ni as usize, nj as usize));
-                ok.then_some((d, (ni as usize, nj as usize)))
-            });
-            match next {
-                Some((d, cell)) => {
-                    straight = if d == dir { straight + 1 } else { 0 };
-                    dir = d;
-                    walk.push(cell);
-                }
-                None => break,
-            }
-        }
-        if walk.len() > best.len() {
-            best = walk;
-        }
-        if best.len() > blocks {
-            break;
-        }
-    }
-    best
-}
-
 pub(super) fn build(b: &mut Builder) -> CameraPath {
     let side = ((b.n as f32 / PER_BLOCK).sqrt().round() as usize).max(1);
     let xs = street_lines(&mut b.rng, side);
     let zs = street_lines(&mut b.rng, side);
     let centre_r = (xs[side] - xs[0]).max(zs[side] - zs[0]) * 0.5;
 
-    let inter = route(&mut b.rng, side, 6);
+    let (lo, hi) = if side >= 3 { (1, side - 1) } else { (0, side) };
+    let inter = grid_walk(&mut b.rng, lo, hi, 6);
     let pts: Vec<Vec3> = inter.iter().map(|&(i, j)| Vec3::new(xs[i], EYE, zs[j])).collect();
     let path = if pts.len() == 1 {
         // One block: circle it.

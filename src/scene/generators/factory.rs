@@ -9,7 +9,7 @@ use std::f32::consts::{FRAC_PI_2, TAU};
 
 use super::rng::Rng;
 use super::shapes::{block, box_at, cylinder, lathe, rock, torus, uv_sphere, Part};
-use super::{trs, walk_path, Builder, Clearance};
+use super::{grid_walk, trs, walk_path, Builder, Clearance};
 use crate::scene::CameraPath;
 
 const BAY: f32 = 20.0;
@@ -152,16 +152,16 @@ fn compressor() -> Part {
 }
 
 fn forklift() -> Part {
-    let wheel = cylinder(0.28, 0.2, 10).rotated(Quat::from_rotation_z(FRAC_PI_2));
+    let wheel = cylinder(0.28, 0.2, 10).at(Vec3::Y * -0.1).rotated(Quat::from_rotation_z(FRAC_PI_2));
     block(1.1, 1.0, 2.0)
         .with(box_at(Vec3::new(0.0, 1.6, -0.2), Vec3::new(1.0, 0.1, 1.2)))
         .with(box_at(Vec3::new(0.0, 1.5, 1.1), Vec3::new(0.9, 2.6, 0.12)))
         .with(box_at(Vec3::new(-0.25, 0.1, 1.7), Vec3::new(0.12, 0.06, 1.1)))
         .with(box_at(Vec3::new(0.25, 0.1, 1.7), Vec3::new(0.12, 0.06, 1.1)))
-        .with(wheel.clone().at(Vec3::new(-0.55, 0.28, 0.6)))
-        .with(wheel.clone().at(Vec3::new(0.65, 0.28, 0.6)))
-        .with(wheel.clone().at(Vec3::new(-0.55, 0.28, -0.6)))
-        .with(wheel.at(Vec3::new(0.65, 0.28, -0.6)))
+        .with(wheel.clone().at(Vec3::new(-0.58, 0.28, 0.6)))
+        .with(wheel.clone().at(Vec3::new(0.58, 0.28, 0.6)))
+        .with(wheel.clone().at(Vec3::new(-0.58, 0.28, -0.6)))
+        .with(wheel.at(Vec3::new(0.58, 0.28, -0.6)))
 }
 
 /// Tank: lathed shell with a domed top and a base ring (unit radius, height 1 + dome).
@@ -192,33 +192,7 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
 
     // Path over aisle intersections, like a drive through a street grid.
     let (lo, hi) = if side >= 3 { (1, side - 1) } else { (0, side) };
-    let mut inter = vec![];
-    for _ in 0..24 {
-        let mut walk = vec![(lo + b.rng.below(hi - lo + 1), lo + b.rng.below(hi - lo + 1))];
-        let mut dir = b.rng.below(4);
-        while walk.len() <= 6 {
-            let (i, j) = *walk.last().unwrap();
-            let mut dirs = [dir, (dir + 1) % 4, (dir + 3) % 4];
-            if b.rng.chance(0.4) {
-                dirs.swap(0, 1 + b.rng.below(2));
-            }
-            let next = dirs.iter().find_map(|&d| {
-                let (di, dj) = [(1i64, 0i64), (0, 1), (-1, 0), (0, -1)][d];
-                let (ni, nj) = (i as i64 + di, j as i64 + dj);
-                let ok = ni >= lo as i64 && nj >= lo as i64 && ni <= hi as i64 && nj <= hi as i64 && !walk.contains(&(ni as usize, nj as usize));
-                ok.then_some((d, (ni as usize, nj as usize)))
-            });
-            let Some((d, cell)) = next else { break };
-            dir = d;
-            walk.push(cell);
-        }
-        if walk.len() > inter.len() {
-            inter = walk;
-        }
-        if inter.len() > 6 {
-            break;
-        }
-    }
+    let inter = grid_walk(&mut b.rng, lo, hi, 6);
     // The outer aisles run along the hall walls: keep a metre off them.
     let at = |i: usize| line(i).clamp(-half + 1.0, half - 1.0);
     let pts: Vec<Vec3> = if inter.len() > 1 {
@@ -235,13 +209,8 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
     let rack_m = b.mesh("rack", rack());
     let pipe = b.mesh("pipe", cylinder(1.0, 1.0, 12).rotated(Quat::from_rotation_z(-FRAC_PI_2)));
     let tank_m = b.mesh("tank", tank());
-    let machines = [
-        b.mesh("lathe", lathe_machine()),
-        b.mesh("press", press()),
-        b.mesh("cnc", cnc()),
-        b.mesh("compressor", compressor()),
-        b.mesh("forklift", forklift()),
-    ];
+    let machines =
+        [b.mesh("lathe", lathe_machine()), b.mesh("press", press()), b.mesh("cnc", cnc()), b.mesh("compressor", compressor()), b.mesh("forklift", forklift())];
     let robot_m = b.mesh("robot", robot());
     let conveyor_m = b.mesh("conveyor", conveyor());
     let mut rr = Rng::new(b.rng.next_u64());
@@ -372,7 +341,11 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
                             b.push(conveyor_m, trs(Vec3::new(x0 + 4.0 + u as f32 * 6.0, 0.0, z), 0.0, Vec3::ONE), [0.3, 0.3, 0.32]);
                             let side = if u % 2 == 0 { 1.6 } else { -1.6 };
                             let color = b.rng.color(&[[0.9, 0.5, 0.1], [0.9, 0.8, 0.2]], 0.05);
-                            b.push(robot_m, trs(Vec3::new(x0 + 4.0 + u as f32 * 6.0, 0.0, z + side), if side > 0.0 { -FRAC_PI_2 } else { FRAC_PI_2 }, Vec3::ONE), color);
+                            b.push(
+                                robot_m,
+                                trs(Vec3::new(x0 + 4.0 + u as f32 * 6.0, 0.0, z + side), if side > 0.0 { -FRAC_PI_2 } else { FRAC_PI_2 }, Vec3::ONE),
+                                color,
+                            );
                         }
                         for u in 0..5 {
                             slots.push(Slot { pos: Vec3::new(x0 + 2.5 + u as f32 * 3.8, 0.0, z - 2.2), yaw: 0.0, max_h: 6.0, floor: true });
@@ -393,7 +366,11 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         let color = b.rng.color(&[[0.6, 0.3, 0.15], [0.3, 0.5, 0.3], [0.7, 0.7, 0.7]], 0.05);
         for k in 0..side {
             let (a, c) = (line(k), line(k + 1));
-            let m = if along_x { trs(Vec3::new(a, y, line(i) + 1.0), 0.0, Vec3::new(c - a, r, r)) } else { trs(Vec3::new(line(i) + 1.0, y, a), -FRAC_PI_2, Vec3::new(c - a, r, r)) };
+            let m = if along_x {
+                trs(Vec3::new(a, y, line(i) + 1.0), 0.0, Vec3::new(c - a, r, r))
+            } else {
+                trs(Vec3::new(line(i) + 1.0, y, a), -FRAC_PI_2, Vec3::new(c - a, r, r))
+            };
             b.push(pipe, m, color);
         }
     }
@@ -418,7 +395,18 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
             b.push(goods[3].0, m, CARDBOARD[0]);
             continue;
         };
-        let w: Vec<f32> = goods.iter().map(|g| if slot.floor { g.3 } else if g.1 <= slot.max_h { g.2 } else { 0.0 }).collect();
+        let w: Vec<f32> = goods
+            .iter()
+            .map(|g| {
+                if slot.floor {
+                    g.3
+                } else if g.1 <= slot.max_h {
+                    g.2
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         let g = &goods[b.rng.weighted(&w)];
         let pos = Vec3::new(slot.pos.x, tops[s], slot.pos.z);
         let m = trs(pos, slot.yaw + b.rng.range(-0.05, 0.05), Vec3::ONE);

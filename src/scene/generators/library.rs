@@ -19,10 +19,10 @@ const BOARD: f32 = 0.025;
 const AISLE: f32 = 1.5;
 const ROW_PITCH: f32 = CASE_D + AISLE;
 /// Sections between two cross aisles, and the cross aisle width.
-const RUN: usize = 8;
+const RUN: usize = 6;
 const CROSS: f32 = 2.4;
 /// Aisle round the stacks, inside the walls.
-const MARGIN: f32 = 3.0;
+const MARGIN: f32 = 4.0;
 const EYE: f32 = 1.6;
 
 const LEATHER: &[[f32; 3]] = &[
@@ -110,7 +110,8 @@ fn fill_shelf(b: &mut Builder, section: u32, x0: f32, w: f32, y: f32, out: &mut 
                 let color = rng.color(LEATHER, 0.15);
                 let kind = rng.weighted(&[0.45, 0.25, 0.3]);
                 // Height axis along +x, thickness axis down.
-                let m = Mat4::from_translation(Vec3::new(x, yy + t, front - d * 0.5)) * Mat4::from_rotation_z(-FRAC_PI_2) * Mat4::from_scale(Vec3::new(t, len, d));
+                let m =
+                    Mat4::from_translation(Vec3::new(x, yy + t, front - d * 0.5)) * Mat4::from_rotation_z(-FRAC_PI_2) * Mat4::from_scale(Vec3::new(t, len, d));
                 out.push(Book { section, local: m, kind, color });
                 yy += t;
             }
@@ -167,19 +168,21 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
     let mut crosses = vec![ox - MARGIN * 0.5];
     crosses.extend((1..cols.div_ceil(RUN)).map(|k| ox + section_x(k * RUN) - CROSS * 0.5));
     crosses.push(ox + length + MARGIN * 0.5);
+    // Turn in the interior cross aisles where there are enough of them:
+    // turning at the ends of the stacks means staring at a wall.
+    let crosses = if crosses.len() >= 4 { crosses[1..crosses.len() - 1].to_vec() } else { crosses };
     let mut ai = if aisles.len() > 2 { 1 + b.rng.below(aisles.len() - 2) } else { 0 };
     let mut ci = 0;
     let mut dir_c: i64 = 1;
     let mut pts = vec![Vec3::new(crosses[0], EYE, aisles[ai])];
-    for leg in 0..6 {
+    for leg in 0..7 {
         if leg % 2 == 0 {
-            // Along the aisle to a cross aisle further on.
-            let step = 1 + b.rng.below(2);
-            let next = ci as i64 + dir_c * step as i64;
-            if next < 0 || next >= crosses.len() as i64 {
+            // Along the aisle to another cross aisle.
+            let step = 1 + b.rng.below(2) as i64;
+            if !(0..crosses.len() as i64).contains(&(ci as i64 + dir_c * step)) {
                 dir_c = -dir_c;
             }
-            ci = (ci as i64 + dir_c * step as i64).clamp(0, crosses.len() as i64 - 1) as usize;
+            ci = (ci as i64 + dir_c * step).clamp(0, crosses.len() as i64 - 1) as usize;
         } else {
             // Along the cross aisle, past a few row ends, into another aisle.
             let shift = 2 + b.rng.below(3);
@@ -187,6 +190,9 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         }
         pts.push(Vec3::new(crosses[ci], EYE, aisles[ai]));
     }
+    // End halfway down the last aisle, among the books.
+    let n_pts = pts.len();
+    pts[n_pts - 1] = (pts[n_pts - 1] + pts[n_pts - 2]) * 0.5;
     let path = walk_path(pts, 2.5, 25);
 
     // Structure: floor, walls, bookcases.
@@ -208,7 +214,7 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
     let section_m = |r: usize, c: usize| {
         // Odd rows turn round: their books face the aisle on the other side.
         let (x, z) = (ox + section_x(c), row_z(r));
-        if r % 2 == 0 {
+        if r.is_multiple_of(2) {
             Mat4::from_translation(Vec3::new(x, 0.0, z))
         } else {
             Mat4::from_translation(Vec3::new(x + SECTION_W, 0.0, z)) * Mat4::from_quat(Quat::from_rotation_y(PI))

@@ -4,6 +4,10 @@
 //! many objects, instancing a few dozen shared meshes, plus a 10 s camera
 //! path through the scene. World size grows with the object count so the
 //! density (and so the occlusion) stays like the paper's scene.
+//!
+//! Determinism: the same key, count and seed give the same scene on a given
+//! platform (own RNG, no hash-order dependence); transcendental `f32`
+//! functions may differ in the last bit between platforms' math libraries.
 
 mod downtown;
 mod factory;
@@ -38,25 +42,68 @@ pub struct Generator {
 
 static GENERATORS: [Generator; 10] = [
     Generator { key: "rooms", description: "grid of rooms joined by doorways, furnished (IOC poster RM)", default_objects: 2_753, paper_objects: 2_753 },
-    Generator { key: "downtown", description: "street grid of varied buildings and street furniture, eye-level drive (IOC poster DT)", default_objects: 15_000, paper_objects: 31_392 },
-    Generator { key: "figures", description: "dense field of low-poly geometric figures, very high depth complexity (IOC poster GF)", default_objects: 20_000, paper_objects: 72_000 },
-    Generator { key: "fantasy", description: "few, very detailed objects: rocks, trees, arches, crystals (HROC FN)", default_objects: 1_200, paper_objects: 7_437 },
-    Generator { key: "factory", description: "wide factory hall: racks, machines, tanks, barrels, pipes (HROC FC)", default_objects: 15_000, paper_objects: 46_600 },
-    Generator { key: "radial-city", description: "radial city of low-poly buildings, tall towers at the centre (HROC RC)", default_objects: 20_000, paper_objects: 73_812 },
-    Generator { key: "radial-city-fast", description: "radial-city with fast rotations and a backward walk (HROC RC')", default_objects: 20_000, paper_objects: 73_812 },
-    Generator { key: "satellites", description: "field of satellites, rocks and a few planets of varied size and detail (HROC ST)", default_objects: 20_000, paper_objects: 120_000 },
-    Generator { key: "library", description: "rows of shelves without backs; the books are the occluders (statistical OQ paper)", default_objects: 15_000, paper_objects: 40_000 },
+    Generator {
+        key: "downtown",
+        description: "street grid of varied buildings and street furniture, eye-level drive (IOC poster DT)",
+        default_objects: 15_000,
+        paper_objects: 31_392,
+    },
+    Generator {
+        key: "figures",
+        description: "dense field of low-poly geometric figures, very high depth complexity (IOC poster GF)",
+        default_objects: 20_000,
+        paper_objects: 72_000,
+    },
+    Generator {
+        key: "fantasy",
+        description: "few, very detailed objects: rocks, trees, arches, crystals (HROC FN)",
+        default_objects: 1_200,
+        paper_objects: 7_437,
+    },
+    Generator {
+        key: "factory",
+        description: "wide factory hall: racks, machines, tanks, barrels, pipes (HROC FC)",
+        default_objects: 15_000,
+        paper_objects: 46_600,
+    },
+    Generator {
+        key: "radial-city",
+        description: "radial city of low-poly buildings, tall towers at the centre (HROC RC)",
+        default_objects: 20_000,
+        paper_objects: 73_812,
+    },
+    Generator {
+        key: "radial-city-fast",
+        description: "radial-city with fast rotations and a backward walk (HROC RC')",
+        default_objects: 20_000,
+        paper_objects: 73_812,
+    },
+    Generator {
+        key: "satellites",
+        description: "field of satellites, rocks and a few planets of varied size and detail (HROC ST)",
+        default_objects: 20_000,
+        paper_objects: 120_000,
+    },
+    Generator {
+        key: "library",
+        description: "rows of shelves without backs; the books are the occluders (statistical OQ paper)",
+        default_objects: 15_000,
+        paper_objects: 40_000,
+    },
     Generator { key: "teapots", description: "randomly placed teapots in a volume (statistical OQ paper)", default_objects: 5_000, paper_objects: 5_000 },
 ];
 
+/// The generator for a scene key (`rooms`, `radial-city-fast`, ...).
 pub fn find(key: &str) -> Option<&'static Generator> {
     GENERATORS.iter().find(|g| g.key == key)
 }
 
+/// All scene keys, in table order.
 pub fn keys() -> Vec<&'static str> {
     GENERATORS.iter().map(|g| g.key).collect()
 }
 
+/// All generators, in table order.
 pub fn all() -> &'static [Generator] {
     &GENERATORS
 }
@@ -287,4 +334,44 @@ pub(crate) fn flight(rng: &mut Rng, half: Vec3, points: usize) -> Vec<Vec3> {
             Vec3::new(half.x * r * a.cos(), half.y * 0.35 * (py + s * TAU).sin(), half.z * r * a.sin())
         })
         .collect()
+}
+
+/// A self-avoiding walk over grid points (i, j) in [lo, hi]^2, up to
+/// `steps` steps, mostly straight, starting towards the grid's centre and
+/// turning towards it, so the view looks across the scene, not out of it.
+/// The longest of a few tries.
+pub(crate) fn grid_walk(rng: &mut Rng, lo: usize, hi: usize, steps: usize) -> Vec<(usize, usize)> {
+    const DIRS: [(i64, i64); 4] = [(1, 0), (0, 1), (-1, 0), (0, -1)];
+    let centre = (lo + hi) as f32 * 0.5;
+    // How much direction d at (i, j) heads towards the centre.
+    let toward = |(i, j): (usize, usize), d: usize| DIRS[d].0 as f32 * (centre - i as f32) + DIRS[d].1 as f32 * (centre - j as f32);
+    let mut best: Vec<(usize, usize)> = vec![];
+    for _ in 0..24 {
+        let start = (lo + rng.below(hi - lo + 1), lo + rng.below(hi - lo + 1));
+        let mut walk = vec![start];
+        let mut dir = (0..4).max_by(|&a, &b| toward(start, a).total_cmp(&toward(start, b))).unwrap_or(0);
+        let mut straight = 0;
+        while walk.len() <= steps {
+            let here = *walk.last().unwrap();
+            let (l, r) = ((dir + 1) % 4, (dir + 3) % 4);
+            let (l, r) = if toward(here, l) >= toward(here, r) { (l, r) } else { (r, l) };
+            let dirs = if straight >= 2 && rng.chance(0.5) { [l, dir, r] } else { [dir, l, r] };
+            let next = dirs.iter().find_map(|&d| {
+                let (ni, nj) = (here.0 as i64 + DIRS[d].0, here.1 as i64 + DIRS[d].1);
+                let inside = (lo as i64..=hi as i64).contains(&ni) && (lo as i64..=hi as i64).contains(&nj);
+                (inside && !walk.contains(&(ni as usize, nj as usize))).then_some((d, (ni as usize, nj as usize)))
+            });
+            let Some((d, cell)) = next else { break };
+            straight = if d == dir { straight + 1 } else { 0 };
+            dir = d;
+            walk.push(cell);
+        }
+        if walk.len() > best.len() {
+            best = walk;
+        }
+        if best.len() > steps {
+            break;
+        }
+    }
+    best
 }

@@ -45,7 +45,7 @@ impl Rng {
             return 0;
         }
         // Multiply-shift: unbiased enough for scene layout.
-        ((self.next_u64() >> 32) * n as u64 >> 32) as usize
+        (((self.next_u64() >> 32) * n as u64) >> 32) as usize
     }
 
     pub fn chance(&mut self, p: f32) -> bool {

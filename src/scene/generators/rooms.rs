@@ -56,7 +56,9 @@ fn bed() -> Part {
 }
 
 fn wardrobe() -> Part {
-    block(1.2, 2.0, 0.6).with(box_at(Vec3::new(-0.05, 1.0, 0.31), Vec3::new(0.03, 0.3, 0.03))).with(box_at(Vec3::new(0.05, 1.0, 0.31), Vec3::new(0.03, 0.3, 0.03)))
+    block(1.2, 2.0, 0.6)
+        .with(box_at(Vec3::new(-0.05, 1.0, 0.31), Vec3::new(0.03, 0.3, 0.03)))
+        .with(box_at(Vec3::new(0.05, 1.0, 0.31), Vec3::new(0.03, 0.3, 0.03)))
 }
 
 fn bookshelf() -> Part {
@@ -148,57 +150,25 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
 
     // Door offsets (centre along the wall) for walls between rooms:
     // vertical walls at x = xs[i] between (i-1, r) and (i, r); horizontal at z = zs[j].
-    let mut door_v = vec![vec![None; side]; side + 1];
-    let mut door_h = vec![vec![None; side]; side + 1];
-    for i in 1..side {
-        for r in 0..side {
+    let mut door_v: Vec<Vec<Option<f32>>> = vec![vec![None; side]; side + 1];
+    let mut door_h: Vec<Vec<Option<f32>>> = vec![vec![None; side]; side + 1];
+    for line in door_v.iter_mut().take(side).skip(1) {
+        for (r, door) in line.iter_mut().enumerate() {
             if !rng.chance(0.1) {
-                door_v[i][r] = Some(rng.range(zs[r] + 0.9 + DOOR_W * 0.5, zs[r + 1] - 0.9 - DOOR_W * 0.5));
+                *door = Some(rng.range(zs[r] + 0.9 + DOOR_W * 0.5, zs[r + 1] - 0.9 - DOOR_W * 0.5));
             }
         }
     }
-    for j in 1..side {
-        for c in 0..side {
+    for line in door_h.iter_mut().take(side).skip(1) {
+        for (c, door) in line.iter_mut().enumerate() {
             if !rng.chance(0.1) {
-                door_h[j][c] = Some(rng.range(xs[c] + 0.9 + DOOR_W * 0.5, xs[c + 1] - 0.9 - DOOR_W * 0.5));
+                *door = Some(rng.range(xs[c] + 0.9 + DOOR_W * 0.5, xs[c + 1] - 0.9 - DOOR_W * 0.5));
             }
         }
     }
 
-    // Route: the longest of a few random self-avoiding walks that prefer
-    // going straight; the walls it crosses get doors.
-    let want = (side * side).min(8);
-    let mut route: Vec<(usize, usize)> = vec![];
-    for _ in 0..24 {
-        let mut walk = vec![(rng.below(side), rng.below(side))];
-        let mut dir = rng.below(4);
-        while walk.len() < want {
-            let (c, r) = *walk.last().unwrap();
-            let mut dirs = [dir, (dir + 1) % 4, (dir + 3) % 4, (dir + 2) % 4];
-            if rng.chance(0.35) {
-                dirs.swap(0, 1 + rng.below(2));
-            }
-            let next = dirs.iter().find_map(|&d| {
-                let (dc, dr) = [(1i64, 0i64), (0, 1), (-1, 0), (0, -1)][d];
-                let (nc, nr) = (c as i64 + dc, r as i64 + dr);
-                let ok = nc >= 0 && nr >= 0 && nc < side as i64 && nr < side as i64 && !walk.contains(&(nc as usize, nr as usize));
-                ok.then_some((d, (nc as usize, nr as usize)))
-            });
-            match next {
-                Some((d, cell)) => {
-                    dir = d;
-                    walk.push(cell);
-                }
-                None => break,
-            }
-        }
-        if walk.len() > route.len() {
-            route = walk;
-        }
-        if route.len() == want {
-            break;
-        }
-    }
+    // Route through up to 8 rooms; the walls it crosses get doors.
+    let route = super::grid_walk(rng, 0, side - 1, (side * side).min(8) - 1);
     let (c0, r0) = route[0];
     let jitter = rng.vec2(-1.0, 1.0);
     let mut eye_pts = vec![centre(c0, r0) + Vec3::new(jitter.x, 0.0, jitter.y)];
@@ -235,17 +205,14 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         }
     }
     let wall_color = [0.82, 0.8, 0.74];
-    // A wall along one axis from a to b (coordinate `u` along it, fixed `w`),
-    // with an optional doorway centred at `door`.
+    // A wall on the line at `w` (z = w when `along_x`, else x = w) from
+    // `start` to `end`, with an optional doorway centred at `door`.
     let wall = |b: &mut Builder, along_x: bool, w: f32, start: f32, end: f32, door: Option<f32>| {
         let color = b.rng.tint(wall_color, 0.08);
         let piece = |b: &mut Builder, u0: f32, u1: f32, y0: f32, y1: f32| {
             let (c, len) = ((u0 + u1) * 0.5, u1 - u0);
-            let (pos, size) = if along_x {
-                (Vec3::new(c, y0, w), Vec3::new(len, y1 - y0, WALL_T))
-            } else {
-                (Vec3::new(w, y0, c), Vec3::new(WALL_T, y1 - y0, len))
-            };
+            let (pos, size) =
+                if along_x { (Vec3::new(c, y0, w), Vec3::new(len, y1 - y0, WALL_T)) } else { (Vec3::new(w, y0, c), Vec3::new(WALL_T, y1 - y0, len)) };
             b.push(unit, trs(pos, 0.0, size), color);
         };
         let (u0, u1) = (start - WALL_T * 0.5, end + WALL_T * 0.5);
@@ -322,7 +289,7 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
             let off = b.rng.vec2(-r, r);
             let off = Vec3::new(off.x, 0.0, off.y);
             let color = b.rng.color(DECOR, 0.15);
-            let yaw = b.rng.range(0.0, 6.28);
+            let yaw = b.rng.range(0.0, std::f32::consts::TAU);
             b.push(mesh, trs(top + off, yaw, Vec3::ONE), color);
             continue;
         }

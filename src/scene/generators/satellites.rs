@@ -70,6 +70,7 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
     // the view looks, close enough to fill much of it when passed.
     let line = Polyline::new(pts);
     let mut bodies = vec![];
+    let mut ringed = false;
     let planet_mesh = b.mesh("planet", uv_sphere(1.0, 64, 32));
     let ring_mesh = b.mesh("planet-ring", planet_ring());
     for i in 0..planets {
@@ -95,8 +96,11 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         bodies.push((c, r));
         let color = hsv(b.rng.f32(), b.rng.range(0.3, 0.7), b.rng.range(0.5, 0.8));
         b.push(planet_mesh, Mat4::from_scale_rotation_translation(Vec3::splat(r), Quat::IDENTITY, c), color);
-        let ring = Mat4::from_scale_rotation_translation(Vec3::splat(r), Quat::from_rotation_x(0.3) * Quat::from_rotation_z(0.2), c);
-        if i == 0 && b.left() > 0 && !clear.blocks(&b.bounds(ring_mesh, &ring)) {
+        // One planet gets a ring, facing the flight (so it reaches away from
+        // it): the first whose ring clears the flight.
+        let ring = Mat4::from_scale_rotation_translation(Vec3::splat(r), Quat::from_rotation_arc(Vec3::Y, side) * Quat::from_rotation_x(0.25), c);
+        if !ringed && b.left() > 0 && !clear.blocks(&b.bounds(ring_mesh, &ring)) {
+            ringed = true;
             let c2 = b.rng.tint([0.75, 0.7, 0.6], 0.1);
             b.push(ring_mesh, ring, c2);
         }

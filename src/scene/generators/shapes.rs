@@ -415,10 +415,12 @@ pub fn convex(verts: &[Vec3], faces: &[&[usize]]) -> Part {
 
 /// Prism over a regular `k`-gon (radius r, height h, base at y = 0), flat shaded.
 pub fn prism(k: usize, r: f32, h: f32) -> Part {
-    let ring = |y: f32| (0..k).map(move |i| {
-        let a = i as f32 / k as f32 * TAU;
-        Vec3::new(r * a.sin(), y, r * a.cos())
-    });
+    let ring = |y: f32| {
+        (0..k).map(move |i| {
+            let a = i as f32 / k as f32 * TAU;
+            Vec3::new(r * a.sin(), y, r * a.cos())
+        })
+    };
     let verts: Vec<Vec3> = ring(0.0).chain(ring(h)).collect();
     let bottom: Vec<usize> = (0..k).collect();
     let top: Vec<usize> = (k..2 * k).collect();
