@@ -24,6 +24,8 @@ pub struct BenchOptions {
     pub split: Split,
     pub camera_path: Option<PathBuf>,
     pub progress: bool,
+    /// Parameters of the methods (`--soq-base-time`, `--chc-*`).
+    pub method_options: crate::cull::MethodOptions,
 }
 
 /// One row of the table. Later methods add fields; these names never change.
@@ -100,6 +102,7 @@ pub fn run(gpu: &Gpu, o: &BenchOptions) -> Result<BenchReport> {
 
 pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraPath>) -> Result<BenchReport> {
     let mut s = Session::new(gpu, scene, path, o.frames, o.resolution, o.split)?;
+    s.options = o.method_options.clone();
     let mut cullers = o.methods.iter().filter(|m| *m != "noc").map(|m| s.create(m)).collect::<Result<Vec<_>>>()?;
     let n = s.renderer.object_count as u64;
     let frames = s.cameras.len();

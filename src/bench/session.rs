@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::bvh::{Bvh, Split};
-use crate::cull::{self, noc::NoCulling, Culler, Frame, SceneContext};
+use crate::cull::{self, noc::NoCulling, Culler, Frame, MethodOptions, SceneContext};
 use crate::error::Result;
 use crate::gpu::{Gpu, GpuTimer};
 use crate::render::{layout::DrawCommand, DrawList, Renderer};
@@ -16,6 +16,10 @@ pub struct Session<'g> {
     pub bvh: Bvh,
     pub renderer: Renderer,
     pub cameras: Vec<Camera>,
+    /// Camera-path time of each frame (`Frame::path_time`).
+    pub times: Vec<f32>,
+    /// Parameters handed to the methods `create` builds.
+    pub options: MethodOptions,
     timer: GpuTimer,
 }
 
@@ -56,10 +60,11 @@ impl<'g> Session<'g> {
         scene.validate()?;
         let (near, far) = clip_planes(&scene.bounds(), &scene.path);
         let cameras = scene.path.frames(frames.max(1), near, far);
+        let times = scene.path.frame_times(frames.max(1));
         let boxes: Vec<_> = scene.objects.iter().map(|o| o.bounds).collect();
         let bvh = Bvh::build(&boxes, split);
         let renderer = Renderer::new(gpu, &scene, w, h)?;
-        Ok(Session { gpu, scene, bvh, renderer, cameras, timer: GpuTimer::new(gpu, 64) })
+        Ok(Session { gpu, scene, bvh, renderer, cameras, times, options: MethodOptions::default(), timer: GpuTimer::new(gpu, 64) })
     }
 
     pub fn load(gpu: &'g Gpu, spec: &str, objects: Option<usize>, camera_path: Option<&Path>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {
@@ -69,7 +74,7 @@ impl<'g> Session<'g> {
     }
 
     pub fn context(&self) -> SceneContext<'_> {
-        SceneContext { gpu: self.gpu, scene: &self.scene, bvh: &self.bvh, renderer: &self.renderer }
+        SceneContext { gpu: self.gpu, scene: &self.scene, bvh: &self.bvh, renderer: &self.renderer, options: &self.options }
     }
 
     pub fn create(&self, method: &str) -> Result<Box<dyn Culler>> {
@@ -79,9 +84,11 @@ impl<'g> Session<'g> {
     /// Runs one frame of `culler` at camera `k`, timed from the camera
     /// upload to the GPU's completion.
     pub fn run_frame(&mut self, culler: &mut dyn Culler, k: usize) -> Result<FrameResult> {
-        let camera = self.cameras[k.min(self.cameras.len() - 1)];
+        let k = k.min(self.cameras.len() - 1);
+        let camera = self.cameras[k];
         let start = std::time::Instant::now();
         let mut f = Frame::begin(self.gpu, &self.renderer, &mut self.timer, camera, self.bvh.nodes.len() as u32);
+        f.path_time = self.times[k];
         culler.frame(&mut f)?;
         let lists = f.finish()?;
         let wall_ms = start.elapsed().as_secs_f64() * 1e3;

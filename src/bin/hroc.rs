@@ -55,6 +55,45 @@ struct SceneArgs {
     /// JSON camera path file (keys of t, eye, target, up, fov_y_deg).
     #[arg(long)]
     camera_path: Option<PathBuf>,
+    #[command(flatten)]
+    m: MethodArgs,
+}
+
+/// Method parameters (`cull::MethodOptions`; defaults as documented there).
+#[derive(clap::Args)]
+struct MethodArgs {
+    /// soq: BASE_TIME of paper 004, seconds of camera path.
+    #[arg(long, default_value_t = 2.0 / 3.0, value_parser = parse_positive)]
+    soq_base_time: f32,
+    /// chc++: previously invisible nodes per query batch (b).
+    #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u64).range(1..))]
+    chc_batch: u64,
+    /// chc++: frames a visible leaf goes unqueried (n_av).
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..))]
+    chc_nav: u32,
+    /// chc++: levels of descendants for tighter bounds (d_max).
+    #[arg(long, default_value_t = 4)]
+    chc_dmax: u32,
+    /// chc++: largest summed-area ratio of tighter bounds (s_max).
+    #[arg(long, default_value_t = 1.4, value_parser = parse_positive)]
+    chc_smax: f32,
+    /// ioc: BVH depths START:BOTTOM tested level by level (root = 0;
+    /// default: the middle of the BVH, depth/2-1:depth/2+1).
+    #[arg(long, value_parser = cull::ioc::parse_range)]
+    ioc_range: Option<(u32, u32)>,
+}
+
+impl MethodArgs {
+    fn options(&self) -> cull::MethodOptions {
+        cull::MethodOptions { soq_base_time: self.soq_base_time, chc_batch: self.chc_batch as usize, chc_nav: self.chc_nav, chc_dmax: self.chc_dmax, chc_smax: self.chc_smax, ioc_range: self.ioc_range }
+    }
+}
+
+fn parse_positive(s: &str) -> std::result::Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err(format!("'{s}' is not a positive number")),
+    }
 }
 
 #[derive(clap::Args)]
@@ -174,6 +213,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         frames: a.s.frames,
         resolution: a.s.resolution,
         split: a.s.split,
+        method_options: a.s.m.options(),
         camera_path: a.s.camera_path,
         progress: true,
     };
@@ -205,6 +245,7 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     let path = s.camera_path.as_deref().map(hroc::scene::CameraPath::from_file).transpose()?;
     let gpu = Gpu::new()?;
     let mut session = Session::new(&gpu, scene, path, s.frames, s.resolution, s.split)?;
+    session.options = s.m.options();
     let mut culler = session.create(method)?;
     let mut last = None;
     for k in 0..=a.frame {
@@ -216,7 +257,7 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     }
     let lists = last.map(|r| r.lists).unwrap_or_default();
     let px = if a.view == View::Groups {
-        let nodes = culler.tested_nodes(&gpu)?.ok_or_else(|| Error::Arg(format!("{method} tests no boxes; the groups view is for box-testing methods (hroc)")))?;
+        let nodes = culler.tested_nodes(&gpu)?.ok_or_else(|| Error::Arg(format!("{method} tests no boxes; the groups view is for box-testing methods (hroc, roc, roc-all, ioc)")))?;
         let mut px = views::capture(&gpu, &session.renderer, View::Color, &lists)?;
         let boxes: Vec<_> = nodes.iter().map(|&n| (session.bvh.aabb(n), if session.bvh.is_leaf(n) { [255, 220, 0, 255] } else { [255, 40, 40, 255] })).collect();
         let vp = session.cameras[a.frame].view_proj(session.renderer.aspect());

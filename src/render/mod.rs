@@ -25,6 +25,12 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("vfc.wgsl", include_str!("../../shaders/vfc.wgsl")),
     ("hroc_groups.wgsl", include_str!("../../shaders/hroc_groups.wgsl")),
     ("hroc_test.wgsl", include_str!("../../shaders/hroc_test.wgsl")),
+    ("roc_boxes.wgsl", include_str!("../../shaders/roc_boxes.wgsl")),
+    ("roc.wgsl", include_str!("../../shaders/roc.wgsl")),
+    ("ioc.wgsl", include_str!("../../shaders/ioc.wgsl")),
+    ("hzb_pyramid.wgsl", include_str!("../../shaders/hzb_pyramid.wgsl")),
+    ("hzb_test.wgsl", include_str!("../../shaders/hzb_test.wgsl")),
+    ("woc_warp.wgsl", include_str!("../../shaders/woc_warp.wgsl")),
 ];
 pub const COMMON_WGSL: &str = include_str!("../../shaders/common.wgsl");
 

@@ -172,12 +172,17 @@ impl CameraPath {
 
     /// `frames` cameras at uniform times over the path, first at t = first key.
     pub fn frames(&self, frames: usize, near: f32, far: f32) -> Vec<Camera> {
+        self.frame_times(frames).into_iter().map(|t| self.sample(t, near, far)).collect()
+    }
+
+    /// The times [`frames`](Self::frames) samples the path at.
+    pub fn frame_times(&self, frames: usize) -> Vec<f32> {
         let t0 = self.keys.first().map_or(0.0, |k| k.t);
         let dur = self.duration() - t0;
         (0..frames)
             .map(|f| {
                 let s = if frames > 1 { f as f32 / (frames - 1) as f32 } else { 0.0 };
-                self.sample(t0 + dur * s, near, far)
+                t0 + dur * s
             })
             .collect()
     }

@@ -1,0 +1,51 @@
+// Raster occlusion test of boxes (ROC [KT14, BK15]; IOC runs it per BVH
+// level): rasterize each listed box against the depth buffer with forced
+// early-Z, depth writes off and a small bias toward the camera; a fragment
+// that passes marks its item. `boxes` holds object boxes (ROC, the
+// renderer's bounds) or BVH nodes (IOC): both are 32-byte min/max records.
+// Boxes that reach the near plane lose fragments to clipping, so the
+// compute passes decide them without a test; the vertex stage only drops
+// boxes outside the frustum or well across the near plane (a margin of
+// near / 2, so it never drops a box the compute passes expect a mark from).
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> list: array<u32>;     // items to test, one per instance
+@group(0) @binding(2) var<storage, read> boxes: array<BvhNode>;
+@group(0) @binding(3) var<storage, read_write> marks: array<u32>; // per item: 1 = a fragment passed
+
+// Corner c of a box is (c & 1, c & 2, c & 4); triangles wind
+// counter-clockwise seen from outside (as in hroc_test.wgsl).
+const CUBE: array<u32, 36> = array<u32, 36>(
+    0u, 4u, 6u, 0u, 6u, 2u, // -x
+    1u, 3u, 7u, 1u, 7u, 5u, // +x
+    0u, 1u, 5u, 0u, 5u, 4u, // -y
+    2u, 6u, 7u, 2u, 7u, 3u, // +y
+    0u, 2u, 3u, 0u, 3u, 1u, // -z
+    4u, 5u, 7u, 4u, 7u, 6u, // +z
+);
+
+struct BoxOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) item: u32,
+}
+
+@vertex
+fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> BoxOut {
+    let item = list[slot];
+    let b = padded_box(boxes[item], frame.eye.xyz, pixel_angle(frame));
+    var out: BoxOut;
+    out.item = item;
+    if !box_in_frustum(frame.planes, b.min, b.max) || crosses_near(frame.planes, 0.5 * frame.near, b) {
+        out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0); // degenerate and clipped: no fragments
+        return out;
+    }
+    let c = CUBE[v];
+    let p = select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
+    out.clip = frame.view_proj * vec4<f32>(p, 1.0);
+    return out;
+}
+
+@fragment @early_depth_test(force)
+fn box_fs(in: BoxOut) {
+    marks[in.item] = 1u;
+}
