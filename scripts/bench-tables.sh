@@ -11,16 +11,21 @@ run() {
   local name="$1"; shift
   echo
   echo "\`\`\`"
-  echo "hroc $*"
+  echo "hroc $* --markdown"
   echo "\`\`\`"
   echo
   "$bin" "$@" --markdown --json "$out/$name.json"
 }
 echo "Date: $(date -u +%Y-%m-%d), machine: $(nproc) cores, $(uname -m), $(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | xargs)"
-# Issue 2 acceptance.
+# Foundation (issue 2).
 run rc20k bench --scene radial-city --objects 20000 --methods noc,vfc,ref --frames 60
-# Issue 3 acceptance: every HROC variant beside the baselines, with the breakdown.
-M=noc,vfc,ref,hroc-na,hroc-cr,hroc-of,hroc-cr+of
-run rc bench --scene radial-city --objects 20000 --methods $M --frames 300 --resolution 640x360 --breakdown
-run fc bench --scene factory --objects 10000 --methods $M --frames 300 --resolution 640x360 --breakdown
-run st bench --scene satellites --objects 10000 --methods $M --frames 300 --resolution 640x360 --breakdown
+# HROC and the raster baselines (issues 3, 4): 150 frames over the 10 s path.
+M=noc,vfc,ref,roc,roc-all,ioc,hzb,woc,hroc-na,hroc-cr,hroc-of,hroc-cr+of
+run rc bench --scene radial-city --objects 20000 --methods $M --frames 150 --breakdown
+run fc bench --scene factory --objects 10000 --methods $M --frames 150 --breakdown
+run st bench --scene satellites --objects 10000 --methods $M --frames 150 --breakdown
+# Query baselines (issue 5).
+Q=noc,vfc,oq,soq,chc++,hroc
+run q-rc bench --scene radial-city --objects 3000 --methods $Q --frames 60 --breakdown
+run q-lib bench --scene library --objects 3000 --methods $Q --frames 60 --breakdown
+run q-tea bench --scene teapots --objects 3000 --methods $Q --frames 60 --breakdown

@@ -115,3 +115,21 @@ fn crosses_near(planes: array<vec4<f32>, 6>, near: f32, b: Box) -> bool {
     let v = select(b.max, b.min, p.xyz >= vec3<f32>(0.0)); // nearest corner
     return dot(p.xyz, v) + p.w <= near;
 }
+
+// Corner c of a box is (c & 1, c & 2, c & 4); the 12 triangles wind
+// counter-clockwise seen from outside (tests/hroc.rs checks), so back-face
+// culling keeps the faces nearest the eye.
+const CUBE: array<u32, 36> = array<u32, 36>(
+    0u, 4u, 6u, 0u, 6u, 2u, // -x
+    1u, 3u, 7u, 1u, 7u, 5u, // +x
+    0u, 1u, 5u, 0u, 5u, 4u, // -y
+    2u, 6u, 7u, 2u, 7u, 3u, // +y
+    0u, 2u, 3u, 0u, 3u, 1u, // -z
+    4u, 5u, 7u, 4u, 7u, 6u, // +z
+);
+
+// Vertex v (0..36) of a box drawn as 12 triangles without an index buffer.
+fn box_corner(b: Box, v: u32) -> vec3<f32> {
+    let c = CUBE[v];
+    return select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
+}

@@ -17,16 +17,6 @@ const STAT_SLOTS: u32 = 64u;
 // Per slot: rays cast, nodes visited (spread over slots against contention).
 @group(0) @binding(5) var<storage, read_write> ray_stats: array<atomic<u32>>;
 
-// Corner c of a box is (c & 1, c & 2, c & 4); triangles wind
-// counter-clockwise seen from outside (checked by a Rust test).
-const CUBE: array<u32, 36> = array<u32, 36>(
-    0u, 4u, 6u, 0u, 6u, 2u, // -x
-    1u, 3u, 7u, 1u, 7u, 5u, // +x
-    0u, 1u, 5u, 0u, 5u, 4u, // -y
-    2u, 6u, 7u, 2u, 7u, 3u, // +y
-    0u, 2u, 3u, 0u, 3u, 1u, // -z
-    4u, 5u, 7u, 4u, 7u, 6u, // +z
-);
 
 struct BoxOut {
     @builtin(position) clip: vec4<f32>,
@@ -36,15 +26,11 @@ struct BoxOut {
 @vertex
 fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) node: u32) -> BoxOut {
     let b = padded_box(nodes[node], frame.eye.xyz, pixel_angle(frame));
-    let c = CUBE[v];
-    let p = select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
     var out: BoxOut;
-    out.clip = frame.view_proj * vec4<f32>(p, 1.0);
+    out.clip = frame.view_proj * vec4<f32>(box_corner(b, v), 1.0);
     out.node = node;
     return out;
 }
-
-
 
 // Marks a leaf and propagates "visited" up while the sibling is done too.
 fn mark_leaf(leaf: u32, group: u32) {

@@ -13,17 +13,6 @@
 @group(0) @binding(2) var<storage, read> boxes: array<BvhNode>;
 @group(0) @binding(3) var<storage, read_write> marks: array<u32>; // per item: 1 = a fragment passed
 
-// Corner c of a box is (c & 1, c & 2, c & 4); triangles wind
-// counter-clockwise seen from outside (as in hroc_test.wgsl).
-const CUBE: array<u32, 36> = array<u32, 36>(
-    0u, 4u, 6u, 0u, 6u, 2u, // -x
-    1u, 3u, 7u, 1u, 7u, 5u, // +x
-    0u, 1u, 5u, 0u, 5u, 4u, // -y
-    2u, 6u, 7u, 2u, 7u, 3u, // +y
-    0u, 2u, 3u, 0u, 3u, 1u, // -z
-    4u, 5u, 7u, 4u, 7u, 6u, // +z
-);
-
 struct BoxOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) item: u32,
@@ -39,9 +28,7 @@ fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> 
         out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0); // degenerate and clipped: no fragments
         return out;
     }
-    let c = CUBE[v];
-    let p = select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
-    out.clip = frame.view_proj * vec4<f32>(p, 1.0);
+    out.clip = frame.view_proj * vec4<f32>(box_corner(b, v), 1.0);
     return out;
 }
 

@@ -73,7 +73,7 @@ const TRI: [f32; 9] = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
 fn tri_bytes(positions: &[f32], indices: &[u16]) -> Vec<u8> {
     let mut b: Vec<u8> = positions.iter().flat_map(|f| f.to_le_bytes()).collect();
     b.extend(indices.iter().flat_map(|i| i.to_le_bytes()));
-    while b.len() % 4 != 0 {
+    while !b.len().is_multiple_of(4) {
         b.push(0);
     }
     b
@@ -110,7 +110,7 @@ fn write_doc(dir: &Path, name: &str, doc: &Value) -> PathBuf {
 /// A GLB container: JSON chunk (space padded) and optional BIN chunk.
 fn glb(json: &Value, bin: Option<&[u8]>) -> Vec<u8> {
     let mut j = serde_json::to_vec(json).unwrap();
-    while j.len() % 4 != 0 {
+    while !j.len().is_multiple_of(4) {
         j.push(b' ');
     }
     let mut chunks = Vec::new();
@@ -221,7 +221,7 @@ fn sample_cameras() {
     let t = s.objects[0].transform;
     assert!((t.determinant() - 1.0).abs() < 1e-4);
     let y = t.transform_vector3(Vec3::Y);
-    assert!((y - Vec3::new(0.0, 0.7071, -0.7071)).abs().max_element() < 1e-3, "{y}");
+    assert!((y - Vec3::new(0.0, std::f32::consts::FRAC_1_SQRT_2, -std::f32::consts::FRAC_1_SQRT_2)).abs().max_element() < 1e-3, "{y}");
 }
 
 #[test]
@@ -232,8 +232,8 @@ fn sample_duck() {
     assert_eq!((m.vertices.len(), m.triangle_count()), (2399, 4212));
     // Root matrix scales by 0.01.
     let b = s.bounds();
-    assert_close(b.min, Vec3::new(-0.6929850, 0.0992937, -0.6132820));
-    assert_close(b.max, Vec3::new(0.9617990, 1.6397000, 0.5392520));
+    assert_close(b.min, Vec3::new(-0.692_985, 0.099_293_7, -0.613_282));
+    assert_close(b.max, Vec3::new(0.961_799, 1.639_7, 0.539_252));
 }
 
 #[test]

@@ -33,7 +33,7 @@ use crate::gpu::{dispatch_size, Gpu};
 use crate::render::{
     compact::{storage_entry, uniform_entry, CompactJob, Compactor},
     layout::DrawArgs,
-    shader_source, DrawList, DEPTH_FORMAT,
+    shader_source, DrawList,
 };
 
 /// The box rasterization test (`roc_boxes.wgsl`), shared with IOC: a
@@ -60,25 +60,7 @@ impl BoxPass {
         });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("roc boxes"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("roc_boxes.wgsl", &shader_source("roc_boxes.wgsl"));
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("roc boxes"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("box_vs"), compilation_options: Default::default(), buffers: &[] },
-            // Front faces only: a box clear of the near plane is entered
-            // through them by every ray that reaches what it bounds.
-            primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: Default::default(),
-                bias: wgpu::DepthBiasState { constant: -16, slope_scale: 0.0, clamp: 0.0 },
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("box_fs"), compilation_options: Default::default(), targets: &[] }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline = crate::render::box_test_pipeline(gpu, "roc boxes", &pl, &module, Some("box_fs"));
         BoxPass { pipeline, layout }
     }
 

@@ -40,6 +40,34 @@ pub fn shader_source(name: &str) -> String {
     format!("{COMMON_WGSL}\n{body}")
 }
 
+/// The raster occlusion test's pipeline, shared by every box-testing
+/// method: 36 vertices per box from `box_vs` (no vertex buffers), front
+/// faces only (a box clear of the near plane is entered through them by
+/// every ray that reaches what it bounds), depth test `LessEqual` with a
+/// small bias toward the camera so a face lying on the surface it bounds
+/// passes, no depth or colour writes. `fragment`: the entry point that
+/// records a passing fragment (forced early-Z), or `None` for a depth-only
+/// pass counted by occlusion queries.
+pub fn box_test_pipeline(gpu: &Gpu, label: &str, layout: &wgpu::PipelineLayout, module: &wgpu::ShaderModule, fragment: Option<&str>) -> wgpu::RenderPipeline {
+    gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState { module, entry_point: Some("box_vs"), compilation_options: Default::default(), buffers: &[] },
+        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: Default::default(),
+            bias: wgpu::DepthBiasState { constant: -16, slope_scale: 0.0, clamp: 0.0 },
+        }),
+        multisample: Default::default(),
+        fragment: fragment.map(|entry| wgpu::FragmentState { module, entry_point: Some(entry), compilation_options: Default::default(), targets: &[] }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
 /// A packed list of draw commands and the GPU count the draw reads.
 /// `max_count` bounds the count (N, or a read-back count with CR).
 #[derive(Clone, Debug)]

@@ -7,6 +7,7 @@
 //!    subtrees (`hroc_test.wgsl`); marked objects are the occludees U;
 //! 4. occludee rendering — draw U with early-Z; passing objects are D;
 //! 5. next V = O ∪ D, or with OF the objects that own a pixel.
+//!
 //! CR reads back |V|, |G|, |U| for `max_count` instead of N.
 
 pub mod cpu;
@@ -17,7 +18,7 @@ use crate::gpu::{dispatch_size, Gpu};
 use crate::render::{
     compact::{storage_entry, uniform_entry, CompactJob, Compactor},
     layout::DrawArgs,
-    shader_source, DrawList, DEPTH_FORMAT,
+    shader_source, DrawList,
 };
 
 /// The stacks in both shaders hold at most this many entries.
@@ -173,26 +174,7 @@ impl Hroc {
         });
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         let test_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc test"), bind_group_layouts: &[Some(&test_layout)], immediate_size: 0 });
-        let boxes = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("hroc boxes"),
-            layout: Some(&test_pl),
-            vertex: wgpu::VertexState { module: &test_module, entry_point: Some("box_vs"), compilation_options: Default::default(), buffers: &[] },
-            // Front faces only: they alone can be the nearest surface of a
-            // box in front of the near plane (adaptive grouping ensures that).
-            primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: Default::default(),
-                // Toward the camera, so a face on the surface it bounds passes.
-                bias: wgpu::DepthBiasState { constant: -16, slope_scale: 0.0, clamp: 0.0 },
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState { module: &test_module, entry_point: Some("box_fs"), compilation_options: Default::default(), targets: &[] }),
-            multiview_mask: None,
-            cache: None,
-        });
+        let boxes = crate::render::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"));
         Ok(Hroc {
             name: name.to_string(),
             variant,

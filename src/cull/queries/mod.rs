@@ -38,7 +38,7 @@ use crate::gpu::Gpu;
 use crate::render::{
     compact::{storage_entry, uniform_entry},
     layout::DrawCommand,
-    shader_source, DrawList, DEPTH_FORMAT,
+    shader_source, DrawList,
 };
 use crate::scene::{camera::aabb_in_frustum, Aabb};
 
@@ -195,27 +195,8 @@ impl QueryRenderer {
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("query boxes"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         // HROC's box vertex stage (group 0: frame, nodes; node = instance).
         let module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("query boxes"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState { module: &module, entry_point: Some("box_vs"), compilation_options: Default::default(), buffers: &[] },
-            // Front faces only: boxes that cross the near plane are never
-            // queried, and behind every back-face fragment lies a front one.
-            primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: Default::default(),
-                // Toward the camera, so a face on the surface it bounds passes.
-                bias: wgpu::DepthBiasState { constant: -16, slope_scale: 0.0, clamp: 0.0 },
-            }),
-            multisample: Default::default(),
-            // Depth-only: the occlusion query counts the samples that pass.
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+        // Depth-only: the occlusion query counts the samples that pass.
+        let pipeline = crate::render::box_test_pipeline(gpu, "query boxes", &pl, &module, None);
         let commands = if r.object_count > 0 { gpu.read::<DrawCommand>(&r.commands, 0, r.object_count as u64)? } else { Vec::new() };
         let mut q = QueryRenderer {
             pipeline,
