@@ -123,15 +123,9 @@ impl Roc {
         let flags = |label| gpu.buffer(label, n as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let (visible, next, tested, fresh, candidates) = (flags("roc V"), flags("roc next V"), flags("roc tested"), flags("roc fresh"), flags("roc boxes"));
         let args = gpu.buffer("roc box args", 16, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC);
-        let list = |label| DrawList {
-            commands: gpu.buffer(label, n as u64 * 20, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            count: gpu.buffer(label, 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            max_count: n,
-        };
-        let (v_list, u_list) = (list("roc V list"), list("roc U list"));
         let compactor = Compactor::new(gpu, n);
-        let v_job = compactor.job(gpu, &visible, &r.commands, &v_list.commands, &v_list.count);
-        let u_job = compactor.job(gpu, if all { &fresh } else { &tested }, &r.commands, &u_list.commands, &u_list.count);
+        let (v_list, v_job) = compactor.packed_list(gpu, "roc V list", &visible, &r.commands);
+        let (u_list, u_job) = compactor.packed_list(gpu, "roc U list", if all { &fresh } else { &tested }, &r.commands);
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("roc"),
             entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false), storage_entry(3, false), storage_entry(4, false), storage_entry(5, false), storage_entry(6, false)],

@@ -26,13 +26,8 @@ impl FrustumCuller {
         });
         let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("vfc"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("vfc.wgsl", &shader_source("vfc.wgsl"));
-        let list = DrawList {
-            commands: gpu.buffer("vfc commands", n as u64 * 20, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            count: gpu.buffer("vfc count", 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            max_count: n,
-        };
         let compactor = Compactor::new(gpu, n);
-        let job = compactor.job(gpu, &flags, &r.commands, &list.commands, &list.count);
+        let (list, job) = compactor.packed_list(gpu, "vfc list", &flags, &r.commands);
         FrustumCuller {
             pipeline: gpu.compute_pipeline(&module, "main", Some(&pl), &[]),
             bind: gpu.bind_buffers(&layout, &[&r.frame, &r.bounds, &flags]),

@@ -3,7 +3,8 @@
 //! multi-draw-indirect-count reads (HROC §4.1, thesis prefix-sum packing).
 
 use crate::gpu::{dispatch_size, Gpu};
-use crate::render::layout::CompactParams;
+use crate::render::layout::{CompactParams, DrawCommand};
+use crate::render::DrawList;
 
 const WG: u32 = 256;
 
@@ -81,6 +82,19 @@ impl Compactor {
     /// Binds flags (u32 per item), source commands, packed output and count.
     pub fn job(&self, gpu: &Gpu, flags: &wgpu::Buffer, src: &wgpu::Buffer, dst: &wgpu::Buffer, count: &wgpu::Buffer) -> CompactJob {
         CompactJob { bind: gpu.bind_buffers(&self.layout, &[&self.params, flags, src, dst, &self.block_sums, count]) }
+    }
+
+    /// A list of up to `len()` commands packed from `src` by `flags`, and
+    /// the job that packs it (the usual V and U lists of a culler).
+    pub fn packed_list(&self, gpu: &Gpu, label: &str, flags: &wgpu::Buffer, src: &wgpu::Buffer) -> (DrawList, CompactJob) {
+        use wgpu::BufferUsages as U;
+        let list = DrawList {
+            commands: gpu.buffer(label, self.n as u64 * std::mem::size_of::<DrawCommand>() as u64, U::STORAGE | U::INDIRECT | U::COPY_SRC),
+            count: gpu.buffer(label, 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
+            max_count: self.n,
+        };
+        let job = self.job(gpu, flags, src, &list.commands, &list.count);
+        (list, job)
     }
 
     pub fn record(&self, enc: &mut wgpu::CommandEncoder, job: &CompactJob) {

@@ -113,15 +113,9 @@ impl Hroc {
         let group_count = gpu.buffer("hroc |G|", 4, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC);
         let ray_stats = gpu.buffer("hroc ray stats", STAT_SLOTS * 8, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let groups = gpu.buffer("hroc groups", nodes as u64 * 16, U::STORAGE | U::INDIRECT | U::COPY_SRC);
-        let list = |label| DrawList {
-            commands: gpu.buffer(label, n as u64 * 20, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            count: gpu.buffer(label, 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            max_count: n,
-        };
-        let (v_list, u_list) = (list("hroc V list"), list("hroc U list"));
         let compactor = Compactor::new(gpu, n);
-        let v_job = compactor.job(gpu, &visible, &r.commands, &v_list.commands, &v_list.count);
-        let u_job = compactor.job(gpu, &occludees, &r.commands, &u_list.commands, &u_list.count);
+        let (v_list, v_job) = compactor.packed_list(gpu, "hroc V list", &visible, &r.commands);
+        let (u_list, u_job) = compactor.packed_list(gpu, "hroc U list", &occludees, &r.commands);
         let nodes_buf = gpu.buffer_init("bvh nodes", bytemuck::cast_slice(&bvh.nodes), U::STORAGE);
         let leaf_of_object = gpu.buffer_init("leaf of object", bytemuck::cast_slice(&bvh.leaf_of_object), U::STORAGE);
 

@@ -202,15 +202,9 @@ impl Hzb {
         let (visible, fresh) = (flags("hzb V"), flags("hzb fresh"));
         let pyramid = Pyramid::new(gpu, &r.targets.depth_view, r.targets.width, r.targets.height);
         let test = HizTest::new(cx, &pyramid, &visible, &fresh, true);
-        let list = |label| DrawList {
-            commands: gpu.buffer(label, n as u64 * 20, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            count: gpu.buffer(label, 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            max_count: n,
-        };
-        let (v_list, u_list) = (list("hzb V list"), list("hzb U list"));
         let compactor = Compactor::new(gpu, n);
-        let v_job = compactor.job(gpu, &visible, &r.commands, &v_list.commands, &v_list.count);
-        let u_job = compactor.job(gpu, &fresh, &r.commands, &u_list.commands, &u_list.count);
+        let (v_list, v_job) = compactor.packed_list(gpu, "hzb V list", &visible, &r.commands);
+        let (u_list, u_job) = compactor.packed_list(gpu, "hzb U list", &fresh, &r.commands);
         Hzb { n, visible, pyramid, test, v_list, u_list, compactor, v_job, u_job }
     }
 

@@ -143,15 +143,9 @@ impl Ioc {
             .collect();
         let boxes = BoxPass::new(gpu);
         let box_binds = (0..3).map(|q| boxes.bind(gpu, &r.frame, &queues[q], &nodes, &marks)).collect();
-        let list = |label| DrawList {
-            commands: gpu.buffer(label, n as u64 * 20, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            count: gpu.buffer(label, 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            max_count: n,
-        };
-        let (v_list, u_list) = (list("ioc V list"), list("ioc U list"));
         let compactor = Compactor::new(gpu, n);
-        let v_job = compactor.job(gpu, &visible, &r.commands, &v_list.commands, &v_list.count);
-        let u_job = compactor.job(gpu, &fresh, &r.commands, &u_list.commands, &u_list.count);
+        let (v_list, v_job) = compactor.packed_list(gpu, "ioc V list", &visible, &r.commands);
+        let (u_list, u_job) = compactor.packed_list(gpu, "ioc U list", &fresh, &r.commands);
         Ok(Ioc {
             n,
             node_count,
