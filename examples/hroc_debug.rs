@@ -25,7 +25,7 @@ fn main() -> hroc::Result<()> {
         let cam = s.cameras[k];
         println!("frame {k}: fn {} missing {} eye {:?}", chk.false_negatives, chk.missing_pixels, cam.eye);
         let planes = hroc::scene::camera::frustum_planes(&cam.view_proj(s.renderer.aspect()));
-        let (cg, forced) = cpu::groups(&s.bvh, &cpu::node_states(&s.bvh, &dbg.occluders), &planes, cam.near, cam.eye, cpu::pixel_angle(&cam.ray_dirs(s.renderer.aspect()), cam.near, 360));
+        let (cg, forced) = cpu::groups(&s.bvh, &cpu::node_states(&s.bvh, &dbg.occluders), &planes, cam.near, cam.eye, cpu::pixel_angle(&cam.ray_dirs(s.renderer.aspect()), cam.near, s.renderer.targets.height));
         println!("  groups gpu {} cpu {} equal {}; forced {}", dbg.groups.len(), cg.len(), cg == dbg.groups, forced.len());
         for &o in truth.visible.iter().filter(|&&o| !drawn[o as usize]) {
             let leaf = s.bvh.leaf_of_object[o as usize];

@@ -208,7 +208,7 @@ pub fn create(name: &str, cx: &SceneContext) -> Result<Box<dyn Culler>> {
     Ok(match name {
         "noc" => Box::new(noc::NoCulling),
         "vfc" => Box::new(vfc::FrustumCuller::new(cx)),
-        "ref" => Box::new(reference::Reference::new(cx)),
+        "ref" => Box::new(reference::Reference::new(cx)?),
         "oq" => Box::new(queries::oq::Oq::new(cx)?),
         "soq" => Box::new(queries::soq::Soq::new(cx)?),
         "chc++" => Box::new(queries::chc::Chc::new(cx)?),

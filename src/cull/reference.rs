@@ -13,18 +13,18 @@ pub struct Reference {
 }
 
 impl Reference {
-    pub fn new(cx: &SceneContext) -> Self {
+    pub fn new(cx: &SceneContext) -> Result<Self> {
         let n = cx.renderer.object_count;
         use wgpu::BufferUsages as U;
-        let all = cx.gpu.read(&cx.renderer.commands, 0, n as u64).unwrap_or_default();
-        Reference {
+        let all = cx.gpu.read(&cx.renderer.commands, 0, n as u64)?;
+        Ok(Reference {
             all,
             list: DrawList {
                 commands: cx.gpu.buffer("ref commands", n as u64 * 20, U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
                 count: cx.gpu.buffer("ref count", 4, U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
                 max_count: n,
             },
-        }
+        })
     }
 }
 
