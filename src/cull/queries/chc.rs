@@ -28,7 +28,7 @@
 //! only by a query of its own (tighter) boxes against the depth of objects
 //! drawn earlier in the same frame, so every frame is conservative.
 
-use super::{front_to_back, Class, NodeView, QueryRenderer, QueryStats};
+use super::{front_to_back, Class, NodeView, QueryRenderer};
 use crate::bvh::{Bvh, NO_PARENT};
 use crate::cull::{Culler, Frame, MethodOptions, SceneContext};
 use crate::error::Result;
@@ -148,7 +148,6 @@ pub struct Chc {
     nodes: Vec<NodeState>,
     frame: u64,
     rng: Rng,
-    last: QueryStats,
     multi: u64,
     requeried: u64,
 }
@@ -171,7 +170,6 @@ impl Chc {
             tight_at,
             frame: 0,
             rng: Rng::new(0x00C4_C0DE),
-            last: QueryStats::default(),
             multi: 0,
             requeried: 0,
         })
@@ -297,7 +295,6 @@ impl Culler for Chc {
             }
         }
         self.q.finish_frame(f);
-        self.last = self.q.stats;
 
         Ok(())
     }
@@ -307,7 +304,7 @@ impl Culler for Chc {
     }
 
     fn stats(&mut self, _gpu: &Gpu) -> Result<Vec<(&'static str, f64)>> {
-        let mut rows = self.last.rows();
+        let mut rows = self.q.stats.rows();
         rows.push(("multiqueries", self.multi as f64));
         rows.push(("requeried", self.requeried as f64));
         Ok(rows)

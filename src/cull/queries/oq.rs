@@ -5,7 +5,7 @@
 //! subtree. Boxes that cross the near plane or hold the eye are visible
 //! without a query.
 
-use super::{front_to_back, Class, NodeView, QueryRenderer, QueryStats};
+use super::{front_to_back, Class, NodeView, QueryRenderer};
 use crate::bvh::Bvh;
 use crate::cull::{Culler, Frame, SceneContext};
 use crate::error::Result;
@@ -56,12 +56,11 @@ pub fn traverse(bvh: &Bvh, view: &NodeView, mut visit: impl FnMut(Visit) -> Resu
 pub struct Oq {
     bvh: Bvh,
     q: QueryRenderer,
-    last: QueryStats,
 }
 
 impl Oq {
     pub fn new(cx: &SceneContext) -> Result<Self> {
-        Ok(Oq { bvh: cx.bvh.clone(), q: QueryRenderer::new(cx)?, last: QueryStats::default() })
+        Ok(Oq { bvh: cx.bvh.clone(), q: QueryRenderer::new(cx)? })
     }
 }
 
@@ -86,7 +85,6 @@ impl Culler for Oq {
             }
         })?;
         self.q.finish_frame(f);
-        self.last = self.q.stats;
         Ok(())
     }
 
@@ -95,6 +93,6 @@ impl Culler for Oq {
     }
 
     fn stats(&mut self, _gpu: &Gpu) -> Result<Vec<(&'static str, f64)>> {
-        Ok(self.last.rows())
+        Ok(self.q.stats.rows())
     }
 }

@@ -20,7 +20,7 @@
 
 use std::collections::VecDeque;
 
-use super::{front_to_back, Class, NodeView, QueryRenderer, QueryStats};
+use super::{front_to_back, Class, NodeView, QueryRenderer};
 use crate::bvh::Bvh;
 use crate::cull::{Culler, Frame, SceneContext};
 use crate::error::Result;
@@ -103,7 +103,6 @@ pub struct Soq {
     base_time: f32,
     history: Vec<History>,
     frame: u64,
-    last: QueryStats,
     /// Nodes rendered (or descended into) without a query, last frame.
     skipped: u64,
 }
@@ -116,7 +115,6 @@ impl Soq {
             base_time: cx.options.soq_base_time,
             history: vec![History::default(); cx.bvh.nodes.len()],
             frame: 0,
-            last: QueryStats::default(),
             skipped: 0,
         })
     }
@@ -193,7 +191,6 @@ impl Culler for Soq {
             }
         }
         self.q.finish_frame(f);
-        self.last = self.q.stats;
         Ok(())
     }
 
@@ -202,7 +199,7 @@ impl Culler for Soq {
     }
 
     fn stats(&mut self, _gpu: &Gpu) -> Result<Vec<(&'static str, f64)>> {
-        let mut rows = self.last.rows();
+        let mut rows = self.q.stats.rows();
         rows.push(("rendered_unqueried", self.skipped as f64));
         Ok(rows)
     }
