@@ -419,3 +419,31 @@ fn mesh_report() {
         }
     }
 }
+
+/// Object boxes are the tight boxes of the transformed vertices: they hold
+/// every vertex (conservative), touch one on each side (tight), and are
+/// never looser than the transformed mesh box they replace.
+#[test]
+fn object_boxes_are_tight() {
+    for key in ["satellites", "factory", "fantasy"] {
+        let s = gen(key, 400, 5);
+        let mut tighter = 0;
+        for (i, o) in s.objects.iter().enumerate() {
+            let mesh = &s.meshes[o.mesh as usize];
+            let pts: Vec<Vec3> = mesh.vertices.iter().map(|v| o.transform.transform_point3(Vec3::from(v.position))).collect();
+            let exact = Aabb::from_points(pts.iter().copied());
+            let eps = 1e-4 * exact.extent().max_element().max(1.0);
+            assert!((o.bounds.min - exact.min).abs().max_element() <= eps, "{key} object {i}: min {:?} vs {:?}", o.bounds.min, exact.min);
+            assert!((o.bounds.max - exact.max).abs().max_element() <= eps, "{key} object {i}: max {:?} vs {:?}", o.bounds.max, exact.max);
+            let loose = mesh.bounds.transformed(&o.transform);
+            assert!(loose.contains(&Aabb { min: o.bounds.min + eps, max: o.bounds.max - eps }), "{key} object {i}");
+            if loose.area() > o.bounds.area() * 1.05 {
+                tighter += 1;
+            }
+        }
+        println!("{key}: {tighter} of {} boxes tighter than the transformed mesh box", s.objects.len());
+        if key == "satellites" {
+            assert!(tighter > s.objects.len() / 4, "satellites spin freely: most boxes should tighten");
+        }
+    }
+}

@@ -112,6 +112,17 @@ impl Mesh {
         let vertices = positions.into_iter().zip(normals).map(|(position, normal)| Vertex { position, normal }).collect();
         Mesh { name: name.into(), vertices, indices, bounds }
     }
+
+    /// Tight world box of the mesh under an affine transform. A transform
+    /// that keeps axes on axes (scale, translation, quarter turns) maps the
+    /// mesh box exactly; any other rotation needs the vertices themselves.
+    pub fn world_bounds(&self, m: &Mat4) -> Aabb {
+        let axis_aligned = [m.x_axis, m.y_axis, m.z_axis].iter().all(|c| c.truncate().to_array().iter().filter(|v| **v != 0.0).count() <= 1);
+        if axis_aligned || self.vertices.is_empty() {
+            return self.bounds.transformed(m);
+        }
+        Aabb::from_points(self.vertices.iter().map(|v| m.transform_point3(Vec3::from(v.position))))
+    }
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
@@ -183,9 +194,12 @@ impl Scene {
         }
     }
 
-    /// Adds an object drawing `mesh` under `transform`; its world box is derived.
+    /// Adds an object drawing `mesh` under `transform`; its world box is the
+    /// tight box of the transformed vertices. Every box test culls by this
+    /// box, so slack here is culling lost: a rotated mesh's transformed
+    /// mesh box can be twice as wide as the mesh itself.
     pub fn push_object(&mut self, mesh: u32, transform: Mat4, color: [f32; 3]) {
-        let bounds = self.meshes[mesh as usize].bounds.transformed(&transform);
+        let bounds = self.meshes[mesh as usize].world_bounds(&transform);
         self.objects.push(Object { mesh, transform, color, bounds });
     }
 
