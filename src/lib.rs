@@ -6,7 +6,9 @@
 //! - [`gpu`]: headless wgpu context, read-back, timestamps;
 //! - [`render`]: the shared renderer (one vertex/index pool, multi-draw-indirect-count);
 //! - [`cull`]: one [`cull::Culler`] per method, all drawing through the renderer;
-//! - [`bench`]: runs methods side by side over one camera path and measures them.
+//! - [`bench`]: runs methods side by side over one camera path and measures them;
+//!   `bench::report` turns runs into the papers' tables and figures;
+//! - [`viewer`]: an interactive window to fly through a scene and switch methods.
 
 pub mod bvh;
 pub mod error;
@@ -18,3 +20,4 @@ pub mod gpu;
 pub mod render;
 
 pub mod bench;
+pub mod viewer;

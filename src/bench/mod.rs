@@ -1,6 +1,8 @@
 //! `hroc bench`: every method over the same camera path in one process,
 //! side by side per frame, checked against `noc` (DESIGN.md "Metrics").
 
+pub mod plot;
+pub mod report;
 pub mod session;
 pub mod table;
 

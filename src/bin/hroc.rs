@@ -35,6 +35,11 @@ enum Cmd {
     },
     /// Lists the methods.
     Methods,
+    /// Runs the benchmark over scenes and methods and writes the papers'
+    /// tables and figures to a folder (index.html, report.md, plots).
+    Report(bench::report::ReportArgs),
+    /// Opens a window to fly through a scene and switch methods live.
+    View(hroc::viewer::ViewArgs),
 }
 
 #[derive(clap::Args)]
@@ -186,6 +191,8 @@ fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+        Cmd::Report(a) => bench::report::run(a),
+        Cmd::View(a) => hroc::viewer::run(a),
         Cmd::Methods => {
             for (name, what) in cull::METHODS {
                 println!("{name:<8} {what}");
