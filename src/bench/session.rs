@@ -85,10 +85,16 @@ impl<'g> Session<'g> {
     /// upload to the GPU's completion.
     pub fn run_frame(&mut self, culler: &mut dyn Culler, k: usize) -> Result<FrameResult> {
         let k = k.min(self.cameras.len() - 1);
-        let camera = self.cameras[k];
+        self.run_camera(culler, self.cameras[k], self.times[k])
+    }
+
+    /// Runs one frame of `culler` from any camera (the viewer's free
+    /// flight), timed as [`run_frame`](Self::run_frame); `path_time` is the
+    /// frame's [`Frame::path_time`].
+    pub fn run_camera(&mut self, culler: &mut dyn Culler, camera: Camera, path_time: f32) -> Result<FrameResult> {
         let start = std::time::Instant::now();
         let mut f = Frame::begin(self.gpu, &self.renderer, &mut self.timer, camera, self.bvh.nodes.len() as u32);
-        f.path_time = self.times[k];
+        f.path_time = path_time;
         culler.frame(&mut f)?;
         let lists = f.finish()?;
         let wall_ms = start.elapsed().as_secs_f64() * 1e3;

@@ -42,13 +42,18 @@ impl Gpu {
     /// Opens the best Vulkan adapter that has every required feature:
     /// a discrete GPU over an integrated one over a CPU device.
     pub fn new() -> Result<Gpu> {
-        pollster::block_on(Self::new_async())
-    }
-
-    async fn new_async() -> Result<Gpu> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         desc.backends = wgpu::Backends::VULKAN;
-        let instance = wgpu::Instance::new(desc);
+        Self::with_instance(&wgpu::Instance::new(desc))
+    }
+
+    /// As [`Gpu::new`], on the adapters of `instance`: a window's surface
+    /// can only present what a device of its own instance renders (the viewer).
+    pub fn with_instance(instance: &wgpu::Instance) -> Result<Gpu> {
+        pollster::block_on(Self::new_async(instance))
+    }
+
+    async fn new_async(instance: &wgpu::Instance) -> Result<Gpu> {
         let adapters = instance.enumerate_adapters(wgpu::Backends::VULKAN).await;
         if adapters.is_empty() {
             return Err(Error::NoAdapter(format!("no Vulkan adapter found; {LAVAPIPE_HINT}")));

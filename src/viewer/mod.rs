@@ -1,8 +1,25 @@
-//! `hroc view`: an interactive window over a scene (work in progress).
+//! `hroc view`: a window over a scene. The scene's camera path plays, or a
+//! fly camera takes over; the method is switched live; an egui panel shows
+//! per-stage GPU ms, C/N, the method's statistics and, on demand, false
+//! negatives against `noc`.
+//!
+//! - [`app`]: the window, its event loop and the frame;
+//! - [`fly`]: the free camera;
+//! - [`ui`]: the panel.
+
+pub mod app;
+pub mod fly;
+pub mod ui;
 
 use std::path::PathBuf;
 
+use crate::bench::Session;
+use crate::bvh::Split;
+use crate::cull::{self, METHODS};
 use crate::error::{Error, Result};
+use crate::gpu::Gpu;
+use crate::render::views::View;
+use crate::scene::CameraPath;
 
 /// Command-line options of `hroc view`.
 #[derive(clap::Args, Debug)]
@@ -19,11 +36,57 @@ pub struct ViewArgs {
     /// Renders this many frames, then exits (smoke tests).
     #[arg(long)]
     pub frames: Option<u64>,
-    /// Saves the last frame to this PNG on exit.
+    /// Saves the last frame to this PNG on exit: the current view at
+    /// --resolution, without the panel (as the P key does).
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
+    /// Render resolution and initial window size (the picture is scaled to fit a resized window).
+    #[arg(long, default_value = "960x540", value_parser = parse_resolution)]
+    pub resolution: (u32, u32),
+    /// View to start with (keys 1-4).
+    #[arg(long, value_enum, default_value_t = View::Color)]
+    pub view: View,
+    #[arg(long, value_enum, default_value_t = Split::Sah)]
+    pub split: Split,
+    /// JSON camera path file (keys of t, eye, target, up, fov_y_deg).
+    #[arg(long)]
+    pub camera_path: Option<PathBuf>,
 }
 
-pub fn run(_args: ViewArgs) -> Result<()> {
-    Err(Error::Arg("hroc view is not built yet".into()))
+fn parse_resolution(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("resolution '{s}' is not WxH"))?;
+    let w: u32 = w.parse().map_err(|_| format!("bad width in '{s}'"))?;
+    let h: u32 = h.parse().map_err(|_| format!("bad height in '{s}'"))?;
+    if w == 0 || h == 0 {
+        return Err(format!("resolution '{s}' has a zero side"));
+    }
+    Ok((w, h))
+}
+
+/// Opens the window and runs until it is closed (or `--frames` are done).
+pub fn run(args: ViewArgs) -> Result<()> {
+    let [method] = cull::parse_methods(&args.method)?.try_into().map_err(|_| Error::Arg("view starts with one method".into()))?;
+    let method = METHODS.iter().position(|m| m.0 == method).ok_or_else(|| Error::Arg(format!("unknown method '{method}'")))?;
+    if args.frames == Some(0) {
+        return Err(Error::Arg("--frames must be at least 1".into()));
+    }
+    // Bad inputs fail before a window opens.
+    let scene = crate::scene::load(&args.scene, args.objects, 0)?;
+    let path = args.camera_path.as_deref().map(CameraPath::from_file).transpose()?;
+
+    let event_loop = winit::event_loop::EventLoop::new().map_err(|e| {
+        // winit prefixes its own source location; the reason is what helps.
+        let text = e.to_string();
+        let reason = text.strip_prefix("os error at ").and_then(|r| r.split_once(": ")).map_or(text.as_str(), |(_, why)| why);
+        Error::NoAdapter(format!("no display: run under X11/Wayland or Xvfb ({reason})"))
+    })?;
+    let mut desc = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
+    desc.backends = wgpu::Backends::VULKAN;
+    let instance = wgpu::Instance::new(desc);
+    let gpu = Gpu::with_instance(&instance)?;
+    let session = Session::new(&gpu, scene, path, 1, args.resolution, args.split)?;
+    let opts = app::Options { method, view: args.view, frames: args.frames, screenshot: args.screenshot };
+    let mut app = app::App::new(&instance, session, opts)?;
+    event_loop.run_app(&mut app).map_err(|e| Error::Gpu(format!("event loop: {e}")))?;
+    app.finish()
 }
