@@ -9,12 +9,20 @@ fn main() -> hroc::Result<()> {
     let key = args.get(1).map(String::as_str).unwrap_or("radial-city");
     let n: usize = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(5000);
     let frames: usize = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(30);
-    let scene = hroc::scene::load(key, Some(n), 0)?;
+    let variant = args.get(4).map(String::as_str).unwrap_or("hroc-na");
+    let mut scene = hroc::scene::load(key, Some(n), 0)?;
+    // LOOSE=1: the transformed mesh boxes instead of the tight ones, to compare.
+    if std::env::var_os("LOOSE").is_some() {
+        for o in scene.objects.iter_mut() {
+            o.bounds = scene.meshes[o.mesh as usize].bounds.transformed(&o.transform);
+        }
+    }
     let gpu = Gpu::new()?;
     let mut s = Session::new(&gpu, scene, None, frames, (640, 360), Split::Sah)?;
-    let mut h = Hroc::new("hroc-na", Variant::parse("hroc-na").unwrap(), &s.context())?;
+    let mut h = Hroc::new(variant, Variant::parse(variant).unwrap(), &s.context())?;
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k)?;
+        let noc_ids: Vec<u32> = gpu.read_texture(&s.renderer.targets.id, wgpu::TextureAspect::All)?;
         let r = s.run_frame(&mut h, k)?;
         let chk = s.check(&r, &truth)?;
         if chk.false_negatives == 0 && chk.missing_pixels == 0 {
@@ -34,6 +42,32 @@ fn main() -> hroc::Result<()> {
             loop {
                 chain.push((m, dbg.state[m as usize], dbg.groups.binary_search(&m).is_ok()));
                 match s.bvh.parent(m) { Some(p) => m = p, None => break }
+            }
+            let b = s.scene.objects[o as usize].bounds;
+            let mesh = &s.scene.meshes[s.scene.objects[o as usize].mesh as usize].name;
+            println!("  mesh {mesh}: eye-box distance {:.4} (eye inside {}), box extent {:?}", (cam.eye.clamp(b.min, b.max) - cam.eye).length(), b.contains_point(cam.eye), b.extent());
+            let depth = s.read_depth()?;
+            let (w, hh) = (s.renderer.targets.width, s.renderer.targets.height);
+            let vp = cam.view_proj(s.renderer.aspect());
+            let rd = cam.ray_dirs(s.renderer.aspect());
+            let pa = cpu::pixel_angle(&rd, cam.near, hh);
+            for (i, _) in noc_ids.iter().enumerate().filter(|(_, &id)| id == o + 1) {
+                let (x, y) = (i as u32 % w, i as u32 / w);
+                let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / hh as f32 * 2.0);
+                let dir = (rd * glam::Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
+                let c0 = vp * cam.eye.extend(1.0);
+                let c1 = vp * dir.extend(0.0);
+                let hit = |bx: hroc::scene::Aabb| {
+                    let (t0, t1) = ((bx.min - cam.eye) / dir, (bx.max - cam.eye) / dir);
+                    let (en, ex) = (t0.min(t1).max_element(), t0.max(t1).min_element());
+                    let t = en.max(1.0);
+                    (en, ex, (c0.z + t * c1.z) / (c0.w + t * c1.w))
+                };
+                println!("  pixel ({x},{y}) noc depth {:.9} method depth {:.9}", truth.depth[i], depth[i]);
+                println!("    rock box {:?} padded {:?}", hit(b), hit(cpu::padded(b, cam.eye, pa)));
+                for &(node, _, g) in &chain {
+                    if g { println!("    group {node} padded {:?}", hit(cpu::padded(s.bvh.aabb(node), cam.eye, pa))); }
+                }
             }
             println!("  missed object {o} box {:?} O {} U {} chain (node,state,group) {:?}", s.scene.objects[o as usize].bounds, dbg.occluders[o as usize], dbg.occludees[o as usize], &chain[..chain.len().min(8)]);
         }

@@ -41,6 +41,8 @@ pub struct MethodRow {
     pub c_over_r: f64,
     pub false_negatives: u64,
     pub missing_pixels: u64,
+    /// `noc`'s stray fragments the method did not reproduce (`Check::stray_pixels`).
+    pub stray_pixels: u64,
     /// Mean objects drawn per frame.
     pub drawn_mean: f64,
     /// Mean GPU ms per stage, in stage order.
@@ -78,6 +80,7 @@ struct Acc {
     drawn: u64,
     fneg: u64,
     missing: u64,
+    stray: u64,
 }
 
 /// Like the paper (§5.1), the first frames pay for lazy initialisation and
@@ -130,6 +133,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         a.drawn += c.drawn as u64;
         a.fneg += c.false_negatives as u64;
         a.missing += c.missing_pixels as u64;
+        a.stray += c.stray_pixels as u64;
     };
     for k in 0..frames {
         let (r, truth) = s.truth(k)?;
@@ -166,6 +170,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
                 c_over_r: if ref_culled == 0 { if a.culled == 0 { 1.0 } else { f64::INFINITY } } else { a.culled as f64 / ref_culled as f64 },
                 false_negatives: a.fneg,
                 missing_pixels: a.missing,
+                stray_pixels: a.stray,
                 drawn_mean: a.drawn as f64 / frames as f64,
                 stages_ms: a.stages.iter().map(|(k, v)| (k.clone(), v / timed_frames)).collect(),
                 stats: a.stats.iter().map(|(k, v)| (k.clone(), v / frames as f64)).collect(),
@@ -187,6 +192,17 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         bvh_build_ms: s.bvh.build_ms,
         rows,
     })
+}
+
+/// `WxH`, both sides positive (clap value parser).
+pub fn parse_resolution(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("resolution '{s}' is not WxH"))?;
+    let w: u32 = w.parse().map_err(|_| format!("bad width in '{s}'"))?;
+    let h: u32 = h.parse().map_err(|_| format!("bad height in '{s}'"))?;
+    if w == 0 || h == 0 {
+        return Err(format!("resolution '{s}' has a zero side"));
+    }
+    Ok((w, h))
 }
 
 pub fn mean(v: &[f64]) -> f64 {

@@ -102,5 +102,9 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
         }
     }
     out.push_str(&grid(&head, &rows, markdown));
+    let stray: Vec<String> = r.rows.iter().filter(|x| x.stray_pixels > 0).map(|x| format!("{} {}", x.method, x.stray_pixels)).collect();
+    if !stray.is_empty() {
+        let _ = writeln!(out, "\nnoc fragments in front of their own object's box (rasterizer strays, not culling misses), not reproduced: {}", stray.join(", "));
+    }
     out
 }

@@ -4,7 +4,7 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use hroc::bench::{self, BenchOptions, Session};
+use hroc::bench::{self, parse_resolution, BenchOptions, Session};
 use hroc::bvh::{Bvh, Split};
 use hroc::cull;
 use hroc::gpu::Gpu;
@@ -145,16 +145,6 @@ enum SceneCmd {
     },
     /// Lists the built-in scenes.
     List,
-}
-
-fn parse_resolution(s: &str) -> std::result::Result<(u32, u32), String> {
-    let (w, h) = s.split_once('x').ok_or_else(|| format!("resolution '{s}' is not WxH"))?;
-    let w: u32 = w.parse().map_err(|_| format!("bad width in '{s}'"))?;
-    let h: u32 = h.parse().map_err(|_| format!("bad height in '{s}'"))?;
-    if w == 0 || h == 0 {
-        return Err(format!("resolution '{s}' has a zero side"));
-    }
-    Ok((w, h))
 }
 
 fn main() -> ExitCode {
