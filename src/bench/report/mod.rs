@@ -43,7 +43,7 @@ pub struct ReportArgs {
     #[arg(long, default_value = DEFAULT_METHODS)]
     pub methods: String,
     /// Objects per generated scene (files keep their own).
-    #[arg(long, default_value_t = 5000)]
+    #[arg(long, default_value_t = 10_000)]
     pub objects: usize,
     /// Frames sampled over each 10 s camera path.
     #[arg(long, default_value_t = 60)]
@@ -58,7 +58,7 @@ pub struct ReportArgs {
     #[arg(long)]
     pub heat_frame: Option<usize>,
     /// Object counts of the scale sweep over the first generated scene, or `none`.
-    #[arg(long, default_value = "1000,4000,16000,64000")]
+    #[arg(long, default_value = "1000,4000,16000,64000,256000")]
     pub sweep: String,
     #[arg(long, default_value = "noc,vfc,roc,hzb,hroc")]
     pub sweep_methods: String,
@@ -281,7 +281,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
     let data = ReportData {
         meta: Meta {
             date: utc_now(),
-            command: std::env::args().collect::<Vec<_>>().join(" "),
+            command: std::iter::once("hroc".to_string()).chain(std::env::args().skip(1)).collect::<Vec<_>>().join(" "),
             adapter: info.name.clone(),
             device_type: format!("{:?}", info.device_type),
             backend: format!("{:?}", info.backend),
@@ -351,7 +351,7 @@ mod tests {
         let p = Plan::new(&args(&[])).unwrap();
         assert_eq!(p.scenes, ["radial-city", "factory", "satellites"]);
         assert_eq!(p.heat_frame, 30);
-        assert_eq!(p.sweep, [1000, 4000, 16000, 64000]);
+        assert_eq!(p.sweep, [1000, 4000, 16000, 64000, 256000]);
         assert_eq!(p.hires, Some((4096, 2160)));
         assert_eq!(p.splits, [Split::Sah, Split::Mid, Split::Eq]);
         assert_eq!(Plan::new(&args(&["--methods", "hroc"])).unwrap().methods, ["noc", "hroc"]);

@@ -23,7 +23,8 @@ pub fn culling_ms(row: &MethodRow) -> Option<f64> {
     if row.stages_ms.contains_key("queries and draws") {
         return None;
     }
-    Some(row.stages_ms.iter().filter(|(k, _)| !DRAWING_STAGES.contains(&k.as_str())).map(|(_, v)| v).sum())
+    // fold, not sum: an empty f64 sum is -0.0, which prints as "-0.00".
+    Some(row.stages_ms.iter().filter(|(k, _)| !DRAWING_STAGES.contains(&k.as_str())).fold(0.0, |a, (_, v)| a + v))
 }
 
 fn row<'a>(r: &'a BenchReport, method: &str) -> Option<&'a MethodRow> {
