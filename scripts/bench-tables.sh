@@ -24,6 +24,12 @@ M=noc,vfc,ref,roc,roc-all,ioc,hzb,woc,hroc-na,hroc-cr,hroc-of,hroc-cr+of
 run rc bench --scene radial-city --objects 20000 --methods $M --frames 150 --breakdown
 run fc bench --scene factory --objects 10000 --methods $M --frames 150 --breakdown
 run st bench --scene satellites --objects 10000 --methods $M --frames 150 --breakdown
+# Issue 3's acceptance: the HROC variants at 60 frames per path second
+# (600 frames; the paper's 10 s sequences are animations played at frame rate).
+A=noc,vfc,ref,hroc-na,hroc-cr,hroc-of,hroc-cr+of
+run acc-rc bench --scene radial-city --objects 20000 --methods $A --frames 600
+run acc-fc bench --scene factory --objects 10000 --methods $A --frames 600
+run acc-st bench --scene satellites --objects 10000 --methods $A --frames 600
 # Query baselines (issue 5).
 Q=noc,vfc,oq,soq,chc++,hroc
 run q-rc bench --scene radial-city --objects 3000 --methods $Q --frames 60 --breakdown
