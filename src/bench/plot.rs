@@ -239,6 +239,15 @@ fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[(&s
     Ok(())
 }
 
+/// White page, title on top, legend panel on the right: (plot area, legend area).
+type Areas<DB> = (DrawingArea<DB, Shift>, DrawingArea<DB, Shift>);
+fn layout<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, title: &str, names: &[&str]) -> std::result::Result<Areas<DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+    root.fill(&WHITE)?;
+    let body = root.titled(title, text_style(TITLE_PX))?;
+    let lw = legend_width(root, names)?;
+    Ok(body.split_horizontally(body.dim_in_pixel().0.saturating_sub(lw)))
+}
+
 /// A line plot with its points already filtered and its ranges chosen.
 struct Lines<'a> {
     p: &'a LinePlot<'a>,
@@ -287,11 +296,8 @@ impl Draw for Lines<'_> {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
-        root.fill(&WHITE)?;
-        let body = root.titled(self.p.title, text_style(TITLE_PX))?;
         let names: Vec<&str> = self.p.series.iter().map(|s| s.name.as_str()).collect();
-        let lw = legend_width(root, &names)?;
-        let (plot, legend) = body.split_horizontally(body.dim_in_pixel().0.saturating_sub(lw));
+        let (plot, legend) = layout(root, self.p.title, &names)?;
         let (x, y) = (self.x.0..self.x.1, self.y.0..self.y.1);
         match (self.p.log_x, self.p.log_y) {
             (false, false) => self.chart(&plot, x, y)?,
@@ -345,11 +351,8 @@ impl Draw for Bars<'_> {
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> DrawResult<DB> {
-        root.fill(&WHITE)?;
-        let body = root.titled(self.p.title, text_style(TITLE_PX))?;
         let names: Vec<&str> = self.p.layers.iter().map(|(n, _)| n.as_str()).collect();
-        let lw = legend_width(root, &names)?;
-        let (plot, legend) = body.split_horizontally(body.dim_in_pixel().0.saturating_sub(lw));
+        let (plot, legend) = layout(root, self.p.title, &names)?;
 
         // Category names go under their bars; turned vertical when the
         // widest would not fit in a bar's slot.

@@ -41,7 +41,7 @@ pub struct ViewArgs {
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
     /// Render resolution and initial window size (the picture is scaled to fit a resized window).
-    #[arg(long, default_value = "960x540", value_parser = parse_resolution)]
+    #[arg(long, default_value = "960x540", value_parser = crate::bench::parse_resolution)]
     pub resolution: (u32, u32),
     /// View to start with (keys 1-4).
     #[arg(long, value_enum, default_value_t = View::Color)]
@@ -51,16 +51,6 @@ pub struct ViewArgs {
     /// JSON camera path file (keys of t, eye, target, up, fov_y_deg).
     #[arg(long)]
     pub camera_path: Option<PathBuf>,
-}
-
-fn parse_resolution(s: &str) -> std::result::Result<(u32, u32), String> {
-    let (w, h) = s.split_once('x').ok_or_else(|| format!("resolution '{s}' is not WxH"))?;
-    let w: u32 = w.parse().map_err(|_| format!("bad width in '{s}'"))?;
-    let h: u32 = h.parse().map_err(|_| format!("bad height in '{s}'"))?;
-    if w == 0 || h == 0 {
-        return Err(format!("resolution '{s}' has a zero side"));
-    }
-    Ok((w, h))
 }
 
 /// Opens the window and runs until it is closed (or `--frames` are done).
