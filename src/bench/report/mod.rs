@@ -58,7 +58,7 @@ pub struct ReportArgs {
     #[arg(long)]
     pub heat_frame: Option<usize>,
     /// Object counts of the scale sweep over the first generated scene, or `none`.
-    #[arg(long, default_value = "1000,4000,16000,64000,256000")]
+    #[arg(long, default_value = "1000,4000,16000,64000,256000,1000000")]
     pub sweep: String,
     #[arg(long, default_value = "noc,vfc,roc,hzb,hroc")]
     pub sweep_methods: String,
@@ -351,7 +351,7 @@ mod tests {
         let p = Plan::new(&args(&[])).unwrap();
         assert_eq!(p.scenes, ["radial-city", "factory", "satellites"]);
         assert_eq!(p.heat_frame, 30);
-        assert_eq!(p.sweep, [1000, 4000, 16000, 64000, 256000]);
+        assert_eq!(p.sweep, [1000, 4000, 16000, 64000, 256000, 1_000_000]);
         assert_eq!(p.hires, Some((4096, 2160)));
         assert_eq!(p.splits, [Split::Sah, Split::Mid, Split::Eq]);
         assert_eq!(Plan::new(&args(&["--methods", "hroc"])).unwrap().methods, ["noc", "hroc"]);
