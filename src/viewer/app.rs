@@ -551,34 +551,13 @@ fn fit(screen: egui::Rect, aspect: f32) -> egui::Rect {
 fn screenshot_name() -> PathBuf {
     let t = SystemTime::now().duration_since(UNIX_EPOCH).unwrap_or_default();
     let s = t.as_secs();
-    let (y, m, d) = civil_from_days((s / 86_400) as i64);
+    let (y, m, d) = crate::bench::civil_from_days((s / 86_400) as i64);
     PathBuf::from(format!("hroc-{y:04}{m:02}{d:02}-{:02}{:02}{:02}-{:03}.png", s / 3600 % 24, s / 60 % 60, s % 60, t.subsec_millis()))
-}
-
-/// Year, month, day of a day count since 1970-01-01 (H. Hinnant's `civil_from_days`).
-fn civil_from_days(days: i64) -> (i64, u32, u32) {
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    (yoe + era * 400 + i64::from(m <= 2), m, d)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn days_become_dates() {
-        assert_eq!(civil_from_days(0), (1970, 1, 1));
-        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
-        assert_eq!(civil_from_days(19_723), (2024, 1, 1));
-        assert_eq!(civil_from_days(-1), (1969, 12, 31));
-    }
 
     #[test]
     fn pictures_fit_inside_the_window() {
