@@ -201,81 +201,14 @@ pub fn run(a: ReportArgs) -> Result<()> {
         std::fs::create_dir_all(&dir).map_err(|e| Error::Io { path: dir, source: e })?;
     }
     let steps = scenes.len() * (1 + usize::from(plan.splits.iter().any(|&s| s != Split::Sah))) + 1 + plan.sweep.len() + usize::from(plan.hires.is_some());
-    let mut step = 0;
-    let mut say = |what: String| {
-        step += 1;
-        eprintln!("[{step}/{steps}] {what}");
-    };
-    let opts = |spec: &str, methods: &[String], frames: usize, resolution: (u32, u32), split: Split| BenchOptions {
-        scene: spec.to_string(),
-        objects: Some(a.objects),
-        methods: methods.to_vec(),
-        frames,
-        resolution,
-        split,
-        camera_path: None,
-        progress: true,
-        method_options: MethodOptions::default(),
-    };
+    let mut r = Runner { gpu: &gpu, a: &a, plan: &plan, step: 0, steps };
 
-    let mut results = Vec::new();
-    for (spec, scene) in plan.scenes.iter().zip(&scenes) {
-        say(format!("{spec}: {} methods, {} frames", plan.methods.len(), a.frames));
-        let boxes: Vec<_> = scene.objects.iter().map(|o| o.bounds).collect();
-        let bvh = [Split::Sah, Split::Mid, Split::Eq]
-            .into_iter()
-            .map(|split| {
-                let b = Bvh::build(&boxes, split);
-                BvhInfo { split: split.to_string(), nodes: b.nodes.len(), depth: b.depth(), build_ms: b.build_ms, sah_cost: b.sah_cost() }
-            })
-            .collect();
-        let main = super::run_scene(&gpu, &opts(spec, &plan.methods, a.frames, a.resolution, Split::Sah), scene.clone(), None)?;
-        let mut splits = Vec::new();
-        let others: Vec<Split> = plan.splits.iter().copied().filter(|&s| s != Split::Sah).collect();
-        if !others.is_empty() {
-            say(format!("{spec}: HROC variants with {} BVHs", others.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")));
-            let methods = with_noc(HROC_VARIANTS.iter().map(|s| s.to_string()).collect());
-            for split in others {
-                splits.push(super::run_scene(&gpu, &opts(spec, &methods, a.frames, a.resolution, split), scene.clone(), None)?);
-            }
-        }
-        let e = scene.bounds().extent();
-        results.push(SceneResult { spec: spec.clone(), stats: scene.stats(), extent: e.to_array(), bvh, main, splits });
-    }
-
-    say(format!("{}: overdraw heat maps at frame {}", plan.scenes[0], plan.heat_frame));
+    // The measurements, in the report's order.
+    let results = plan.scenes.iter().zip(&scenes).map(|(spec, scene)| r.scene(spec, scene)).collect::<Result<Vec<_>>>()?;
+    r.say(format!("{}: overdraw heat maps at frame {}", plan.scenes[0], plan.heat_frame));
     let heat = heat::render(&gpu, &scenes[0], a.frames, a.resolution, plan.heat_frame, &a.out.join("images"))?;
-
-    // The sweep grows a generated scene; a file scene has one size.
-    let sweep_scene = plan.scenes.iter().find(|s| generators::find(s).is_some()).cloned().unwrap_or_else(|| "radial-city".into());
-    let mut sweep = Vec::new();
-    let mut sweep_stopped = None;
-    for &n in &plan.sweep {
-        say(format!("scale sweep: {sweep_scene} with {n} objects"));
-        let mut o = opts(&sweep_scene, &plan.sweep_methods, a.sweep_frames, a.resolution, Split::Sah);
-        o.objects = Some(n);
-        // "As far as the machine allows": a size the device cannot hold ends the sweep, not the report.
-        match super::run(&gpu, &o) {
-            Ok(report) => sweep.push(SweepPoint { objects: n, report }),
-            Err(e) => {
-                eprintln!("scale sweep stopped at {n} objects: {e}");
-                sweep_stopped = Some(format!("stopped at {n} objects: {e}"));
-                break;
-            }
-        }
-    }
-
-    let mut hires = None;
-    let mut hires_skipped = None;
-    if let Some((w, h)) = plan.hires {
-        let max = gpu.limits().max_texture_dimension_2d;
-        if w > max || h > max {
-            hires_skipped = Some(format!("{w}x{h} is over this device's largest texture ({max})"));
-        } else {
-            say(format!("{}: {w}x{h}, {} frames", plan.scenes[0], a.hires_frames));
-            hires = Some(super::run_scene(&gpu, &opts(&plan.scenes[0], &plan.hires_methods, a.hires_frames, (w, h), Split::Sah), scenes[0].clone(), None)?);
-        }
-    }
+    let (sweep, sweep_stopped) = r.sweep();
+    let (hires, hires_skipped) = r.hires(&scenes[0])?;
 
     let info = &gpu.info;
     let data = ReportData {
@@ -301,6 +234,95 @@ pub fn run(a: ReportArgs) -> Result<()> {
     write(&a.out, &data)?;
     eprintln!("wrote {} in {:.1} min", a.out.join("index.html").display(), data.meta.minutes);
     Ok(())
+}
+
+/// Runs the report's measurements, numbering them on stderr.
+struct Runner<'a> {
+    gpu: &'a Gpu,
+    a: &'a ReportArgs,
+    plan: &'a Plan,
+    step: usize,
+    steps: usize,
+}
+
+impl Runner<'_> {
+    fn say(&mut self, what: String) {
+        self.step += 1;
+        eprintln!("[{}/{}] {what}", self.step, self.steps);
+    }
+
+    fn opts(&self, spec: &str, methods: &[String], frames: usize, resolution: (u32, u32), split: Split) -> BenchOptions {
+        BenchOptions {
+            scene: spec.to_string(),
+            objects: Some(self.a.objects),
+            methods: methods.to_vec(),
+            frames,
+            resolution,
+            split,
+            camera_path: None,
+            progress: true,
+            method_options: MethodOptions::default(),
+        }
+    }
+
+    /// Every method with the SAH BVH, then the HROC variants with the other splits.
+    fn scene(&mut self, spec: &str, scene: &Scene) -> Result<SceneResult> {
+        let (a, plan) = (self.a, self.plan);
+        self.say(format!("{spec}: {} methods, {} frames", plan.methods.len(), a.frames));
+        let boxes: Vec<_> = scene.objects.iter().map(|o| o.bounds).collect();
+        let bvh = [Split::Sah, Split::Mid, Split::Eq]
+            .into_iter()
+            .map(|split| {
+                let b = Bvh::build(&boxes, split);
+                BvhInfo { split: split.to_string(), nodes: b.nodes.len(), depth: b.depth(), build_ms: b.build_ms, sah_cost: b.sah_cost() }
+            })
+            .collect();
+        let main = super::run_scene(self.gpu, &self.opts(spec, &plan.methods, a.frames, a.resolution, Split::Sah), scene.clone(), None)?;
+        let mut splits = Vec::new();
+        let others: Vec<Split> = plan.splits.iter().copied().filter(|&s| s != Split::Sah).collect();
+        if !others.is_empty() {
+            self.say(format!("{spec}: HROC variants with {} BVHs", others.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")));
+            let methods = with_noc(HROC_VARIANTS.iter().map(|s| s.to_string()).collect());
+            for split in others {
+                splits.push(super::run_scene(self.gpu, &self.opts(spec, &methods, a.frames, a.resolution, split), scene.clone(), None)?);
+            }
+        }
+        Ok(SceneResult { spec: spec.to_string(), stats: scene.stats(), extent: scene.bounds().extent().to_array(), bvh, main, splits })
+    }
+
+    /// The first generated scene grown step by step (a file scene has one
+    /// size). "As far as the machine allows": a size the device cannot
+    /// hold ends the sweep, with the reason, not the report.
+    fn sweep(&mut self) -> (Vec<SweepPoint>, Option<String>) {
+        let spec = self.plan.scenes.iter().find(|s| generators::find(s).is_some()).cloned().unwrap_or_else(|| "radial-city".into());
+        let mut points = Vec::new();
+        for &n in &self.plan.sweep {
+            self.say(format!("scale sweep: {spec} with {n} objects"));
+            let mut o = self.opts(&spec, &self.plan.sweep_methods, self.a.sweep_frames, self.a.resolution, Split::Sah);
+            o.objects = Some(n);
+            match super::run(self.gpu, &o) {
+                Ok(report) => points.push(SweepPoint { objects: n, report }),
+                Err(e) => {
+                    eprintln!("scale sweep stopped at {n} objects: {e}");
+                    return (points, Some(format!("stopped at {n} objects: {e}")));
+                }
+            }
+        }
+        (points, None)
+    }
+
+    /// The first scene at the high resolution, when the device's textures reach it.
+    fn hires(&mut self, scene: &Scene) -> Result<(Option<BenchReport>, Option<String>)> {
+        let Some((w, h)) = self.plan.hires else { return Ok((None, None)) };
+        let max = self.gpu.limits().max_texture_dimension_2d;
+        if w > max || h > max {
+            return Ok((None, Some(format!("{w}x{h} is over this device's largest texture ({max})"))));
+        }
+        let spec = &self.plan.scenes[0];
+        self.say(format!("{spec}: {w}x{h}, {} frames", self.a.hires_frames));
+        let o = self.opts(spec, &self.plan.hires_methods, self.a.hires_frames, (w, h), Split::Sah);
+        Ok((Some(super::run_scene(self.gpu, &o, scene.clone(), None)?), None))
+    }
 }
 
 /// Writes data.json, the plots, report.md and index.html.
