@@ -1,0 +1,275 @@
+//! `hroc bench`: every method over the same camera path in one process,
+//! side by side per frame, checked against `noc` (DESIGN.md "Metrics").
+
+pub mod plot;
+pub mod report;
+pub mod session;
+pub mod table;
+
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+use crate::bvh::Split;
+use crate::error::Result;
+use crate::gpu::Gpu;
+use crate::scene::{CameraPath, Scene};
+pub use session::{Check, FrameResult, Session, Truth};
+
+#[derive(Clone, Debug)]
+pub struct BenchOptions {
+    pub scene: String,
+    pub objects: Option<usize>,
+    pub methods: Vec<String>,
+    pub frames: usize,
+    pub resolution: (u32, u32),
+    pub split: Split,
+    pub camera_path: Option<PathBuf>,
+    pub progress: bool,
+    /// Parameters of the methods (`--soq-base-time`, `--chc-*`).
+    pub method_options: crate::cull::MethodOptions,
+}
+
+/// One row of the table. Later methods add fields; these names never change.
+#[derive(Clone, Debug, Serialize)]
+pub struct MethodRow {
+    pub method: String,
+    pub ms_mean: f64,
+    pub ms_p95: f64,
+    pub gpu_ms_mean: f64,
+    pub c_over_n: f64,
+    pub c_over_r: f64,
+    pub false_negatives: u64,
+    pub missing_pixels: u64,
+    /// `noc`'s stray fragments the method did not reproduce (`Check::stray_pixels`).
+    pub stray_pixels: u64,
+    /// Mean objects drawn per frame.
+    pub drawn_mean: f64,
+    /// Mean GPU ms per stage, in stage order.
+    pub stages_ms: BTreeMap<String, f64>,
+    /// Mean per frame of the method's own statistics (HROC: V, O, G, U, D,
+    /// rays, nodes_per_ray). Empty for methods without any.
+    pub stats: BTreeMap<String, f64>,
+    /// Wall ms of every frame (warm-up frames included).
+    pub frame_ms: Vec<f64>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct BenchReport {
+    pub scene: String,
+    pub objects: usize,
+    pub triangles: u64,
+    pub resolution: String,
+    pub adapter: String,
+    pub frames: usize,
+    /// Frames at the start left out of the timing statistics (not of the checks).
+    pub warmup_frames: usize,
+    pub split: String,
+    pub bvh_nodes: usize,
+    pub bvh_build_ms: f64,
+    pub rows: Vec<MethodRow>,
+}
+
+#[derive(Default)]
+struct Acc {
+    wall: Vec<f64>,
+    gpu: Vec<f64>,
+    stages: BTreeMap<String, f64>,
+    stats: BTreeMap<String, f64>,
+    culled: u64,
+    drawn: u64,
+    fneg: u64,
+    missing: u64,
+    stray: u64,
+}
+
+/// Like the paper (§5.1), the first frames pay for lazy initialisation and
+/// are left out of the timings; every frame is still checked.
+pub fn warmup_frames(frames: usize) -> usize {
+    if frames >= 20 {
+        4
+    } else {
+        0
+    }
+}
+
+/// Loads the scene and camera path the options name (no GPU needed).
+pub fn load_inputs(o: &BenchOptions) -> Result<(Scene, Option<CameraPath>)> {
+    let scene = crate::scene::load(&o.scene, o.objects, 0)?;
+    let path = o.camera_path.as_deref().map(CameraPath::from_file).transpose()?;
+    Ok((scene, path))
+}
+
+pub fn run(gpu: &Gpu, o: &BenchOptions) -> Result<BenchReport> {
+    let (scene, path) = load_inputs(o)?;
+    run_scene(gpu, o, scene, path)
+}
+
+pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraPath>) -> Result<BenchReport> {
+    let mut s = Session::new(gpu, scene, path, o.frames, o.resolution, o.split)?;
+    s.options = o.method_options.clone();
+    let mut cullers = o.methods.iter().filter(|m| *m != "noc").map(|m| Ok((m.clone(), s.create(m)?))).collect::<Result<Vec<_>>>()?;
+    let n = s.renderer.object_count as u64;
+    let frames = s.cameras.len();
+    let warm = warmup_frames(frames);
+    let bar = if o.progress { indicatif::ProgressBar::new(frames as u64) } else { indicatif::ProgressBar::hidden() };
+    bar.set_style(indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames, {elapsed} (eta {eta})").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
+    bar.set_message(format!("bench {}", s.scene.name));
+    let mut accs: BTreeMap<String, Acc> = BTreeMap::new();
+    let mut ref_culled = 0u64;
+    let mut record = |name: &str, k: usize, r: &FrameResult, c: Check, stats: Vec<(hroc::Stat, f64)>| {
+        let a = accs.entry(name.to_string()).or_default();
+        for (st, v) in stats {
+            *a.stats.entry(st.to_string()).or_default() += v;
+        }
+        a.wall.push(r.wall_ms);
+        if k >= warm {
+            a.gpu.push(r.gpu_ms());
+            for (st, ms) in &r.stages {
+                *a.stages.entry(st.to_string()).or_default() += ms;
+            }
+        }
+        a.culled += n - c.drawn as u64;
+        a.drawn += c.drawn as u64;
+        a.fneg += c.false_negatives as u64;
+        a.missing += c.missing_pixels as u64;
+        a.stray += c.stray_pixels as u64;
+    };
+    for k in 0..frames {
+        let (r, truth) = s.truth(k)?;
+        ref_culled += n - truth.visible.len() as u64;
+        if o.methods.iter().any(|m| m == "noc") {
+            let c = s.check(&r, &truth)?;
+            record("noc", k, &r, c, Vec::new());
+        }
+        for (name, c) in cullers.iter_mut() {
+            if c.wants_oracle() {
+                c.set_oracle(&s.culler, &truth.visible)?;
+            }
+            let r = s.run_frame(c, k)?;
+            let chk = s.check(&r, &truth)?;
+            let stats = c.stats(&s.culler)?;
+            record(name, k, &r, chk, stats);
+        }
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let rows = o
+        .methods
+        .iter()
+        .map(|m| {
+            let a = &accs[m.as_str()];
+            let timed = &a.wall[warm.min(a.wall.len().saturating_sub(1))..];
+            let timed_frames = a.gpu.len().max(1) as f64;
+            MethodRow {
+                method: m.clone(),
+                ms_mean: mean(timed),
+                ms_p95: percentile(timed, 0.95),
+                gpu_ms_mean: mean(&a.gpu),
+                c_over_n: a.culled as f64 / (n * frames as u64) as f64,
+                c_over_r: if ref_culled == 0 { if a.culled == 0 { 1.0 } else { f64::INFINITY } } else { a.culled as f64 / ref_culled as f64 },
+                false_negatives: a.fneg,
+                missing_pixels: a.missing,
+                stray_pixels: a.stray,
+                drawn_mean: a.drawn as f64 / frames as f64,
+                stages_ms: a.stages.iter().map(|(k, v)| (k.clone(), v / timed_frames)).collect(),
+                stats: a.stats.iter().map(|(k, v)| (k.clone(), v / frames as f64)).collect(),
+                frame_ms: a.wall.clone(),
+            }
+        })
+        .collect();
+    let st = s.scene.stats();
+    Ok(BenchReport {
+        scene: s.scene.name.clone(),
+        objects: st.objects,
+        triangles: st.triangles,
+        resolution: format!("{}x{}", o.resolution.0, o.resolution.1),
+        adapter: gpu.adapter_name(),
+        frames,
+        warmup_frames: warm,
+        split: o.split.to_string(),
+        bvh_nodes: s.bvh().nodes.len(),
+        bvh_build_ms: s.bvh().build_ms,
+        rows,
+    })
+}
+
+/// Parses `a,b,c` or `all` into method names (each checked against
+/// [`hroc::Method::names`], the one registry), keeping the spelling given.
+pub fn parse_methods(spec: &str) -> Result<Vec<String>> {
+    if spec.trim() == "all" {
+        return Ok(method_names().into_iter().map(String::from).collect());
+    }
+    let mut out: Vec<String> = Vec::new();
+    for m in spec.split(',').map(str::trim).filter(|m| !m.is_empty()) {
+        m.parse::<hroc::Method>()?;
+        if !out.iter().any(|o| o == m) {
+            out.push(m.to_string());
+        }
+    }
+    if out.is_empty() {
+        return Err(crate::Error::Arg("no methods given".into()));
+    }
+    Ok(out)
+}
+
+/// Every method name, in table order.
+pub fn method_names() -> Vec<&'static str> {
+    hroc::Method::names().into_iter().map(|n| n.0).collect()
+}
+
+/// Year, month, day of a day count since 1970-01-01 (H. Hinnant's `civil_from_days`).
+pub fn civil_from_days(days: i64) -> (i64, u32, u32) {
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    (yoe + era * 400 + i64::from(m <= 2), m, d)
+}
+
+/// `WxH`, both sides positive (clap value parser).
+pub fn parse_resolution(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (w, h) = s.split_once('x').ok_or_else(|| format!("resolution '{s}' is not WxH"))?;
+    let w: u32 = w.parse().map_err(|_| format!("bad width in '{s}'"))?;
+    let h: u32 = h.parse().map_err(|_| format!("bad height in '{s}'"))?;
+    if w == 0 || h == 0 {
+        return Err(format!("resolution '{s}' has a zero side"));
+    }
+    Ok((w, h))
+}
+
+pub fn mean(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        0.0
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    }
+}
+
+/// Nearest-rank percentile.
+pub fn percentile(v: &[f64], p: f64) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    let rank = ((p * s.len() as f64).ceil() as usize).clamp(1, s.len());
+    s[rank - 1]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::civil_from_days;
+
+    #[test]
+    fn days_become_dates() {
+        assert_eq!(civil_from_days(0), (1970, 1, 1));
+        assert_eq!(civil_from_days(11_016), (2000, 2, 29));
+        assert_eq!(civil_from_days(19_723), (2024, 1, 1));
+        assert_eq!(civil_from_days(-1), (1969, 12, 31));
+    }
+}

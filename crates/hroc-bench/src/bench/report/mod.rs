@@ -1,0 +1,384 @@
+//! `hroc report`: the papers' tables and figures for this machine, in one
+//! folder: `index.html`, `report.md`, `data.json`, `plots/` (SVG + PNG) and
+//! `images/` (overdraw heat maps).
+//!
+//! The run is a fixed sequence of measurements (each a [`super::run_scene`],
+//! so every row is also checked against `noc`), then one pass that writes
+//! the document: [`sections`] turns the measurements into tables and
+//! figures, [`doc`] renders them as Markdown and HTML.
+
+pub mod doc;
+mod heat;
+mod sections;
+
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+use super::{parse_resolution, BenchOptions, BenchReport};
+use crate::bvh::{Bvh, Split};
+use crate::cull::MethodOptions;
+use crate::error::{Error, Result};
+use crate::gpu::Gpu;
+use crate::scene::{self, generators, Scene};
+
+/// The default set: the HROC paper's three large scenes (RC, FC, ST), sized
+/// so that the whole report takes under 15 minutes on a 2-core CPU with lavapipe.
+pub const DEFAULT_SCENES: &str = "radial-city,factory,satellites";
+/// Every conservative raster method; the query methods (`oq`, `soq`,
+/// `chc++`) wait on the CPU per query batch and are opt-in.
+pub const DEFAULT_METHODS: &str = "noc,vfc,ref,roc,hzb,ioc,hroc-na,hroc-cr,hroc-of,hroc-cr+of";
+/// The HROC paper's Table 3 columns.
+pub const HROC_VARIANTS: [&str; 4] = ["hroc-na", "hroc-cr", "hroc-of", "hroc-cr+of"];
+
+/// Command-line options of `hroc report`.
+#[derive(clap::Args, Debug, Clone)]
+pub struct ReportArgs {
+    /// Output folder (created; files in it are overwritten).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Comma-separated scenes: built-in keys or .gltf/.glb/.obj paths.
+    #[arg(long, default_value = DEFAULT_SCENES)]
+    pub scenes: String,
+    /// Comma-separated methods, or `all`.
+    #[arg(long, default_value = DEFAULT_METHODS)]
+    pub methods: String,
+    /// Objects per generated scene (files keep their own).
+    #[arg(long, default_value_t = 10_000)]
+    pub objects: usize,
+    /// Frames sampled over each 10 s camera path.
+    #[arg(long, default_value_t = 60)]
+    pub frames: usize,
+    #[arg(long, default_value = "640x360", value_parser = parse_resolution)]
+    pub resolution: (u32, u32),
+    /// BVH splits compared with the HROC variants (the thesis's Table 4);
+    /// `sah` alone leaves the table out.
+    #[arg(long, default_value = "sah,mid,eq")]
+    pub splits: String,
+    /// Frame of the first scene's overdraw heat maps (default: mid-path).
+    #[arg(long)]
+    pub heat_frame: Option<usize>,
+    /// Object counts of the scale sweep over the first generated scene, or `none`.
+    #[arg(long, default_value = "1000,4000,16000,64000,256000,1000000")]
+    pub sweep: String,
+    #[arg(long, default_value = "noc,vfc,roc,hzb,hroc")]
+    pub sweep_methods: String,
+    #[arg(long, default_value_t = 12)]
+    pub sweep_frames: usize,
+    /// Resolution of the high-resolution run on the first scene (the
+    /// paper's Table 2, 4096x2160), or `none`.
+    #[arg(long, default_value = "4096x2160")]
+    pub hires: String,
+    #[arg(long, default_value = "noc,ref,roc,hzb,hroc")]
+    pub hires_methods: String,
+    #[arg(long, default_value_t = 8)]
+    pub hires_frames: usize,
+}
+
+/// The validated plan of a report.
+struct Plan {
+    scenes: Vec<String>,
+    methods: Vec<String>,
+    splits: Vec<Split>,
+    heat_frame: usize,
+    sweep: Vec<usize>,
+    sweep_methods: Vec<String>,
+    hires: Option<(u32, u32)>,
+    hires_methods: Vec<String>,
+}
+
+fn list(s: &str) -> Vec<String> {
+    s.split(',').map(str::trim).filter(|x| !x.is_empty()).map(String::from).collect()
+}
+
+impl Plan {
+    fn new(a: &ReportArgs) -> Result<Plan> {
+        let scenes = list(&a.scenes);
+        if scenes.is_empty() {
+            return Err(Error::Arg("--scenes names no scene".into()));
+        }
+        for (flag, n) in [("--frames", a.frames), ("--sweep-frames", a.sweep_frames), ("--hires-frames", a.hires_frames), ("--objects", a.objects)] {
+            if n == 0 {
+                return Err(Error::Arg(format!("{flag} must be at least 1")));
+            }
+        }
+        let heat_frame = a.heat_frame.unwrap_or(a.frames / 2);
+        if heat_frame >= a.frames {
+            return Err(Error::Arg(format!("--heat-frame {heat_frame} is past the last frame ({} frames)", a.frames)));
+        }
+        let splits = list(&a.splits)
+            .iter()
+            .map(|s| s.parse::<Split>().map_err(|_| Error::Arg(format!("unknown split '{s}' (sah, mid, eq)"))))
+            .collect::<Result<Vec<_>>>()?;
+        let sweep = if a.sweep.trim() == "none" {
+            Vec::new()
+        } else {
+            list(&a.sweep).iter().map(|s| s.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(|| Error::Arg(format!("--sweep: '{s}' is not an object count")))).collect::<Result<Vec<_>>>()?
+        };
+        let hires = if a.hires.trim() == "none" { None } else { Some(parse_resolution(&a.hires).map_err(Error::Arg)?) };
+        Ok(Plan {
+            scenes,
+            methods: with_noc(crate::bench::parse_methods(&a.methods)?),
+            splits,
+            heat_frame,
+            sweep,
+            sweep_methods: with_noc(crate::bench::parse_methods(&a.sweep_methods)?),
+            hires,
+            hires_methods: with_noc(crate::bench::parse_methods(&a.hires_methods)?),
+        })
+    }
+}
+
+/// Every table states times relative to drawing everything: `noc` is always run.
+fn with_noc(mut m: Vec<String>) -> Vec<String> {
+    if !m.iter().any(|x| x == "noc") {
+        m.insert(0, "noc".into());
+    }
+    m
+}
+
+/// One BVH build of a scene (the thesis's Table 1).
+#[derive(Clone, Debug, Serialize)]
+pub struct BvhInfo {
+    pub split: String,
+    pub nodes: usize,
+    pub depth: u32,
+    pub build_ms: f64,
+    pub sah_cost: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct SceneResult {
+    pub spec: String,
+    pub stats: scene::SceneStats,
+    pub extent: [f32; 3],
+    pub bvh: Vec<BvhInfo>,
+    /// Every method with the SAH BVH.
+    pub main: BenchReport,
+    /// HROC variants with the other splits.
+    pub splits: Vec<BenchReport>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepPoint {
+    pub objects: usize,
+    pub report: BenchReport,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Meta {
+    pub date: String,
+    pub command: String,
+    pub adapter: String,
+    pub device_type: String,
+    pub backend: String,
+    pub driver: String,
+    pub version: String,
+    pub frames: usize,
+    pub resolution: String,
+    pub minutes: f64,
+}
+
+/// Everything measured; also written as `data.json`.
+#[derive(Clone, Debug, Serialize)]
+pub struct ReportData {
+    pub meta: Meta,
+    pub scenes: Vec<SceneResult>,
+    pub heat: heat::HeatMaps,
+    pub sweep: Vec<SweepPoint>,
+    /// Why the sweep stopped early, if it did (a device limit, memory).
+    pub sweep_stopped: Option<String>,
+    pub hires: Option<BenchReport>,
+    pub hires_skipped: Option<String>,
+}
+
+pub fn run(a: ReportArgs) -> Result<()> {
+    let plan = Plan::new(&a)?;
+    let started = std::time::Instant::now();
+    // Bad scene files fail here, before the GPU starts.
+    let scenes = plan.scenes.iter().map(|s| scene::load(s, Some(a.objects), 0)).collect::<Result<Vec<Scene>>>()?;
+    let gpu = Gpu::new()?;
+    for dir in [a.out.clone(), a.out.join("plots"), a.out.join("images")] {
+        std::fs::create_dir_all(&dir).map_err(|e| Error::Io { path: dir, source: e })?;
+    }
+    let steps = scenes.len() * (1 + usize::from(plan.splits.iter().any(|&s| s != Split::Sah))) + 1 + plan.sweep.len() + usize::from(plan.hires.is_some());
+    let mut r = Runner { gpu: &gpu, a: &a, plan: &plan, step: 0, steps };
+
+    // The measurements, in the report's order.
+    let results = plan.scenes.iter().zip(&scenes).map(|(spec, scene)| r.scene(spec, scene)).collect::<Result<Vec<_>>>()?;
+    r.say(format!("{}: overdraw heat maps at frame {}", plan.scenes[0], plan.heat_frame));
+    let heat = heat::render(&gpu, &scenes[0], a.frames, a.resolution, plan.heat_frame, &a.out.join("images"))?;
+    let (sweep, sweep_stopped) = r.sweep();
+    let (hires, hires_skipped) = r.hires(&scenes[0])?;
+
+    let info = &gpu.info;
+    let data = ReportData {
+        meta: Meta {
+            date: utc_now(),
+            command: std::iter::once("hroc".to_string()).chain(std::env::args().skip(1)).collect::<Vec<_>>().join(" "),
+            adapter: info.name.clone(),
+            device_type: format!("{:?}", info.device_type),
+            backend: format!("{:?}", info.backend),
+            driver: format!("{} {}", info.driver, info.driver_info).trim().to_string(),
+            version: env!("CARGO_PKG_VERSION").to_string(),
+            frames: a.frames,
+            resolution: format!("{}x{}", a.resolution.0, a.resolution.1),
+            minutes: started.elapsed().as_secs_f64() / 60.0,
+        },
+        scenes: results,
+        heat,
+        sweep,
+        sweep_stopped,
+        hires,
+        hires_skipped,
+    };
+    write(&a.out, &data)?;
+    eprintln!("wrote {} in {:.1} min", a.out.join("index.html").display(), data.meta.minutes);
+    Ok(())
+}
+
+/// Runs the report's measurements, numbering them on stderr.
+struct Runner<'a> {
+    gpu: &'a Gpu,
+    a: &'a ReportArgs,
+    plan: &'a Plan,
+    step: usize,
+    steps: usize,
+}
+
+impl Runner<'_> {
+    fn say(&mut self, what: String) {
+        self.step += 1;
+        eprintln!("[{}/{}] {what}", self.step, self.steps);
+    }
+
+    fn opts(&self, spec: &str, methods: &[String], frames: usize, resolution: (u32, u32), split: Split) -> BenchOptions {
+        BenchOptions {
+            scene: spec.to_string(),
+            objects: Some(self.a.objects),
+            methods: methods.to_vec(),
+            frames,
+            resolution,
+            split,
+            camera_path: None,
+            progress: true,
+            method_options: MethodOptions::default(),
+        }
+    }
+
+    /// Every method with the SAH BVH, then the HROC variants with the other splits.
+    fn scene(&mut self, spec: &str, scene: &Scene) -> Result<SceneResult> {
+        let (a, plan) = (self.a, self.plan);
+        self.say(format!("{spec}: {} methods, {} frames", plan.methods.len(), a.frames));
+        let boxes: Vec<_> = scene.objects.iter().map(|o| o.bounds).collect();
+        let bvh = [Split::Sah, Split::Mid, Split::Eq]
+            .into_iter()
+            .map(|split| {
+                let b = Bvh::build(&boxes, split);
+                BvhInfo { split: split.to_string(), nodes: b.nodes.len(), depth: b.depth(), build_ms: b.build_ms, sah_cost: b.sah_cost() }
+            })
+            .collect();
+        let main = super::run_scene(self.gpu, &self.opts(spec, &plan.methods, a.frames, a.resolution, Split::Sah), scene.clone(), None)?;
+        let mut splits = Vec::new();
+        let others: Vec<Split> = plan.splits.iter().copied().filter(|&s| s != Split::Sah).collect();
+        if !others.is_empty() {
+            self.say(format!("{spec}: HROC variants with {} BVHs", others.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")));
+            let methods = with_noc(HROC_VARIANTS.iter().map(|s| s.to_string()).collect());
+            for split in others {
+                splits.push(super::run_scene(self.gpu, &self.opts(spec, &methods, a.frames, a.resolution, split), scene.clone(), None)?);
+            }
+        }
+        Ok(SceneResult { spec: spec.to_string(), stats: scene.stats(), extent: scene.bounds().extent().to_array(), bvh, main, splits })
+    }
+
+    /// The first generated scene grown step by step (a file scene has one
+    /// size). "As far as the machine allows": a size the device cannot
+    /// hold ends the sweep, with the reason, not the report.
+    fn sweep(&mut self) -> (Vec<SweepPoint>, Option<String>) {
+        let spec = self.plan.scenes.iter().find(|s| generators::find(s).is_some()).cloned().unwrap_or_else(|| "radial-city".into());
+        let mut points = Vec::new();
+        for &n in &self.plan.sweep {
+            self.say(format!("scale sweep: {spec} with {n} objects"));
+            let mut o = self.opts(&spec, &self.plan.sweep_methods, self.a.sweep_frames, self.a.resolution, Split::Sah);
+            o.objects = Some(n);
+            match super::run(self.gpu, &o) {
+                Ok(report) => points.push(SweepPoint { objects: n, report }),
+                Err(e) => {
+                    eprintln!("scale sweep stopped at {n} objects: {e}");
+                    return (points, Some(format!("stopped at {n} objects: {e}")));
+                }
+            }
+        }
+        (points, None)
+    }
+
+    /// The first scene at the high resolution, when the device's textures reach it.
+    fn hires(&mut self, scene: &Scene) -> Result<(Option<BenchReport>, Option<String>)> {
+        let Some((w, h)) = self.plan.hires else { return Ok((None, None)) };
+        let max = self.gpu.limits().max_texture_dimension_2d;
+        if w > max || h > max {
+            return Ok((None, Some(format!("{w}x{h} is over this device's largest texture ({max})"))));
+        }
+        let spec = &self.plan.scenes[0];
+        self.say(format!("{spec}: {w}x{h}, {} frames", self.a.hires_frames));
+        let o = self.opts(spec, &self.plan.hires_methods, self.a.hires_frames, (w, h), Split::Sah);
+        Ok((Some(super::run_scene(self.gpu, &o, scene.clone(), None)?), None))
+    }
+}
+
+/// Writes data.json, the plots, report.md and index.html.
+pub fn write(out: &Path, data: &ReportData) -> Result<()> {
+    let put = |name: &str, text: &str| {
+        let path = out.join(name);
+        std::fs::write(&path, text).map_err(|e| Error::Io { path, source: e })
+    };
+    put("data.json", &serde_json::to_string_pretty(data).map_err(|e| Error::Arg(e.to_string()))?)?;
+    let doc = sections::build(data, &out.join("plots"))?;
+    put("report.md", &doc.markdown())?;
+    put("index.html", &doc.html())
+}
+
+/// `YYYY-MM-DD HH:MM UTC`.
+fn utc_now() -> String {
+    let secs = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map_or(0, |d| d.as_secs());
+    let (y, m, d) = super::civil_from_days((secs / 86_400) as i64);
+    format!("{y:04}-{m:02}-{d:02} {:02}:{:02} UTC", secs / 3600 % 24, secs / 60 % 60)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Cli {
+        #[command(flatten)]
+        a: ReportArgs,
+    }
+
+    fn args(extra: &[&str]) -> ReportArgs {
+        Cli::parse_from(["t", "--out", "x"].iter().chain(extra)).a
+    }
+
+    #[test]
+    fn plan_defaults_and_errors() {
+        let p = Plan::new(&args(&[])).unwrap();
+        assert_eq!(p.scenes, ["radial-city", "factory", "satellites"]);
+        assert_eq!(p.heat_frame, 30);
+        assert_eq!(p.sweep, [1000, 4000, 16000, 64000, 256000, 1_000_000]);
+        assert_eq!(p.hires, Some((4096, 2160)));
+        assert_eq!(p.splits, [Split::Sah, Split::Mid, Split::Eq]);
+        assert_eq!(Plan::new(&args(&["--methods", "hroc"])).unwrap().methods, ["noc", "hroc"]);
+        let none = Plan::new(&args(&["--sweep", "none", "--hires", "none"])).unwrap();
+        assert!(none.sweep.is_empty() && none.hires.is_none());
+        for bad in [&["--scenes", ","][..], &["--frames", "0"], &["--heat-frame", "60"], &["--splits", "sah,foo"], &["--sweep", "10,x"], &["--hires", "4096"], &["--methods", "nope"]] {
+            assert!(Plan::new(&args(bad)).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn utc_date_shape() {
+        let d = utc_now();
+        assert_eq!(d.len(), 20, "{d}");
+        assert!(d.starts_with("20") && d.ends_with(" UTC"), "{d}");
+    }
+}

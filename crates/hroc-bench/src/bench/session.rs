@@ -1,0 +1,310 @@
+//! A loaded scene on the GPU with its camera path and BVH: what `bench`,
+//! `render` and the tests drive methods through, frame by frame.
+
+use std::path::Path;
+
+use crate::bvh::{Bvh, Split};
+use crate::cull::{Method, MethodOptions, Stage};
+use crate::error::Result;
+use crate::gpu::Gpu;
+use crate::render::{DrawList, Recorder, Renderer};
+use crate::scene::{camera::clip_planes, Camera, CameraPath, Scene};
+use hroc::layout::DrawCommand;
+use hroc::{Culler, CullerDesc, FrameInput, View, ViewDesc};
+
+/// A scene on the GPU as a host would hold it: hroc's renderer, a
+/// [`hroc::Culler`] over its objects, and the camera path. Every method runs
+/// through the public API ([`View::cull`]), so the benchmark measures what
+/// a user gets.
+pub struct Session<'g> {
+    pub gpu: &'g Gpu,
+    pub scene: Scene,
+    pub culler: Culler,
+    pub renderer: Renderer,
+    pub cameras: Vec<Camera>,
+    /// Camera-path time of each frame (`FrameInput::time`).
+    pub times: Vec<f32>,
+    /// Parameters handed to the methods `create` builds.
+    pub options: MethodOptions,
+    noc: Option<View>,
+}
+
+/// `noc`'s picture of one frame: the ground truth every method is checked against.
+pub struct Truth {
+    /// Objects that own at least one pixel of the ID target, sorted.
+    pub visible: Vec<u32>,
+    pub depth: Vec<f32>,
+    /// Object id + 1 per pixel (0: background).
+    pub ids: Vec<u32>,
+}
+
+/// One method's frame, measured.
+pub struct FrameResult {
+    pub wall_ms: f64,
+    pub stages: Vec<(Stage, f64)>,
+    pub lists: Vec<DrawList>,
+    pub camera: Camera,
+}
+
+impl FrameResult {
+    pub fn gpu_ms(&self) -> f64 {
+        self.stages.iter().map(|s| s.1).sum()
+    }
+}
+
+/// Correctness of one frame against the truth.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Check {
+    pub drawn: usize,
+    pub false_negatives: usize,
+    pub missing_pixels: usize,
+    /// `noc` fragments the method did not reproduce that lie in front of
+    /// their own object's box: the rasterizer's, not the geometry's (lavapipe
+    /// extrapolates the depth of some silhouette pixels of sub-pixel
+    /// triangles). No box test can keep them, so they are counted here, not
+    /// as missing pixels or false negatives.
+    pub stray_pixels: usize,
+}
+
+impl<'g> Session<'g> {
+    /// `path` overrides the scene's own camera path.
+    pub fn new(gpu: &'g Gpu, mut scene: Scene, path: Option<CameraPath>, frames: usize, (w, h): (u32, u32), split: Split) -> Result<Self> {
+        if let Some(p) = path {
+            scene.path = p;
+        }
+        scene.validate()?;
+        let (near, far) = clip_planes(&scene.bounds(), &scene.path);
+        let cameras = scene.path.frames(frames.max(1), near, far);
+        let times = scene.path.frame_times(frames.max(1));
+        crate::render::check_limits(&scene, &gpu.limits())?;
+        // The renderer's pipelines take the culler's marks layout, and the
+        // culler takes the renderer's draws: build the objects first.
+        let descs = crate::render::object_descs(&scene);
+        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { objects: &descs, split, options: MethodOptions::default(), timestamps: true })?;
+        let renderer = Renderer::new(gpu, &scene, w, h, culler.marks_layout())?;
+        let noc = culler.view(Method::Noc, &renderer.view_targets())?;
+        Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc) })
+    }
+
+    pub fn load(gpu: &'g Gpu, spec: &str, objects: Option<usize>, camera_path: Option<&Path>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {
+        let scene = crate::scene::load(spec, objects, 0)?;
+        let path = camera_path.map(CameraPath::from_file).transpose()?;
+        Self::new(gpu, scene, path, frames, res, split)
+    }
+
+    /// The object BVH the culler built.
+    pub fn bvh(&self) -> &Bvh {
+        self.culler.bvh()
+    }
+
+    /// A view of the scene culled by `method` (a name from [`Method::names`]),
+    /// with [`Session::options`].
+    pub fn create(&self, method: &str) -> Result<View> {
+        let m: Method = method.parse()?;
+        Ok(self.culler.view_with(m, &self.renderer.view_targets(), &self.options)?)
+    }
+
+    /// Runs one frame of `view` at camera `k`, timed from the camera
+    /// upload to the GPU's completion.
+    pub fn run_frame(&mut self, view: &mut View, k: usize) -> Result<FrameResult> {
+        let k = k.min(self.cameras.len() - 1);
+        self.run_camera(view, self.cameras[k], self.times[k])
+    }
+
+    /// Runs one frame of `view` from any camera (the viewer's free
+    /// flight), timed as [`run_frame`](Self::run_frame); `time` is the
+    /// frame's [`FrameInput::time`].
+    pub fn run_camera(&mut self, view: &mut View, camera: Camera, time: f32) -> Result<FrameResult> {
+        self.run_camera_with(view, camera, time, None)
+    }
+
+    /// [`run_camera`](Self::run_camera) with `body` recorded in place of
+    /// the method's frame ([`View::cull_with`]).
+    pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, body: Option<&mut dyn FnMut(&mut hroc::cull::Frame) -> hroc::Result<()>>) -> Result<FrameResult> {
+        let start = std::time::Instant::now();
+        let aspect = self.renderer.aspect();
+        let r = &self.renderer;
+        r.write_view(self.gpu, &camera.view_proj(aspect));
+        let mut enc = self.gpu.encoder("frame");
+        r.clear(&mut enc);
+        let input = FrameInput { view: self.view_desc(&camera), targets: r.view_targets(), cut: false, time };
+        let mut host = Recorder { renderer: r, lists: Vec::new() };
+        match body {
+            Some(body) => view.cull_with(&self.culler, &mut enc, &input, &mut host, body)?,
+            None => view.cull(&self.culler, &mut enc, &input, &mut host)?,
+        }
+        let lists = host.lists;
+        self.gpu.queue.submit([enc.finish()]);
+        self.gpu.wait()?;
+        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        let stages = view.stage_ms(&self.culler)?.to_vec();
+        Ok(FrameResult { wall_ms, stages, lists, camera })
+    }
+
+    /// The view of camera `camera` as the culler sees it.
+    pub fn view_desc(&self, camera: &Camera) -> ViewDesc {
+        let aspect = self.renderer.aspect();
+        ViewDesc { view: camera.view(), proj: camera.proj(aspect), depth: hroc::DepthRange::Standard }
+    }
+
+    /// The `Frame` uniform the culler writes for camera `k` (CPU references).
+    pub fn frame_uniform(&self, k: usize) -> Result<hroc::layout::FrameUniform> {
+        let g = self.view_desc(&self.cameras[k]).geometry()?;
+        Ok(g.uniform((self.renderer.targets.width, self.renderer.targets.height), self.renderer.object_count, self.bvh().nodes.len() as u32, hroc::DepthRange::Standard))
+    }
+
+    /// Renders frame `k` with `noc` and reads back the truth.
+    pub fn truth(&mut self, k: usize) -> Result<(FrameResult, Truth)> {
+        let mut noc = self.noc.take().expect("noc view");
+        let r = self.run_frame(&mut noc, k);
+        self.noc = Some(noc);
+        let r = r?;
+        Ok((r, self.read_truth()?))
+    }
+
+    /// Renders `camera` with `noc` (the viewer's free flight).
+    pub fn truth_at(&mut self, camera: Camera, time: f32) -> Result<(FrameResult, Truth)> {
+        let mut noc = self.noc.take().expect("noc view");
+        let r = self.run_camera(&mut noc, camera, time);
+        self.noc = Some(noc);
+        let r = r?;
+        Ok((r, self.read_truth()?))
+    }
+
+    /// The truth of whatever the targets hold now.
+    pub fn read_truth(&self) -> Result<Truth> {
+        let ids: Vec<u32> = self.gpu.read_texture(&self.renderer.targets.id, wgpu::TextureAspect::All)?;
+        let mut seen = vec![false; self.renderer.object_count as usize];
+        for &id in &ids {
+            if id > 0 {
+                seen[(id - 1) as usize] = true;
+            }
+        }
+        let visible = (0..seen.len() as u32).filter(|&o| seen[o as usize]).collect();
+        Ok(Truth { visible, depth: self.read_depth()?, ids })
+    }
+
+    pub fn read_depth(&self) -> Result<Vec<f32>> {
+        Ok(self.gpu.read_texture(&self.renderer.targets.depth, wgpu::TextureAspect::DepthOnly)?)
+    }
+
+    /// Which objects the lists drew (non-empty commands within the GPU count).
+    pub fn drawn(&self, lists: &[DrawList]) -> Result<Vec<bool>> {
+        let mut drawn = vec![false; self.renderer.object_count as usize];
+        for l in lists {
+            let count = self.gpu.read::<u32>(&l.count, 0, 1)?[0].min(l.max_count);
+            for c in self.gpu.read::<DrawCommand>(&l.commands, 0, count as u64)? {
+                if c.instance_count > 0 && c.index_count > 0 {
+                    if let Some(d) = drawn.get_mut(c.first_instance as usize) {
+                        *d = true;
+                    }
+                }
+            }
+        }
+        Ok(drawn)
+    }
+
+    /// Checks the frame just rendered against `truth`: false negatives
+    /// (visible in `noc`, not drawn) and missing pixels (depth farther than
+    /// `noc`'s), leaving out `noc`'s stray fragments (`Check::stray_pixels`).
+    pub fn check(&self, r: &FrameResult, truth: &Truth) -> Result<Check> {
+        let drawn = self.drawn(&r.lists)?;
+        let depth = self.read_depth()?;
+        let stray = Stray::new(&r.camera, self.renderer.aspect(), (self.renderer.targets.width, self.renderer.targets.height));
+        let is_stray = |i: usize| truth.ids[i] > 0 && stray.is_stray(i, truth.depth[i], &self.scene.objects[(truth.ids[i] - 1) as usize].bounds);
+        // The stray test runs only where the method differs from noc (rare).
+        let (mut missing, mut strays) = (0, 0);
+        for i in (0..depth.len()).filter(|&i| depth[i] > truth.depth[i]) {
+            if is_stray(i) {
+                strays += 1;
+            } else {
+                missing += 1;
+            }
+        }
+        let undrawn: Vec<u32> = truth.visible.iter().copied().filter(|&o| !drawn[o as usize]).collect();
+        let mut real = vec![false; drawn.len()];
+        if !undrawn.is_empty() {
+            for i in (0..truth.ids.len()).filter(|&i| truth.ids[i] > 0 && !drawn[(truth.ids[i] - 1) as usize]) {
+                if !is_stray(i) {
+                    real[(truth.ids[i] - 1) as usize] = true;
+                }
+            }
+        }
+        Ok(Check {
+            drawn: drawn.iter().filter(|&&d| d).count(),
+            false_negatives: undrawn.iter().filter(|&&o| real[o as usize]).count(),
+            missing_pixels: missing,
+            stray_pixels: strays,
+        })
+    }
+
+}
+
+/// Tells a rasterizer's stray fragment from geometry: the fragment's depth
+/// is in front of where the pixel's ray enters the object's box (padded as
+/// the shaders pad it, with their depth tolerance), or the ray misses the box.
+struct Stray {
+    camera: Camera,
+    view_proj: glam::Mat4,
+    ray_dirs: glam::Mat4,
+    pixel: f32,
+    size: (u32, u32),
+}
+
+impl Stray {
+    fn new(camera: &Camera, aspect: f32, size: (u32, u32)) -> Self {
+        let ray_dirs = camera.ray_dirs(aspect);
+        let pixel = hroc::cull::hroc::cpu::pixel_angle(&ray_dirs, camera.near, size.1);
+        Stray { camera: *camera, view_proj: camera.view_proj(aspect), ray_dirs, pixel, size }
+    }
+
+    fn is_stray(&self, i: usize, depth: f32, bounds: &crate::scene::Aabb) -> bool {
+        use glam::{Vec2, Vec4};
+        let (w, h) = (self.size.0 as f32, self.size.1 as f32);
+        let (x, y) = ((i as u32 % self.size.0) as f32 + 0.5, (i as u32 / self.size.0) as f32 + 0.5);
+        let ndc = Vec2::new(x / w * 2.0 - 1.0, 1.0 - y / h * 2.0);
+        let dir = (self.ray_dirs * Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
+        let eye = self.camera.eye;
+        let b = hroc::cull::hroc::cpu::padded(*bounds, eye, self.pixel);
+        let (t0, t1) = ((b.min - eye) / dir, (b.max - eye) / dir);
+        let (enter, exit) = (t0.min(t1).max_element().max(1.0), t0.max(t1).min_element());
+        if !(exit >= enter) {
+            return true;
+        }
+        let (c0, c1) = (self.view_proj * eye.extend(1.0), self.view_proj * dir.extend(0.0));
+        let entry = (c0.z + enter * c1.z) / (c0.w + enter * c1.w);
+        depth < entry - STRAY_TOLERANCE
+    }
+}
+
+/// Depth-buffer units: 7 float steps near 1.0, the box test's own tolerance.
+const STRAY_TOLERANCE: f32 = 4e-7;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::Aabb;
+    use glam::Vec3;
+
+    fn depth_at(cam: &Camera, aspect: f32, p: Vec3) -> f32 {
+        let c = cam.view_proj(aspect) * p.extend(1.0);
+        c.z / c.w
+    }
+
+    /// A box 40 m ahead, seen through the centre pixel of a 64x36 target.
+    #[test]
+    fn stray_fragments_are_told_from_geometry() {
+        let cam = Camera { eye: Vec3::ZERO, target: Vec3::new(0.0, 0.0, -1.0), up: Vec3::Y, fov_y_deg: 60.0, near: 0.01, far: 500.0 };
+        let (size, aspect) = ((64, 36), 64.0 / 36.0);
+        let s = Stray::new(&cam, aspect, size);
+        let b = Aabb { min: Vec3::new(-2.0, -2.0, -42.0), max: Vec3::new(2.0, 2.0, -38.0) };
+        let centre = 18 * 64 + 32;
+        // On the box's front face, or behind it: geometry.
+        assert!(!s.is_stray(centre, depth_at(&cam, aspect, Vec3::new(0.0, 0.0, -38.0)), &b));
+        assert!(!s.is_stray(centre, depth_at(&cam, aspect, Vec3::new(0.0, 0.0, -41.0)), &b));
+        // 20 m in front of the box: no geometry inside it makes that fragment.
+        assert!(s.is_stray(centre, depth_at(&cam, aspect, Vec3::new(0.0, 0.0, -18.0)), &b));
+        // A pixel whose ray misses the box by far.
+        assert!(s.is_stray(0, depth_at(&cam, aspect, Vec3::new(0.0, 0.0, -40.0)), &b));
+    }
+}

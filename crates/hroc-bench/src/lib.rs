@@ -1,0 +1,26 @@
+//! hroc's own renderer as the first host of the culling API, and the
+//! benchmark that runs every method side by side through that API.
+//!
+//! - [`render`]: a forward renderer (one vertex/index pool, object colours,
+//!   colour/depth/object-ID targets) that draws what a [`hroc::View`] hands it;
+//! - [`bench`]: the session (scene + camera path on the GPU), the side-by-side
+//!   benchmark checked against `noc`, tables, plots and the papers' reports;
+//! - [`headless`]: a headless Vulkan device with the features hroc needs.
+
+pub mod bench;
+pub mod headless;
+/// The headless device and the culler's GPU helpers.
+pub mod gpu {
+    pub use crate::headless::Gpu;
+    pub use hroc::gpu::{dispatch_size, GpuTimer};
+}
+pub mod render;
+
+pub use hroc::{bvh, cull};
+pub use hroc_scene as scene;
+
+/// Errors: the scene crate's, which wraps the culler's.
+pub mod error {
+    pub use hroc_scene::error::{Error, Result};
+}
+pub use error::{Error, Result};

@@ -1,0 +1,154 @@
+//! HROC on lavapipe: every variant conservative against noc on every
+//! scene's path, RC', and the hard paths; GPU passes against the CPU
+//! references (group extraction, ray marking).
+
+use hroc_bench::bench::Session;
+use hroc_bench::bvh::Split;
+use hroc::cull::hroc::{cpu, Hroc};
+use hroc_bench::gpu::Gpu;
+use hroc_bench::scene::paths;
+use std::sync::OnceLock;
+
+const RES: (u32, u32) = (160, 96);
+const VARIANTS: [&str; 5] = ["hroc-na", "hroc-cr", "hroc-of", "hroc-cr+of", "hroc"];
+
+fn gpu() -> &'static Gpu {
+    static GPU: OnceLock<Gpu> = OnceLock::new();
+    GPU.get_or_init(|| Gpu::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
+}
+
+/// Runs every variant side by side over the session's path; every frame
+/// must have 0 false negatives and 0 missing pixels. Returns drawn/visible.
+fn assert_variants_conservative(s: &mut Session, label: &str) -> f64 {
+    let mut cullers: Vec<hroc::View> = VARIANTS.iter().map(|v| s.create(v).unwrap()).collect();
+    let (mut drawn, mut visible) = (0usize, 0usize);
+    for k in 0..s.cameras.len() {
+        let (_, truth) = s.truth(k).unwrap();
+        visible += truth.visible.len();
+        for c in cullers.iter_mut() {
+            let r = s.run_frame(c, k).unwrap();
+            let chk = s.check(&r, &truth).unwrap();
+            assert_eq!((chk.false_negatives, chk.missing_pixels), (0, 0), "{label} {}: frame {k} missed objects/pixels, camera {:?}", c.method(), s.cameras[k]);
+            drawn += chk.drawn;
+        }
+    }
+    drawn as f64 / (visible.max(1) * VARIANTS.len()) as f64
+}
+
+#[test]
+fn conservative_on_every_scene_path() {
+    for key in hroc_bench::scene::generators::keys() {
+        let scene = hroc_bench::scene::load(key, Some(1200), 3).unwrap();
+        let mut s = Session::new(gpu(), scene, None, 12, RES, Split::Sah).unwrap();
+        assert_variants_conservative(&mut s, key);
+    }
+}
+
+#[test]
+fn conservative_on_hard_paths() {
+    // Cuts, eye inside object and group boxes, boxes across the near plane.
+    for key in ["radial-city", "factory", "satellites", "library"] {
+        let scene = hroc_bench::scene::load(key, Some(2000), 5).unwrap();
+        let path = paths::hard_path(&scene);
+        let mut s = Session::new(gpu(), scene, Some(path), 30, RES, Split::Sah).unwrap();
+        assert_variants_conservative(&mut s, key);
+    }
+}
+
+#[test]
+fn conservative_with_every_split_and_fast_rotation() {
+    for split in [Split::Mid, Split::Eq] {
+        let scene = hroc_bench::scene::load("radial-city-fast", Some(2500), 1).unwrap();
+        let mut s = Session::new(gpu(), scene, None, 20, RES, split).unwrap();
+        assert_variants_conservative(&mut s, "radial-city-fast");
+    }
+}
+
+#[test]
+fn culls_close_to_ref_with_occluder_filtering() {
+    let scene = hroc_bench::scene::load("radial-city", Some(4000), 0).unwrap();
+    let mut s = Session::new(gpu(), scene, None, 20, (320, 180), Split::Sah).unwrap();
+    let mut h = s.create("hroc-of").unwrap();
+    let n = s.renderer.object_count as usize;
+    let (mut culled, mut ref_culled) = (0, 0);
+    for k in 0..s.cameras.len() {
+        let (_, truth) = s.truth(k).unwrap();
+        let r = s.run_frame(&mut h, k).unwrap();
+        let chk = s.check(&r, &truth).unwrap();
+        culled += n - chk.drawn;
+        ref_culled += n - truth.visible.len();
+    }
+    let c_over_r = culled as f64 / ref_culled as f64;
+    assert!(c_over_r > 0.9, "C/R {c_over_r}: HROC hardly culls");
+}
+
+/// One frame of hroc-na at camera `k`, then the occlusion map rebuilt from
+/// its occluder list, for the CPU references.
+fn frame_with_occlusion_map(s: &mut Session, h: &mut hroc::View, k: usize) -> Vec<f32> {
+    s.run_frame(h, k).unwrap();
+    let gpu = s.gpu;
+    let mut enc = gpu.encoder("occlusion map");
+    s.renderer.clear(&mut enc);
+    s.renderer.draw(&mut enc, h.method_state::<Hroc>().unwrap().occluder_list(), None);
+    gpu.queue.submit([enc.finish()]);
+    s.read_depth().unwrap()
+}
+
+#[test]
+fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
+    for (key, n) in [("radial-city", 1500), ("satellites", 1200), ("factory", 1500)] {
+        let scene = hroc_bench::scene::load(key, Some(n), 11).unwrap();
+        let path = paths::hard_path(&scene);
+        let mut s = Session::new(gpu(), scene, Some(path), 16, RES, Split::Sah).unwrap();
+        let mut h = s.create("hroc-na").unwrap();
+        let aspect = s.renderer.aspect();
+        for k in 0..s.cameras.len() {
+            let depth = frame_with_occlusion_map(&mut s, &mut h, k);
+            let dbg = h.method_state::<Hroc>().unwrap().debug_state(s.gpu).unwrap();
+            let cam = s.cameras[k];
+            // Group extraction: node states and groups exactly as Algorithm 1.
+            let state = cpu::node_states(s.bvh(), &dbg.occluders);
+            assert_eq!(state, dbg.state, "{key} frame {k}: node states differ");
+            // The CPU references take the view as the culler derives it.
+            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
+            let (vp, rays) = (g.view_proj, g.ray_dirs);
+            let pixel = cpu::pixel_angle(&rays, g.near, RES.1);
+            let (groups, forced) = cpu::groups(s.bvh(), &state, &g.planes, g.near, g.eye, pixel);
+            assert_eq!(groups, dbg.groups, "{key} frame {k}: groups differ");
+            // Ray marking: everything a slightly shrunk box test finds must be
+            // marked; nothing outside a generous one may be.
+            let strict = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, None, -1e-3, -1e-6);
+            let loose = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, Some(pixel), 0.01, 1e-5);
+            for o in 0..dbg.occludees.len() {
+                let forced_o = forced.binary_search(&(o as u32)).is_ok();
+                if strict[o] || forced_o {
+                    assert!(dbg.occludees[o], "{key} frame {k}: object {o} should be an occludee");
+                }
+                if dbg.occludees[o] {
+                    assert!(loose[o] || forced_o, "{key} frame {k}: object {o} marked without a ray reaching it");
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn box_winding_faces_outward() {
+    // hroc_test.wgsl's CUBE table: counter-clockwise from outside, so the
+    // rasterizer's back-face culling keeps exactly the near faces.
+    let src = hroc::shaders::source("hroc_test.wgsl");
+    let table = &src[src.find("array<u32, 36>(").unwrap() + 15..];
+    let idx: Vec<u32> = table[..table.find(");").unwrap()]
+        .split(|c: char| !c.is_ascii_digit())
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().unwrap())
+        .collect();
+    assert_eq!(idx.len(), 36);
+    let corner = |c: u32| glam::Vec3::new((c & 1) as f32, ((c >> 1) & 1) as f32, ((c >> 2) & 1) as f32);
+    for t in idx.chunks(3) {
+        let (a, b, c) = (corner(t[0]), corner(t[1]), corner(t[2]));
+        let normal = (b - a).cross(c - a);
+        let outward = (a + b + c) / 3.0 - glam::Vec3::splat(0.5);
+        assert!(normal.dot(outward) > 0.0, "triangle {t:?} winds inward");
+    }
+}

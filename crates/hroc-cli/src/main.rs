@@ -1,0 +1,293 @@
+//! `hroc`: benchmark, render and inspect occlusion culling methods.
+
+use clap::{Parser, Subcommand};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use hroc_bench::bench::{self, parse_resolution, BenchOptions, Session};
+use hroc_bench::bvh::{Bvh, Split};
+use hroc_bench::cull;
+use hroc_bench::gpu::Gpu;
+use hroc_bench::render::views::{self, View};
+use hroc_bench::{Error, Result};
+
+mod viewer;
+
+/// The default bench: sized to finish in about a minute on a 2-core CPU with lavapipe.
+const DEFAULT_SCENE: &str = "radial-city";
+const DEFAULT_METHODS: &str = "noc,vfc,ref,hroc";
+
+#[derive(Parser)]
+#[command(name = "hroc", version, about = "GPU occlusion culling of massive scenes: benchmark, render, inspect")]
+struct Cli {
+    #[command(subcommand)]
+    cmd: Option<Cmd>,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Runs methods side by side over one camera path; one row per method.
+    Bench(BenchArgs),
+    /// Renders one frame of a method to a PNG.
+    Render(RenderArgs),
+    /// Scene statistics and BVH build times.
+    Scene {
+        #[command(subcommand)]
+        cmd: SceneCmd,
+    },
+    /// Lists the methods.
+    Methods,
+    /// Runs the benchmark over scenes and methods and writes the papers'
+    /// tables and figures to a folder (index.html, report.md, plots).
+    Report(bench::report::ReportArgs),
+    /// Opens a window to fly through a scene and switch methods live.
+    View(viewer::ViewArgs),
+}
+
+#[derive(clap::Args)]
+struct SceneArgs {
+    /// Built-in scene key or a .gltf/.glb/.obj path.
+    #[arg(long, default_value = DEFAULT_SCENE)]
+    scene: String,
+    /// Object count of a generated scene (its default when omitted).
+    #[arg(long)]
+    objects: Option<usize>,
+    /// Frames sampled uniformly over the camera path.
+    #[arg(long, default_value_t = 60)]
+    frames: usize,
+    #[arg(long, default_value = "640x360", value_parser = parse_resolution)]
+    resolution: (u32, u32),
+    #[arg(long, default_value_t = Split::Sah)]
+    split: Split,
+    /// JSON camera path file (keys of t, eye, target, up, fov_y_deg).
+    #[arg(long)]
+    camera_path: Option<PathBuf>,
+    #[command(flatten)]
+    m: MethodArgs,
+}
+
+/// Method parameters (`cull::MethodOptions`; defaults as documented there).
+#[derive(clap::Args)]
+struct MethodArgs {
+    /// soq: BASE_TIME of paper 004, seconds of camera path.
+    #[arg(long, default_value_t = 2.0 / 3.0, value_parser = parse_positive)]
+    soq_base_time: f32,
+    /// chc++: previously invisible nodes per query batch (b).
+    #[arg(long, default_value_t = 1000, value_parser = clap::value_parser!(u64).range(1..))]
+    chc_batch: u64,
+    /// chc++: frames a visible leaf goes unqueried (n_av).
+    #[arg(long, default_value_t = 10, value_parser = clap::value_parser!(u32).range(1..))]
+    chc_nav: u32,
+    /// chc++: levels of descendants for tighter bounds (d_max).
+    #[arg(long, default_value_t = 4)]
+    chc_dmax: u32,
+    /// chc++: largest summed-area ratio of tighter bounds (s_max).
+    #[arg(long, default_value_t = 1.4, value_parser = parse_positive)]
+    chc_smax: f32,
+    /// ioc: BVH depths START:BOTTOM tested level by level (root = 0;
+    /// default: the middle of the BVH, depth/2-1:depth/2+1).
+    #[arg(long, value_parser = cull::ioc::parse_range)]
+    ioc_range: Option<(u32, u32)>,
+}
+
+impl MethodArgs {
+    fn options(&self) -> cull::MethodOptions {
+        cull::MethodOptions { soq_base_time: self.soq_base_time, chc_batch: self.chc_batch as usize, chc_nav: self.chc_nav, chc_dmax: self.chc_dmax, chc_smax: self.chc_smax, ioc_range: self.ioc_range }
+    }
+}
+
+fn parse_positive(s: &str) -> std::result::Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if v > 0.0 && v.is_finite() => Ok(v),
+        _ => Err(format!("'{s}' is not a positive number")),
+    }
+}
+
+#[derive(clap::Args)]
+struct BenchArgs {
+    #[command(flatten)]
+    s: SceneArgs,
+    /// Comma-separated methods, or `all`.
+    #[arg(long, default_value = DEFAULT_METHODS)]
+    methods: String,
+    /// Writes the report as JSON.
+    #[arg(long)]
+    json: Option<PathBuf>,
+    /// Prints the table as Markdown.
+    #[arg(long)]
+    markdown: bool,
+    /// Also prints GPU ms per stage and per-frame method statistics.
+    #[arg(long)]
+    breakdown: bool,
+}
+
+#[derive(clap::Args)]
+struct RenderArgs {
+    #[command(flatten)]
+    s: SceneArgs,
+    #[arg(long, default_value = "noc")]
+    method: String,
+    /// Frame of the path to render (earlier frames run first: methods use temporal coherence).
+    #[arg(long, default_value_t = 0)]
+    frame: usize,
+    #[arg(long)]
+    out: PathBuf,
+    #[arg(long, default_value_t = View::Color)]
+    view: View,
+}
+
+#[derive(Subcommand)]
+enum SceneCmd {
+    /// Objects, triangles, vertices, BVH nodes, depth and build ms per split.
+    Info {
+        /// Built-in scene key or a .gltf/.glb/.obj path.
+        scene: String,
+        #[arg(long)]
+        objects: Option<usize>,
+    },
+    /// Lists the built-in scenes.
+    List,
+}
+
+fn main() -> ExitCode {
+    // The Vulkan loader warns on every start without it (DESIGN.md).
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
+        let dir = std::env::temp_dir().join("hroc-xdg");
+        if std::fs::create_dir_all(&dir).is_ok() {
+            std::env::set_var("XDG_RUNTIME_DIR", dir);
+        }
+    }
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(cli: Cli) -> Result<()> {
+    // No subcommand: the default bench.
+    let cmd = match cli.cmd {
+        Some(c) => c,
+        None => Cli::parse_from(["hroc", "bench"]).cmd.ok_or_else(|| Error::Arg("no command".into()))?,
+    };
+    match cmd {
+        Cmd::Bench(a) => bench_cmd(a),
+        Cmd::Render(a) => render_cmd(a),
+        Cmd::Scene { cmd: SceneCmd::Info { scene, objects } } => scene_info(&scene, objects),
+        Cmd::Scene { cmd: SceneCmd::List } => {
+            for g in hroc_bench::scene::generators::keys() {
+                println!("{g}");
+            }
+            Ok(())
+        }
+        Cmd::Report(a) => bench::report::run(a),
+        Cmd::View(a) => viewer::run(a),
+        Cmd::Methods => {
+            for (name, what) in hroc::Method::names().into_iter().map(|(n, _, w)| (n, w)) {
+                println!("{name:<8} {what}");
+            }
+            Ok(())
+        }
+    }
+}
+
+fn check_frames(frames: usize) -> Result<()> {
+    if frames == 0 {
+        return Err(Error::Arg("--frames must be at least 1".into()));
+    }
+    Ok(())
+}
+
+fn bench_cmd(a: BenchArgs) -> Result<()> {
+    check_frames(a.s.frames)?;
+    let methods = hroc_bench::bench::parse_methods(&a.methods)?;
+    // Load and check the inputs before touching the GPU: bad files fail fast.
+    let opts = BenchOptions {
+        scene: a.s.scene,
+        objects: a.s.objects,
+        methods,
+        frames: a.s.frames,
+        resolution: a.s.resolution,
+        split: a.s.split,
+        method_options: a.s.m.options(),
+        camera_path: a.s.camera_path,
+        progress: true,
+    };
+    let (scene, path) = bench::load_inputs(&opts)?;
+    let gpu = Gpu::new()?;
+    let report = bench::run_scene(&gpu, &opts, scene, path)?;
+    print!("{}", bench::table::render(&report, a.markdown));
+    if a.breakdown {
+        print!("\n{}", bench::table::breakdown(&report, a.markdown));
+    }
+    if let Some(path) = a.json {
+        let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Arg(e.to_string()))?;
+        std::fs::write(&path, text).map_err(|e| Error::Io { path, source: e })?;
+    }
+    Ok(())
+}
+
+fn render_cmd(a: RenderArgs) -> Result<()> {
+    check_frames(a.s.frames)?;
+    let methods = hroc_bench::bench::parse_methods(&a.method)?;
+    let [method] = methods.as_slice() else {
+        return Err(Error::Arg("render takes one method".into()));
+    };
+    if a.frame >= a.s.frames {
+        return Err(Error::Arg(format!("--frame {} is past the last frame ({} frames)", a.frame, a.s.frames)));
+    }
+    let s = &a.s;
+    let scene = hroc_bench::scene::load(&s.scene, s.objects, 0)?;
+    let path = s.camera_path.as_deref().map(hroc_bench::scene::CameraPath::from_file).transpose()?;
+    let gpu = Gpu::new()?;
+    let mut session = Session::new(&gpu, scene, path, s.frames, s.resolution, s.split)?;
+    session.options = s.m.options();
+    let mut culler = session.create(method)?;
+    let mut last = None;
+    for k in 0..=a.frame {
+        if culler.wants_oracle() {
+            let (_, truth) = session.truth(k)?;
+            culler.set_oracle(&session.culler, &truth.visible)?;
+        }
+        last = Some(session.run_frame(&mut culler, k)?);
+    }
+    let lists = last.map(|r| r.lists).unwrap_or_default();
+    let px = if a.view == View::Groups {
+        let nodes = culler.tested_nodes(&session.culler)?.ok_or_else(|| Error::Arg(format!("{method} tests no boxes; the groups view is for box-testing methods (hroc, roc, roc-all, ioc)")))?;
+        let mut px = views::capture(&gpu, &session.renderer, View::Color, &lists)?;
+        let boxes: Vec<_> = nodes.iter().map(|&n| (session.bvh().aabb(n), if session.bvh().is_leaf(n) { [255, 220, 0, 255] } else { [255, 40, 40, 255] })).collect();
+        let vp = session.cameras[a.frame].view_proj(session.renderer.aspect());
+        views::draw_boxes(&mut px, s.resolution, &vp, &boxes);
+        px
+    } else {
+        views::capture(&gpu, &session.renderer, a.view, &lists)?
+    };
+    views::save_png(&a.out, s.resolution.0, s.resolution.1, &px)?;
+    eprintln!("wrote {}", a.out.display());
+    Ok(())
+}
+
+fn scene_info(spec: &str, objects: Option<usize>) -> Result<()> {
+    let t = std::time::Instant::now();
+    let scene = hroc_bench::scene::load(spec, objects, 0)?;
+    let load_ms = t.elapsed().as_secs_f64() * 1e3;
+    let st = scene.stats();
+    println!("scene      {}", scene.name);
+    println!("objects    {}", st.objects);
+    println!("meshes     {}", st.meshes);
+    println!("triangles  {} ({} stored)", st.triangles, st.unique_triangles);
+    println!("vertices   {}", st.vertices);
+    let b = scene.bounds();
+    println!("bounds     {:?} .. {:?}", b.min.to_array(), b.max.to_array());
+    println!("load ms    {load_ms:.1}");
+    let boxes: Vec<_> = scene.objects.iter().map(|o| o.bounds).collect();
+    println!("{:<6} {:>10} {:>6} {:>10} {:>10}", "split", "BVH nodes", "depth", "build ms", "SAH cost");
+    for split in [Split::Sah, Split::Mid, Split::Eq] {
+        let bvh = Bvh::build(&boxes, split);
+        println!("{:<6} {:>10} {:>6} {:>10.1} {:>10.1}", split.to_string(), bvh.nodes.len(), bvh.depth(), bvh.build_ms, bvh.sah_cost());
+    }
+    Ok(())
+}

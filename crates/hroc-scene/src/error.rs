@@ -1,0 +1,39 @@
+//! One error type for everything a user of the scenes, the benchmark and the
+//! CLI can get wrong: files, scenes, arguments, devices. Every variant prints
+//! as one clear line; the CLI exits non-zero with it.
+
+use std::path::PathBuf;
+
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    #[error("file not found: {0}")]
+    NotFound(PathBuf),
+    #[error("cannot read {path}: {source}")]
+    Io { path: PathBuf, source: std::io::Error },
+    #[error("unknown scene '{0}': expected one of {1} or a path to a .gltf/.glb/.obj file")]
+    UnknownScene(String, String),
+    #[error("unsupported file type '{0}': expected .gltf, .glb or .obj")]
+    UnsupportedFormat(PathBuf),
+    #[error("malformed {format} file {path}: {msg}")]
+    Malformed { format: &'static str, path: PathBuf, msg: String },
+    #[error("invalid scene: {0}")]
+    InvalidScene(String),
+    #[error("empty scene: {0}")]
+    EmptyScene(String),
+    #[error("unsafe URI '{uri}' in {path}: buffers and images must lie inside the asset's folder")]
+    UnsafeUri { uri: String, path: PathBuf },
+    #[error("malformed camera path {path}: {msg}")]
+    CameraPath { path: PathBuf, msg: String },
+    #[error("scene too large for this device: {0}")]
+    OverDeviceLimits(String),
+    #[error("{0}")]
+    NoAdapter(String),
+    #[error("GPU error: {0}")]
+    Gpu(String),
+    #[error("invalid argument: {0}")]
+    Arg(String),
+    #[error(transparent)]
+    Cull(#[from] hroc::Error),
+}
+
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,139 @@
+// Shared layouts, prepended to every pass (src/render/layout.rs mirrors them;
+// tests/shaders.rs checks the sizes).
+
+struct Frame {
+    view_proj: mat4x4<f32>,
+    // Columns x, y, z: the near-plane offsets of a pixel ray (dir =
+    // ray_dirs * (ndc.x, ndc.y, 1, 0) reaches the near plane at t = 1),
+    // built from the camera basis: unprojecting through the inverse
+    // view-projection loses the direction to cancellation.
+    ray_dirs: mat4x4<f32>,
+    eye: vec4<f32>,          // xyz: camera position
+    viewport: vec4<f32>,     // width, height, 1/width, 1/height
+    planes: array<vec4<f32>, 6>, // frustum planes, n·p + d >= 0 inside
+    object_count: u32,
+    node_count: u32,
+    near: f32,
+    reversed: u32,           // 1: the host's depth is reversed (near 1, far 0)
+}
+
+// The passes compare depth in standard form (near 0, far 1): a reversed
+// depth d reads as 1 - d. Rounding keeps the order, so every comparison
+// stays conservative.
+fn std_depth(f: Frame, d: f32) -> f32 {
+    return select(d, 1.0 - d, f.reversed != 0u);
+}
+
+struct ObjectBounds {
+    min: vec3<f32>,
+    flags: u32,   // ObjectFlags bits (src/host.rs)
+    max: vec3<f32>,
+    _pad: u32,
+}
+
+const NEVER_CULL: u32 = 1u;
+const NOT_OCCLUDER: u32 = 2u;
+
+// Object-level BVH node (src/bvh): children of an interior node sit at
+// child and child + 1; a leaf has LEAF_BIT set and the object in the rest.
+struct BvhNode {
+    min: vec3<f32>,
+    child: u32,
+    max: vec3<f32>,
+    parent: u32,
+}
+
+const LEAF_BIT: u32 = 0x80000000u;
+
+// Child pairs start at odd indices (src/bvh validates it): O(1) sibling.
+fn sibling(n: u32) -> u32 {
+    return select(n - 1u, n + 1u, (n & 1u) == 1u);
+}
+
+// VkDrawIndexedIndirectCommand; first_instance carries the object id.
+struct DrawCommand {
+    index_count: u32,
+    instance_count: u32,
+    first_index: u32,
+    base_vertex: i32,
+    first_instance: u32,
+}
+
+// Flat invocation index of a 1D launch spread over a 2D grid of workgroups
+// (gpu::dispatch_size), so more than 65535 * 256 items fit.
+fn flat_id(wid: vec3<u32>, nwg: vec3<u32>, lid: u32, size: u32) -> u32 {
+    return (wid.y * nwg.x + wid.x) * size + lid;
+}
+
+// Indirect draw arguments (VkDrawIndirectCommand), for box draws.
+struct DrawArgs {
+    vertex_count: u32,
+    instance_count: u32,
+    first_vertex: u32,
+    first_instance: u32,
+}
+
+// Conservative box-vs-frustum test (positive vertex per plane).
+fn box_in_frustum(planes: array<vec4<f32>, 6>, bmin: vec3<f32>, bmax: vec3<f32>) -> bool {
+    for (var i = 0u; i < 6u; i++) {
+        let p = planes[i];
+        let v = select(bmin, bmax, p.xyz >= vec3<f32>(0.0));
+        if dot(p.xyz, v) + p.w < 0.0 {
+            return false;
+        }
+    }
+    return true;
+}
+
+struct Box {
+    min: vec3<f32>,
+    max: vec3<f32>,
+}
+
+// Box padding in pixels at the far corner: 16 times the 1/256-pixel vertex
+// snapping of common rasterizers.
+const PIXEL_PAD: f32 = 0.0625;
+
+// Size of one pixel at unit distance from the eye.
+fn pixel_angle(f: Frame) -> f32 {
+    return 2.0 * length(f.ray_dirs[1].xyz) / f.near * f.viewport.w;
+}
+
+// A node's box grown so that rasterizing it, or casting a ray into it,
+// never loses a pixel that the geometry inside covers: a fraction of a pixel at the
+// box's farthest corner (rasterizers snap vertices to a sub-pixel grid, so
+// a face lying on the surface it bounds can lose an edge pixel), plus a
+// little for float rounding (DESIGN.md "Where conservativeness is lost").
+fn padded_box(n: BvhNode, eye: vec3<f32>, pixel: f32) -> Box {
+    let far = length(max(abs(n.min - eye), abs(n.max - eye)));
+    let scale = max(max(abs(n.min.x), abs(n.min.y)), max(max(abs(n.min.z), abs(n.max.x)), max(abs(n.max.y), abs(n.max.z))));
+    let pad = PIXEL_PAD * pixel * far + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
+    return Box(n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
+}
+
+// True when the box reaches within `frame.near` of the near plane or behind
+// it (this includes every box that holds the eye). Such a box loses
+// fragments to clipping, so it cannot be tested by rasterization (§6).
+fn crosses_near(planes: array<vec4<f32>, 6>, near: f32, b: Box) -> bool {
+    let p = planes[4];
+    let v = select(b.max, b.min, p.xyz >= vec3<f32>(0.0)); // nearest corner
+    return dot(p.xyz, v) + p.w <= near;
+}
+
+// Corner c of a box is (c & 1, c & 2, c & 4); the 12 triangles wind
+// counter-clockwise seen from outside (tests/hroc.rs checks), so back-face
+// culling keeps the faces nearest the eye.
+const CUBE: array<u32, 36> = array<u32, 36>(
+    0u, 4u, 6u, 0u, 6u, 2u, // -x
+    1u, 3u, 7u, 1u, 7u, 5u, // +x
+    0u, 1u, 5u, 0u, 5u, 4u, // -y
+    2u, 6u, 7u, 2u, 7u, 3u, // +y
+    0u, 2u, 3u, 0u, 3u, 1u, // -z
+    4u, 5u, 7u, 4u, 7u, 6u, // +z
+);
+
+// Vertex v (0..36) of a box drawn as 12 triangles without an index buffer.
+fn box_corner(b: Box, v: u32) -> vec3<f32> {
+    let c = CUBE[v];
+    return select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
+}

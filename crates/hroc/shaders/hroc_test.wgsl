@@ -1,0 +1,110 @@
+// HROC batch occlusion test (paper §3.3, thesis III.4): rasterize group
+// boxes against the occlusion map with forced early-Z, no depth writes.
+// A fragment of a leaf group marks its object; a fragment of an interior
+// group casts a ray through its pixel into the group's subtree and marks
+// every leaf whose box the ray enters in front of the occlusion map — all
+// of them, never stopping at the first hit. Visited marks (both children
+// done → parent done) prune repeated traversal.
+
+const STACK: u32 = 64u;
+const STAT_SLOTS: u32 = 64u;
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;
+@group(0) @binding(2) var<storage, read_write> occludees: array<u32>; // U marks
+@group(0) @binding(3) var<storage, read_write> visited: array<u32>;
+@group(0) @binding(4) var occlusion_map: texture_depth_2d;
+// Per slot: rays cast, nodes visited (spread over slots against contention).
+@group(0) @binding(5) var<storage, read_write> ray_stats: array<atomic<u32>>;
+
+
+struct BoxOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) node: u32,
+}
+
+@vertex
+fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) node: u32) -> BoxOut {
+    let b = padded_box(nodes[node], frame.eye.xyz, pixel_angle(frame));
+    var out: BoxOut;
+    out.clip = frame.view_proj * vec4<f32>(box_corner(b, v), 1.0);
+    out.node = node;
+    return out;
+}
+
+// Marks a leaf and propagates "visited" up while the sibling is done too.
+fn mark_leaf(leaf: u32, group: u32) {
+    occludees[nodes[leaf].child & ~LEAF_BIT] = 1u;
+    visited[leaf] = 1u;
+    var n = leaf;
+    while n != group && visited[sibling(n)] != 0u {
+        n = nodes[n].parent;
+        visited[n] = 1u;
+    }
+}
+
+fn safe_inv(d: f32) -> f32 {
+    return 1.0 / select(d, select(-1e-30, 1e-30, d >= 0.0), abs(d) < 1e-30);
+}
+
+@fragment @early_depth_test(force)
+fn box_fs(in: BoxOut) {
+    let group = nodes[in.node];
+    if (group.child & LEAF_BIT) != 0u {
+        occludees[group.child & ~LEAF_BIT] = 1u;
+        return;
+    }
+    if visited[in.node] != 0u {
+        return;
+    }
+    // The ray from the eye through this pixel's centre: t = 1 on the near plane.
+    let texel = vec2<i32>(in.clip.xy);
+    let ndc = vec2<f32>(in.clip.x * frame.viewport.z * 2.0 - 1.0, 1.0 - in.clip.y * frame.viewport.w * 2.0);
+    let eye = frame.eye.xyz;
+    let dir = (frame.ray_dirs * vec4<f32>(ndc, 1.0, 0.0)).xyz;
+    let inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
+    // Depth along the ray, compared in depth-buffer space where the
+    // occlusion map lives (distances unprojected near z = 1 lose precision).
+    let c0 = frame.view_proj * vec4<f32>(eye, 1.0);
+    let c1 = frame.view_proj * vec4<f32>(dir, 0.0);
+    let limit = std_depth(frame, textureLoad(occlusion_map, texel, 0)) + 4e-7;
+    let pixel = pixel_angle(frame);
+
+    var stack: array<u32, STACK>;
+    stack[0] = group.child;
+    stack[1] = group.child + 1u;
+    var sp = 2u;
+    var steps = 0u;
+    while sp > 0u {
+        sp -= 1u;
+        let n = stack[sp];
+        if visited[n] != 0u {
+            continue;
+        }
+        steps += 1u;
+        let node = nodes[n];
+        let b = padded_box(node, eye, pixel);
+        let t0 = (b.min - eye) * inv;
+        let t1 = (b.max - eye) * inv;
+        let t_enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z));
+        let t_exit = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
+        let t = max(t_enter, 1.0); // nothing before the near plane is drawn
+        if t_exit < t {
+            continue;
+        }
+        let depth = std_depth(frame, (c0.z + t * c1.z) / (c0.w + t * c1.w));
+        if depth > limit {
+            continue;
+        }
+        if (node.child & LEAF_BIT) != 0u {
+            mark_leaf(n, in.node);
+        } else if sp + 2u <= STACK {
+            stack[sp] = node.child;
+            stack[sp + 1u] = node.child + 1u;
+            sp += 2u;
+        }
+    }
+    let slot = (u32(texel.x) + 7u * u32(texel.y)) % STAT_SLOTS;
+    atomicAdd(&ray_stats[2u * slot], 1u);
+    atomicAdd(&ray_stats[2u * slot + 1u], steps);
+}

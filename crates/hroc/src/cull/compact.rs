@@ -1,0 +1,118 @@
+//! GPU ordered compaction: flags[i] != 0 selects command i; the survivors
+//! are packed in order and their number written to a count buffer that the
+//! multi-draw-indirect-count reads (HROC §4.1, thesis prefix-sum packing).
+
+use crate::gpu::{dispatch_size, Gpu};
+use crate::layout::{CompactParams, DrawCommand};
+use crate::cull::DrawList;
+
+const WG: u32 = 256;
+
+/// Ordered stream compaction of `n` flagged draw commands: block sums, one scan, scatter.
+pub struct Compactor {
+    n: u32,
+    blocks: u32,
+    params: wgpu::Buffer,
+    block_sums: wgpu::Buffer,
+    layout: wgpu::BindGroupLayout,
+    block_sum: wgpu::ComputePipeline,
+    scan_blocks: wgpu::ComputePipeline,
+    scatter: wgpu::ComputePipeline,
+}
+
+/// Storage-buffer layout entry; read-only ones are visible to every stage, writable ones to compute and fragment.
+pub fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        // Vertex shaders may only read storage buffers.
+        visibility: if read_only { wgpu::ShaderStages::all() } else { wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT },
+        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+/// Uniform-buffer layout entry visible to compute, vertex and fragment stages.
+pub fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+/// A compaction bound to its buffers, ready to record.
+pub struct CompactJob {
+    bind: wgpu::BindGroup,
+}
+
+impl Compactor {
+    /// A compactor for lists of `n` items.
+    pub fn new(gpu: &Gpu, n: u32) -> Self {
+        let blocks = n.div_ceil(WG).max(1);
+        let params = gpu.buffer_init(
+            "compact params",
+            bytemuck::bytes_of(&CompactParams { n, blocks, _pad: [0; 2] }),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let block_sums = gpu.buffer("block sums", blocks as u64 * 4, wgpu::BufferUsages::STORAGE);
+        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("compact"),
+            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), storage_entry(3, false), storage_entry(4, false), storage_entry(5, false)],
+        });
+        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("compact"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let module = gpu.shader("compact.wgsl", &crate::shaders::source("compact.wgsl"));
+        Compactor {
+            n,
+            blocks,
+            block_sum: gpu.compute_pipeline(&module, "block_sum", Some(&pl), &[]),
+            scan_blocks: gpu.compute_pipeline(&module, "scan_blocks", Some(&pl), &[]),
+            scatter: gpu.compute_pipeline(&module, "scatter", Some(&pl), &[]),
+            params,
+            block_sums,
+            layout,
+        }
+    }
+
+    /// Number of items (flags and commands) per list.
+    pub fn len(&self) -> u32 {
+        self.n
+    }
+
+    /// True when the lists have no items.
+    pub fn is_empty(&self) -> bool {
+        self.n == 0
+    }
+
+    /// Binds flags (u32 per item), source commands, packed output and count.
+    pub fn job(&self, gpu: &Gpu, flags: &wgpu::Buffer, src: &wgpu::Buffer, dst: &wgpu::Buffer, count: &wgpu::Buffer) -> CompactJob {
+        CompactJob { bind: gpu.bind_buffers(&self.layout, &[&self.params, flags, src, dst, &self.block_sums, count]) }
+    }
+
+    /// A list of up to `len()` commands packed from `src` by `flags`, and
+    /// the job that packs it (the usual V and U lists of a culler).
+    pub fn packed_list(&self, gpu: &Gpu, label: &str, flags: &wgpu::Buffer, src: &wgpu::Buffer) -> (DrawList, CompactJob) {
+        use wgpu::BufferUsages as U;
+        let list = DrawList {
+            commands: gpu.buffer(label, self.n as u64 * std::mem::size_of::<DrawCommand>() as u64, U::STORAGE | U::INDIRECT | U::COPY_SRC),
+            count: gpu.buffer(label, 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
+            max_count: self.n,
+        };
+        let job = self.job(gpu, flags, src, &list.commands, &list.count);
+        (list, job)
+    }
+
+    /// Records the compaction of `job` (one compute pass, three dispatches).
+    pub fn record(&self, enc: &mut wgpu::CommandEncoder, job: &CompactJob) {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compact"), timestamp_writes: None });
+        pass.set_bind_group(0, &job.bind, &[]);
+        let (x, y) = dispatch_size(self.n, WG);
+        pass.set_pipeline(&self.block_sum);
+        pass.dispatch_workgroups(x, y, 1);
+        pass.set_pipeline(&self.scan_blocks);
+        pass.dispatch_workgroups(1, 1, 1);
+        pass.set_pipeline(&self.scatter);
+        pass.dispatch_workgroups(x, y, 1);
+        let _ = self.blocks;
+    }
+}

@@ -1,0 +1,140 @@
+//! CPU references of HROC's GPU passes, for tests: occludee group
+//! extraction (Algorithm 1 + frustum culling + adaptive grouping) and the
+//! per-pixel ray marking of the batch occlusion test.
+
+use glam::{Mat4, Vec2, Vec3, Vec4};
+
+use crate::bvh::Bvh;
+use crate::{frustum::aabb_in_frustum, Aabb};
+
+/// Node state: not reached from any occluder (paper Algorithm 1).
+pub const NIL: u32 = 0;
+/// Node state: sibling of a node on an occluder's path; a candidate occludee group.
+pub const UNKNOWN: u32 = 1;
+/// Node state: on the path from an occluder's leaf to the root.
+pub const VISIBLE: u32 = 2;
+
+/// Node states after walking up from every occluder (paper Algorithm 1).
+pub fn node_states(bvh: &Bvh, occluders: &[bool]) -> Vec<u32> {
+    let mut state = vec![NIL; bvh.nodes.len()];
+    for (o, _) in occluders.iter().enumerate().filter(|(_, &x)| x) {
+        let mut n = bvh.leaf_of_object[o];
+        loop {
+            let prev = state[n as usize];
+            state[n as usize] = VISIBLE;
+            if prev == VISIBLE || n == 0 {
+                break;
+            }
+            let s = bvh.sibling(n).expect("non-root has a sibling") as usize;
+            state[s] = state[s].max(UNKNOWN);
+            n = bvh.parent(n).expect("non-root has a parent");
+        }
+    }
+    state
+}
+
+/// `PIXEL_PAD` in common.wgsl.
+pub const PIXEL_PAD: f32 = 0.0625;
+
+/// `pixel_angle` in common.wgsl: one pixel's size at unit distance.
+pub fn pixel_angle(ray_dirs: &Mat4, near: f32, height: u32) -> f32 {
+    2.0 * ray_dirs.y_axis.truncate().length() / near / height as f32
+}
+
+/// The shaders' box padding (`padded_box` in common.wgsl).
+pub fn padded(b: Aabb, eye: Vec3, pixel: f32) -> Aabb {
+    let far = (b.min - eye).abs().max((b.max - eye).abs()).length();
+    let scale = b.min.abs().max(b.max.abs()).max_element();
+    let pad = PIXEL_PAD * pixel * far + 1e-4 * (b.max - b.min).length() + 1e-6 * (scale + eye.length()) + 1e-7;
+    Aabb::new(b.min - Vec3::splat(pad), b.max + Vec3::splat(pad))
+}
+
+/// `crosses_near` in common.wgsl.
+pub fn crosses_near(planes: &[Vec4; 6], near: f32, b: &Aabb) -> bool {
+    let p = planes[4];
+    let v = Vec3::select(p.truncate().cmpge(Vec3::ZERO), b.min, b.max);
+    p.truncate().dot(v) + p.w <= near
+}
+
+/// Groups to rasterize (sorted) and leaves made visible without a test
+/// (adaptive grouping), from the node states.
+pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3, pixel: f32) -> (Vec<u32>, Vec<u32>) {
+    let (mut groups, mut forced) = (Vec::new(), Vec::new());
+    for g in 0..bvh.nodes.len() as u32 {
+        let s = state[g as usize];
+        if !(s == UNKNOWN || (g == 0 && s == NIL)) {
+            continue;
+        }
+        let mut stack = vec![g];
+        while let Some(n) = stack.pop() {
+            let b = padded(bvh.aabb(n), eye, pixel);
+            if !aabb_in_frustum(planes, b.min, b.max) {
+                continue;
+            }
+            if !crosses_near(planes, near, &b) {
+                groups.push(n);
+            } else if let Some(o) = bvh.object(n) {
+                forced.push(o);
+            } else if let Some([l, r]) = bvh.children(n) {
+                stack.extend([l, r]);
+            }
+        }
+    }
+    groups.sort_unstable();
+    forced.sort_unstable();
+    (groups, forced)
+}
+
+/// Leaves in the subtrees of `groups` that a ray through some pixel centre
+/// enters no deeper than the occlusion map there plus `tolerance` (in
+/// depth-buffer units). Boxes are first padded as the shaders pad them when
+/// `pixel` is given, then grown by `grow` times their diagonal. With
+/// no padding, a shrinking `grow` and a negative tolerance this is what the
+/// GPU must find; with padding and generous ones, all it may find.
+#[allow(clippy::too_many_arguments)]
+pub fn ray_marked(bvh: &Bvh, groups: &[u32], view_proj: &Mat4, ray_dirs: &Mat4, eye: Vec3, (w, h): (u32, u32), depth: &[f32], pixel: Option<f32>, grow: f32, tolerance: f32) -> Vec<bool> {
+    let n_obj = bvh.leaf_of_object.len();
+    let mut in_group = vec![false; bvh.nodes.len()];
+    for &g in groups {
+        let mut stack = vec![g];
+        while let Some(n) = stack.pop() {
+            in_group[n as usize] = true;
+            if let Some([l, r]) = bvh.children(n) {
+                stack.extend([l, r]);
+            }
+        }
+    }
+    let mut marked = vec![false; n_obj];
+    for y in 0..h {
+        for x in 0..w {
+            let px = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+            let ndc = Vec2::new(px.x / w as f32 * 2.0 - 1.0, 1.0 - px.y / h as f32 * 2.0);
+            let dir = (*ray_dirs * Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
+            let c0 = *view_proj * eye.extend(1.0);
+            let c1 = *view_proj * dir.extend(0.0);
+            let limit = depth[(y * w + x) as usize] + tolerance;
+            let mut stack = vec![0u32];
+            while let Some(n) = stack.pop() {
+                let b = pixel.map_or(bvh.aabb(n), |px| padded(bvh.aabb(n), eye, px));
+                let g = Vec3::splat(grow * (b.max - b.min).length().max(1e-3));
+                let (t0, t1) = ((b.min - g - eye) / dir, (b.max + g - eye) / dir);
+                let enter = t0.min(t1).max_element();
+                let exit = t0.max(t1).min_element();
+                let t = enter.max(1.0);
+                if exit < t || exit.is_nan() {
+                    continue;
+                }
+                let d = (c0.z + t * c1.z) / (c0.w + t * c1.w);
+                if d > limit {
+                    continue;
+                }
+                match (bvh.object(n), bvh.children(n)) {
+                    (Some(o), _) if in_group[n as usize] => marked[o as usize] = true,
+                    (_, Some([l, r])) => stack.extend([l, r]),
+                    _ => {}
+                }
+            }
+        }
+    }
+    marked
+}

@@ -1,0 +1,377 @@
+//! `hroc`: Hierarchical Raster Occlusion Culling (Lee et al., CGF 2021;
+//! the EOVC thesis). One frame, as the paper's Figure 2:
+//! 1. occlusion map — draw V (last frame's visible set, packed in object
+//!    order) with forced early-Z; fragments mark the effective occluders O;
+//! 2. occludee groups — BVH walk up from every occluder (`hroc_groups.wgsl`);
+//! 3. batch occlusion test — rasterize group boxes, cast rays in their
+//!    subtrees (`hroc_test.wgsl`); marked objects are the occludees U;
+//! 4. occludee rendering — draw U with early-Z; passing objects are D;
+//! 5. next V = O ∪ D, or with OF the objects that own a pixel.
+//!
+//! CR reads back |V|, |G|, |U| for `max_count` instead of N.
+
+pub mod cpu;
+
+use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
+use crate::host::Phase;
+use crate::error::{Error, Result};
+use crate::gpu::{dispatch_size, Gpu};
+use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::layout::DrawArgs;
+use crate::shaders::source as shader_source;
+use crate::cull::DrawList;
+
+/// The stacks in both shaders hold at most this many entries.
+pub const MAX_DEPTH: u32 = 62;
+const STAT_SLOTS: u64 = 64;
+
+pub use super::Variant;
+
+/// The `hroc` method (and its `-cr`/`-na` variants): per-view GPU state of the five steps above.
+pub struct Hroc {
+    variant: Variant,
+    n: u32,
+    nodes: u32,
+    /// Per-object flags: next frame's occluders V.
+    visible: wgpu::Buffer,
+    occluders: wgpu::Buffer,
+    occludees: wgpu::Buffer,
+    drawn: wgpu::Buffer,
+    state: wgpu::Buffer,
+    visited: wgpu::Buffer,
+    group_count: wgpu::Buffer,
+    ray_stats: wgpu::Buffer,
+    v_list: DrawList,
+    u_list: DrawList,
+    groups: wgpu::Buffer,
+    compactor: Compactor,
+    v_job: CompactJob,
+    u_job: CompactJob,
+    marks_o: wgpu::BindGroup,
+    marks_d: wgpu::BindGroup,
+    group_bind: wgpu::BindGroup,
+    test_bind: wgpu::BindGroup,
+    extract: wgpu::ComputePipeline,
+    collect: wgpu::ComputePipeline,
+    merge: wgpu::ComputePipeline,
+    filter: wgpu::ComputePipeline,
+    boxes: wgpu::RenderPipeline,
+    last: FrameCounts,
+}
+
+/// Per-frame sizes of the paper's sets, read after the frame (untimed).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameCounts {
+    /// |V|: objects in the occluder list drawn for the occlusion map.
+    pub v: u32,
+    /// |O|: effective occluders, objects of V with a fragment through early-Z (HROC §3.1).
+    pub o: u32,
+    /// |G|: occludee groups extracted from the BVH (HROC §3.2).
+    pub g: u32,
+    /// |U|: occludees, objects marked by the batch occlusion test (HROC §3.3).
+    pub u: u32,
+    /// |D|: occludees with a fragment through early-Z when drawn (HROC §3.4).
+    pub d: u32,
+    /// Rays cast by the batch occlusion test, one per group-box fragment that traverses.
+    pub rays: u64,
+    /// BVH nodes visited by those rays, summed over all rays.
+    pub nodes_visited: u64,
+}
+
+fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Texture { sample_type, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
+        count: None,
+    }
+}
+
+impl Hroc {
+    /// Creates the method's buffers and pipelines; fails if the BVH is deeper than [`MAX_DEPTH`].
+    pub fn new(variant: Variant, cx: &MethodContext) -> Result<Self> {
+        let (gpu, bvh) = (cx.gpu, cx.bvh);
+        if bvh.depth() > MAX_DEPTH {
+            return Err(Error::InvalidScene(format!("BVH depth {} exceeds {MAX_DEPTH}, which HROC's traversal stacks hold; try --split eq", bvh.depth())));
+        }
+        let n = cx.object_count;
+        let nodes = bvh.nodes.len() as u32;
+        use wgpu::BufferUsages as U;
+        let flags = |label| gpu.buffer(label, n as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+        let (visible, occluders, occludees, drawn) = (flags("hroc V"), flags("hroc O"), flags("hroc U"), flags("hroc D"));
+        let state = gpu.buffer("hroc node state", nodes as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+        let visited = gpu.buffer("hroc visited", nodes as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+        let group_count = gpu.buffer("hroc |G|", 4, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC);
+        let ray_stats = gpu.buffer("hroc ray stats", STAT_SLOTS * 8, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+        let groups = gpu.buffer("hroc groups", nodes as u64 * 16, U::STORAGE | U::INDIRECT | U::COPY_SRC);
+        let compactor = Compactor::new(gpu, n);
+        let (v_list, v_job) = compactor.packed_list(gpu, "hroc V list", &visible, cx.commands);
+        let (u_list, u_job) = compactor.packed_list(gpu, "hroc U list", &occludees, cx.commands);
+        let nodes_buf = cx.bvh_nodes.clone();
+        let leaf_of_object = cx.leaf_of_object.clone();
+
+        let device = &gpu.device;
+        let group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hroc groups"),
+            entries: &[
+                uniform_entry(0),
+                storage_entry(1, true),
+                storage_entry(2, true),
+                storage_entry(3, true),
+                storage_entry(4, false),
+                storage_entry(5, false),
+                storage_entry(6, false),
+                storage_entry(7, false),
+                storage_entry(8, true),
+                storage_entry(9, false),
+                texture_entry(10, wgpu::TextureSampleType::Uint),
+            ],
+        });
+        let bufs = [cx.frame, &nodes_buf, &leaf_of_object, &occluders, &state, &groups, &group_count, &occludees, &drawn, &visible];
+        let mut entries: Vec<_> = bufs.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
+        // Without OF no pass reads the ID target; a 1x1 stand-in fills the binding.
+        let stand_in;
+        let ids = match cx.targets.ids.as_ref() {
+            Some(v) => v,
+            None => {
+                stand_in = device
+                    .create_texture(&wgpu::TextureDescriptor {
+                        label: Some("hroc no ids"),
+                        size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                        mip_level_count: 1,
+                        sample_count: 1,
+                        dimension: wgpu::TextureDimension::D2,
+                        format: wgpu::TextureFormat::R32Uint,
+                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                        view_formats: &[],
+                    })
+                    .create_view(&Default::default());
+                &stand_in
+            }
+        };
+        entries.push(wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::TextureView(ids) });
+        let group_bind = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("hroc groups"), layout: &group_layout, entries: &entries });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc groups"), bind_group_layouts: &[Some(&group_layout)], immediate_size: 0 });
+        let module = gpu.shader("hroc_groups.wgsl", &shader_source("hroc_groups.wgsl"));
+
+        let test_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hroc test"),
+            entries: &[
+                uniform_entry(0),
+                storage_entry(1, true),
+                storage_entry(2, false),
+                storage_entry(3, false),
+                texture_entry(4, wgpu::TextureSampleType::Depth),
+                storage_entry(5, false),
+            ],
+        });
+        let test_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hroc test"),
+            layout: &test_layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: cx.frame.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: nodes_buf.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: occludees.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: visited.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&cx.targets.depth_sampled) },
+                wgpu::BindGroupEntry { binding: 5, resource: ray_stats.as_entire_binding() },
+            ],
+        });
+        let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
+        let test_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc test"), bind_group_layouts: &[Some(&test_layout)], immediate_size: 0 });
+        let boxes = crate::shaders::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), (cx.targets.depth_format, cx.targets.depth));
+        Ok(Hroc {
+            variant,
+            n,
+            nodes,
+            marks_o: cx.marks_bind(&occluders),
+            marks_d: cx.marks_bind(&drawn),
+            extract: gpu.compute_pipeline(&module, "extract", Some(&pl), &[]),
+            collect: gpu.compute_pipeline(&module, "collect", Some(&pl), &[]),
+            merge: gpu.compute_pipeline(&module, "merge", Some(&pl), &[]),
+            filter: gpu.compute_pipeline(&module, "filter_occluders", Some(&pl), &[]),
+            visible,
+            occluders,
+            occludees,
+            drawn,
+            state,
+            visited,
+            group_count,
+            ray_stats,
+            v_list,
+            u_list,
+            groups,
+            compactor,
+            v_job,
+            u_job,
+            group_bind,
+            test_bind,
+            boxes,
+            last: FrameCounts::default(),
+        })
+    }
+
+    fn dispatch(&self, enc: &mut wgpu::CommandEncoder, pipeline: &wgpu::ComputePipeline, (x, y): (u32, u32)) {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.group_bind, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+
+    /// `max_count` of a list: the read-back count with CR, else the capacity.
+    fn max_count(&self, f: &mut Frame, count: &wgpu::Buffer, capacity: u32, resume: Stage) -> Result<u32> {
+        if !self.variant.cr {
+            return Ok(capacity);
+        }
+        f.stage(Stage::ReadBack);
+        let c = f.read_u32(count, 1)?[0].min(capacity);
+        f.stage(resume);
+        Ok(c)
+    }
+
+    /// Sizes of V, O, G, U, D and ray statistics of the last frame (reads
+    /// back; call after the frame).
+    pub fn counts(&self, gpu: &Gpu) -> Result<FrameCounts> {
+        let sum = |b: &wgpu::Buffer| -> Result<u32> { Ok(gpu.read::<u32>(b, 0, self.n as u64)?.iter().filter(|&&x| x != 0).count() as u32) };
+        let stats: Vec<u32> = gpu.read(&self.ray_stats, 0, STAT_SLOTS * 2)?;
+        Ok(FrameCounts {
+            v: gpu.read::<u32>(&self.v_list.count, 0, 1)?[0],
+            o: sum(&self.occluders)?,
+            g: gpu.read::<u32>(&self.group_count, 0, 1)?[0],
+            u: sum(&self.occludees)?,
+            d: sum(&self.drawn)?,
+            rays: stats.iter().step_by(2).map(|&x| x as u64).sum(),
+            nodes_visited: stats.iter().skip(1).step_by(2).map(|&x| x as u64).sum(),
+        })
+    }
+
+    /// Debug read-back for the CPU references: node states, groups (sorted)
+    /// and the O and U marks of the last frame.
+    pub fn debug_state(&self, gpu: &Gpu) -> Result<DebugState> {
+        let g = gpu.read::<u32>(&self.group_count, 0, 1)?[0];
+        let mut groups: Vec<u32> = gpu.read::<DrawArgs>(&self.groups, 0, g as u64)?.iter().map(|d| d.first_instance).collect();
+        groups.sort_unstable();
+        Ok(DebugState {
+            state: gpu.read(&self.state, 0, self.nodes as u64)?,
+            groups,
+            occluders: gpu.read::<u32>(&self.occluders, 0, self.n as u64)?.iter().map(|&x| x != 0).collect(),
+            occludees: gpu.read::<u32>(&self.occludees, 0, self.n as u64)?.iter().map(|&x| x != 0).collect(),
+        })
+    }
+}
+
+impl Hroc {
+    /// This frame's packed occluder list V (drawing it alone rebuilds the occlusion map).
+    pub fn occluder_list(&self) -> &DrawList {
+        &self.v_list
+    }
+}
+
+/// Last frame's GPU state, for comparison with the [`cpu`] references.
+pub struct DebugState {
+    /// Per-node state ([`cpu::NIL`], [`cpu::UNKNOWN`] or [`cpu::VISIBLE`]), node order.
+    pub state: Vec<u32>,
+    /// Group root nodes, sorted.
+    pub groups: Vec<u32>,
+    /// Per-object O marks (effective occluders), object order.
+    pub occluders: Vec<bool>,
+    /// Per-object U marks (occludees), object order.
+    pub occludees: Vec<bool>,
+}
+
+impl CullMethod for Hroc {
+    fn method(&self) -> Method {
+        Method::Hroc(self.variant)
+    }
+
+    fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
+        enc.clear_buffer(&self.visible, 0, None);
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+
+    fn frame(&mut self, f: &mut Frame) -> Result<()> {
+        let (n, nodes) = (self.n, self.nodes);
+        let (ox, oy) = dispatch_size(n, 256);
+        // 1. Occlusion map.
+        f.stage(Stage::OcclusionMap);
+        let enc = f.encoder();
+        enc.clear_buffer(&self.occluders, 0, None);
+        self.compactor.record(enc, &self.v_job);
+        self.v_list.max_count = self.max_count(f, &self.v_list.count, n, Stage::OcclusionMap)?;
+        if self.v_list.max_count > 0 {
+            f.draw(Phase::Occluders, &self.v_list, Some(&self.marks_o));
+        }
+        // 2. Occludee groups.
+        f.stage(Stage::GroupExtraction);
+        let enc = f.encoder();
+        for b in [&self.state, &self.visited, &self.group_count, &self.occludees, &self.ray_stats] {
+            enc.clear_buffer(b, 0, None);
+        }
+        self.dispatch(enc, &self.extract, (ox, oy));
+        self.dispatch(enc, &self.collect, dispatch_size(nodes, 256));
+        let max_groups = self.max_count(f, &self.group_count, nodes, Stage::GroupExtraction)?;
+        // 3. Batch occlusion test against the occlusion map (read-only depth).
+        f.stage(Stage::OcclusionTest);
+        if max_groups > 0 {
+            let targets = f.targets;
+            let depth_view = &targets.depth_attachment;
+            let mut pass = f.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("hroc occlusion test"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view: depth_view, depth_ops: None, stencil_ops: None }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            pass.set_pipeline(&self.boxes);
+            pass.set_bind_group(0, &self.test_bind, &[]);
+            pass.multi_draw_indirect_count(&self.groups, 0, &self.group_count, 0, max_groups);
+        }
+        // 4. Occludee rendering.
+        f.stage(Stage::OccludeeRendering);
+        let enc = f.encoder();
+        enc.clear_buffer(&self.drawn, 0, None);
+        self.compactor.record(enc, &self.u_job);
+        self.u_list.max_count = self.max_count(f, &self.u_list.count, n, Stage::OccludeeRendering)?;
+        if self.u_list.max_count > 0 {
+            f.draw(Phase::Occludees, &self.u_list, Some(&self.marks_d));
+        }
+        // 5. Next frame's occluders.
+        f.stage(Stage::Filtering);
+        if self.variant.of {
+            let (w, h) = f.size();
+            let enc = f.encoder();
+            enc.clear_buffer(&self.visible, 0, None);
+            self.dispatch(enc, &self.filter, (w.div_ceil(16), h.div_ceil(16)));
+        } else {
+            let enc = f.encoder();
+            self.dispatch(enc, &self.merge, (ox, oy));
+        }
+        Ok(())
+    }
+
+    fn tested_nodes(&self, gpu: &Gpu) -> Result<Option<Vec<u32>>> {
+        Ok(Some(self.debug_state(gpu)?.groups))
+    }
+
+    fn stats(&mut self, gpu: &Gpu) -> Result<Vec<(Stat, f64)>> {
+        let c = self.counts(gpu)?;
+        self.last = c;
+        Ok(vec![
+            (Stat::V, c.v as f64),
+            (Stat::O, c.o as f64),
+            (Stat::G, c.g as f64),
+            (Stat::U, c.u as f64),
+            (Stat::D, c.d as f64),
+            (Stat::Rays, c.rays as f64),
+            (Stat::NodesPerRay, if c.rays > 0 { c.nodes_visited as f64 / c.rays as f64 } else { 0.0 }),
+        ])
+    }
+}

@@ -1,0 +1,520 @@
+//! The culling methods, each behind one [`CullMethod`] trait, and the
+//! recording context [`Frame`] they run in.
+//!
+//! A method never owns the draw: per frame it hands the host draw lists
+//! (indirect commands + a GPU count, object order kept) through
+//! [`Frame::draw`], tagged with their [`Phase`], and records its own passes
+//! between them. [`crate::View::cull`] builds the frame from what the host
+//! hands in, so the benchmark and any engine drive a method the same way.
+
+pub mod compact;
+pub mod hroc;
+pub mod hzb;
+pub mod ioc;
+pub mod noc;
+pub mod queries;
+pub mod reference;
+pub mod roc;
+pub mod vfc;
+pub mod woc;
+
+use std::any::Any;
+use std::fmt;
+use std::str::FromStr;
+
+use crate::bvh::Bvh;
+use crate::error::{Error, Result};
+use crate::frustum::ViewGeometry;
+use crate::gpu::{Gpu, GpuTimer};
+use crate::host::{Draw, DrawHost, FlagSplit, Phase, SharedObjects, Targets};
+use crate::layout::FrameUniform;
+
+/// A packed list of draw commands and the GPU count the draw reads.
+/// `max_count` bounds the count (N, or a read-back count with CR).
+#[derive(Clone, Debug)]
+pub struct DrawList {
+    /// [`crate::layout::DrawCommand`]s, object order kept.
+    pub commands: wgpu::Buffer,
+    /// One u32: how many commands to draw.
+    pub count: wgpu::Buffer,
+    /// Upper bound on the count.
+    pub max_count: u32,
+}
+
+/// Everything a method sees while recording one frame of one view.
+pub struct Frame<'a> {
+    /// The device the culler was created on.
+    pub gpu: &'a Gpu,
+    /// The view as the host renders it this frame.
+    pub geometry: ViewGeometry,
+    /// The `Frame` uniform written for this view and frame.
+    pub uniform: FrameUniform,
+    /// Seconds on the host's clock, for methods whose statistics expire with
+    /// time (`soq`).
+    pub time: f32,
+    pub(crate) objects: &'a SharedObjects,
+    pub(crate) targets: &'a Targets,
+    pub(crate) encoder: &'a mut wgpu::CommandEncoder,
+    pub(crate) host: &'a mut dyn DrawHost,
+    pub(crate) timer: Option<&'a mut GpuTimer>,
+    pub(crate) split: Option<&'a mut FlagSplit>,
+    pub(crate) submits: u32,
+    pub(crate) sink: &'a wgpu::BindGroup,
+}
+
+impl<'a> Frame<'a> {
+    /// The encoder to record into (the host's; replaced after a mid-frame submit).
+    pub fn encoder(&mut self) -> &mut wgpu::CommandEncoder {
+        self.encoder
+    }
+
+    /// Begins GPU stage `stage` here (ends the previous one).
+    pub fn stage(&mut self, stage: Stage) {
+        if let Some(t) = self.timer.as_deref_mut() {
+            t.mark(self.encoder, stage);
+        }
+    }
+
+    /// Hands `list` to the host to draw in `phase`; with `marks`, the host's
+    /// fragments that pass the depth test mark their object there.
+    pub fn draw(&mut self, phase: Phase, list: &DrawList, marks: Option<&wgpu::BindGroup>) {
+        let split;
+        let list = match self.split.as_deref_mut() {
+            Some(s) => {
+                split = s.split(self.gpu, self.encoder, &self.objects.bounds, list);
+                &split
+            }
+            None => list,
+        };
+        let draw = Draw { phase, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: marks.unwrap_or(self.sink), mark: marks.is_some() };
+        self.host.draw(self.encoder, &draw);
+    }
+
+    /// Submits what is recorded so far and continues in a fresh encoder (for
+    /// methods that read back mid-frame).
+    pub fn flush(&mut self) {
+        let enc = std::mem::replace(self.encoder, self.gpu.encoder("hroc frame"));
+        self.gpu.queue.submit([enc.finish()]);
+        self.submits += 1;
+    }
+
+    /// Reads `count` u32s of `buf` mid-frame: submits and waits (a stall,
+    /// which is what CR-style methods pay for).
+    pub fn read_u32(&mut self, buf: &wgpu::Buffer, count: u64) -> Result<Vec<u32>> {
+        self.flush();
+        self.gpu.read(buf, 0, count)
+    }
+
+    /// The host's depth attachment, for the method's own box passes.
+    pub fn depth_view(&self) -> &wgpu::TextureView {
+        &self.targets.depth_attachment
+    }
+
+    /// Width and height of the depth attachment.
+    pub fn size(&self) -> (u32, u32) {
+        self.targets.size
+    }
+
+    /// Registered objects.
+    pub fn object_count(&self) -> u32 {
+        self.objects.count
+    }
+
+    /// Every object in object order (`noc`'s list).
+    pub fn all(&self) -> DrawList {
+        self.objects.all()
+    }
+}
+
+/// What a method may build from: the culler's shared buffers and the view's
+/// own targets.
+pub struct MethodContext<'a> {
+    /// The host's device.
+    pub gpu: &'a Gpu,
+    /// The object BVH shared by every view.
+    pub bvh: &'a Bvh,
+    /// The BVH nodes on the GPU (`BvhNode`), shared by every view.
+    pub bvh_nodes: &'a wgpu::Buffer,
+    /// Leaf node of every object on the GPU, shared by every view.
+    pub leaf_of_object: &'a wgpu::Buffer,
+    /// Object boxes (`ObjectBounds`), shared by every view.
+    pub bounds: &'a wgpu::Buffer,
+    /// One command per object in object order, shared by every view.
+    pub commands: &'a wgpu::Buffer,
+    /// Registered objects.
+    pub object_count: u32,
+    /// This view's `Frame` uniform.
+    pub frame: &'a wgpu::Buffer,
+    /// This view's depth attachment (for box passes) and sampling views.
+    pub targets: &'a Targets,
+    /// Layout of a marks bind group (one `array<u32>` at binding 0).
+    pub marks_layout: &'a wgpu::BindGroupLayout,
+    /// Method parameters.
+    pub options: &'a MethodOptions,
+}
+
+impl MethodContext<'_> {
+    /// A marks bind group over `marks` (u32 per object), for [`Frame::draw`].
+    pub fn marks_bind(&self, marks: &wgpu::Buffer) -> wgpu::BindGroup {
+        self.gpu.bind_buffers(self.marks_layout, &[marks])
+    }
+}
+
+/// A culling method: what a [`crate::View`] runs every frame.
+pub trait CullMethod: Any {
+    /// Which method this is.
+    fn method(&self) -> Method;
+
+    /// Records (and may submit) the frame's culling passes and hands the
+    /// host its draw lists.
+    fn frame(&mut self, f: &mut Frame) -> Result<()>;
+
+    /// Forgets what earlier frames taught (a camera cut): the next frame is
+    /// culled as a first frame.
+    fn reset(&mut self, enc: &mut wgpu::CommandEncoder);
+
+    /// `ref` only: the objects that own a pixel in `noc`'s ID target this
+    /// frame, sorted.
+    fn set_oracle(&mut self, _gpu: &Gpu, _visible: &[u32]) -> Result<()> {
+        Ok(())
+    }
+
+    /// Per-frame method statistics of the frame just run (set sizes, nodes
+    /// per ray...). Reads back; call after the frame.
+    fn stats(&mut self, _gpu: &Gpu) -> Result<Vec<(Stat, f64)>> {
+        Ok(Vec::new())
+    }
+
+    /// BVH nodes whose boxes the method rasterized in its last frame (for
+    /// `hroc render --view groups`); `None` for methods that test no boxes.
+    fn tested_nodes(&self, _gpu: &Gpu) -> Result<Option<Vec<u32>>> {
+        Ok(None)
+    }
+
+    /// The method as `Any`, to reach a method's own debug read-backs.
+    fn as_any(&self) -> &dyn Any;
+
+    /// The method as mutable `Any`.
+    fn as_any_mut(&mut self) -> &mut dyn Any;
+}
+
+/// Method parameters the command line can set (`hroc bench`/`render`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MethodOptions {
+    /// `soq`: paper 004's BASE_TIME, in seconds.
+    pub soq_base_time: f32,
+    /// `chc++`: previously invisible nodes per query batch, b. The HROC
+    /// paper ran b = 4000 on scenes of 7k–120k objects ("optimized for our
+    /// scenes"); the EOVC thesis 1000. Scenes here are scaled down, so 1000.
+    pub chc_batch: usize,
+    /// `chc++`: frames a visible leaf is assumed visible between queries, n_av.
+    pub chc_nav: u32,
+    /// `chc++`: tighter bounds from descendants down to d_max levels.
+    pub chc_dmax: u32,
+    /// `chc++`: tighter bounds only while their summed area is within s_max × the node's.
+    pub chc_smax: f32,
+    /// `ioc`: BVH depths [start, bottom] (root = 0); `None` picks
+    /// [depth/2 - 1, depth/2 + 1] of the BVH (`ioc::cpu::default_range`).
+    pub ioc_range: Option<(u32, u32)>,
+}
+
+impl Default for MethodOptions {
+    fn default() -> Self {
+        MethodOptions { soq_base_time: queries::soq::DEFAULT_BASE_TIME, chc_batch: 1000, chc_nav: 10, chc_dmax: 4, chc_smax: 1.4, ioc_range: None }
+    }
+}
+
+/// HROC's accelerations (§4): counter read-back, occluder filtering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Variant {
+    /// Counter read-back: draw counts read back mid-frame bound each draw.
+    pub cr: bool,
+    /// Occluder filtering: next frame's occluders are the objects owning a
+    /// pixel of the object-ID target.
+    pub of: bool,
+}
+
+/// Every implemented method: one registry, in table order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// No culling: draw every object. Also the ground truth.
+    Noc,
+    /// GPU view-frustum culling.
+    Vfc,
+    /// Ideal: exactly the objects visible in `noc`'s ID target. Benchmark
+    /// only: it needs that target before the frame.
+    Ref,
+    /// Hierarchical stop-and-wait occlusion queries.
+    Oq,
+    /// Statistically skipped occlusion queries.
+    Soq,
+    /// CHC++.
+    Chc,
+    /// Raster occlusion culling.
+    Roc,
+    /// Raster occlusion culling testing every object's box.
+    RocAll,
+    /// ROC over BVH levels.
+    Ioc,
+    /// Two-phase Hi-Z culling.
+    Hzb,
+    /// Warping-based occlusion culling (not conservative).
+    Woc,
+    /// Hierarchical Raster Occlusion Culling with the given accelerations;
+    /// `hroc` is `cr+of`.
+    Hroc(Variant),
+}
+
+impl Method {
+    /// HROC's default variant (CR + OF).
+    pub const HROC: Method = Method::Hroc(Variant { cr: true, of: true });
+
+    /// Every method, in table order (`hroc` last, after its variants).
+    pub const ALL: [Method; 16] = [
+        Method::Noc,
+        Method::Vfc,
+        Method::Ref,
+        Method::Oq,
+        Method::Soq,
+        Method::Chc,
+        Method::Roc,
+        Method::RocAll,
+        Method::Ioc,
+        Method::Hzb,
+        Method::Woc,
+        Method::Hroc(Variant { cr: false, of: false }),
+        Method::Hroc(Variant { cr: true, of: false }),
+        Method::Hroc(Variant { cr: false, of: true }),
+        Method::Hroc(Variant { cr: true, of: true }),
+        Method::HROC,
+    ];
+
+    /// The name on the command line and in tables. `hroc` and `hroc-cr+of`
+    /// are the same method; [`Method::ALL`] lists both, and this returns
+    /// `hroc-cr+of` for both, so use [`Method::names`] for the listing.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Noc => "noc",
+            Method::Vfc => "vfc",
+            Method::Ref => "ref",
+            Method::Oq => "oq",
+            Method::Soq => "soq",
+            Method::Chc => "chc++",
+            Method::Roc => "roc",
+            Method::RocAll => "roc-all",
+            Method::Ioc => "ioc",
+            Method::Hzb => "hzb",
+            Method::Woc => "woc",
+            Method::Hroc(Variant { cr: false, of: false }) => "hroc-na",
+            Method::Hroc(Variant { cr: true, of: false }) => "hroc-cr",
+            Method::Hroc(Variant { cr: false, of: true }) => "hroc-of",
+            Method::Hroc(Variant { cr: true, of: true }) => "hroc",
+        }
+    }
+
+    /// Every (name, method, one-line description), in table order; both
+    /// `hroc-cr+of` and `hroc` are listed.
+    pub fn names() -> Vec<(&'static str, Method, &'static str)> {
+        let mut out: Vec<_> = Method::ALL[..15].iter().map(|&m| (m.name(), m, m.description())).collect();
+        out[14].0 = "hroc-cr+of";
+        out.push(("hroc", Method::HROC, "HROC, the default variant (cr+of)"));
+        out
+    }
+
+    /// One line on what the method does.
+    pub fn description(self) -> &'static str {
+        match self {
+            Method::Noc => "no culling: draw every object",
+            Method::Vfc => "GPU view-frustum culling",
+            Method::Ref => "ideal: draw exactly the objects visible in noc's ID target",
+            Method::Oq => "hierarchical stop-and-wait occlusion queries, front to back (004's simple OC)",
+            Method::Soq => "occlusion queries skipped for recently visible nodes (004's statistical OC)",
+            Method::Chc => "CHC++: batched multiqueries, randomized re-queries, tighter bounds",
+            Method::Roc => "raster occlusion culling: draw V, rasterize the boxes of the rest with early-Z, draw what passed",
+            Method::RocAll => "raster occlusion culling testing every object's box (the HROC paper's ROC)",
+            Method::Ioc => "ROC over BVH levels [start, bottom] with a queue read-back per level (HPG 2020 poster)",
+            Method::Hzb => "two-phase Hi-Z culling (Nanite, niagara, Bevy)",
+            Method::Woc => "warping-based: last frame's depth reprojected, Hi-Z test before drawing (not conservative)",
+            Method::Hroc(Variant { cr: false, of: false }) => "HROC without accelerations",
+            Method::Hroc(Variant { cr: true, of: false }) => "HROC with counter read-back",
+            Method::Hroc(Variant { cr: false, of: true }) => "HROC with occluder filtering",
+            Method::Hroc(Variant { cr: true, of: true }) => "HROC with counter read-back and occluder filtering",
+        }
+    }
+
+    /// False for the methods that may miss visible objects (`woc`).
+    pub fn is_conservative(self) -> bool {
+        self != Method::Woc
+    }
+
+    /// True when the method reads the host's object-ID target (HROC with OF).
+    pub fn needs_ids(self) -> bool {
+        matches!(self, Method::Hroc(Variant { of: true, .. }))
+    }
+
+    /// True for `ref`, which only the benchmark can feed (`View::set_oracle`).
+    pub fn is_benchmark_only(self) -> bool {
+        self == Method::Ref
+    }
+
+    /// True when the method takes reversed depth (`woc`'s warp does not).
+    pub fn supports_reversed_depth(self) -> bool {
+        self != Method::Woc
+    }
+
+    /// Parses `a,b,c` or `all` into methods, in the order given, without repeats.
+    pub fn parse_list(spec: &str) -> Result<Vec<Method>> {
+        if spec.trim() == "all" {
+            return Ok(Method::ALL[..15].to_vec());
+        }
+        let mut out = Vec::new();
+        for m in spec.split(',').map(str::trim).filter(|m| !m.is_empty()) {
+            let m: Method = m.parse()?;
+            if !out.contains(&m) {
+                out.push(m);
+            }
+        }
+        if out.is_empty() {
+            return Err(Error::Arg("no methods given".into()));
+        }
+        Ok(out)
+    }
+
+    pub(crate) fn create(self, cx: &MethodContext) -> Result<Box<dyn CullMethod>> {
+        Ok(match self {
+            Method::Noc => Box::new(noc::NoCulling),
+            Method::Vfc => Box::new(vfc::FrustumCuller::new(cx)),
+            Method::Ref => Box::new(reference::Reference::new(cx)?),
+            Method::Oq => Box::new(queries::oq::Oq::new(cx)?),
+            Method::Soq => Box::new(queries::soq::Soq::new(cx)?),
+            Method::Chc => Box::new(queries::chc::Chc::new(cx)?),
+            Method::Roc => Box::new(roc::Roc::new(cx, false)),
+            Method::RocAll => Box::new(roc::Roc::new(cx, true)),
+            Method::Ioc => Box::new(ioc::Ioc::new(cx, cx.options.ioc_range)?),
+            Method::Hzb => Box::new(hzb::Hzb::new(cx)),
+            Method::Woc => Box::new(woc::Woc::new(cx)),
+            Method::Hroc(v) => Box::new(hroc::Hroc::new(v, cx)?),
+        })
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Method {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Method> {
+        Method::names().into_iter().find(|(n, _, _)| *n == s).map(|(_, m, _)| m).ok_or_else(|| {
+            let names: Vec<_> = Method::names().iter().map(|n| n.0).collect();
+            Error::Arg(format!("unknown method '{s}': expected one of {} or all", names.join(", ")))
+        })
+    }
+}
+
+macro_rules! named_enum {
+    ($(#[$doc:meta])* $name:ident { $($(#[$vdoc:meta])* $v:ident => $s:literal,)* }) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+        pub enum $name { $($(#[$vdoc])* $v,)* }
+        impl $name {
+            /// Every value, in declaration order.
+            pub const ALL: &'static [$name] = &[$($name::$v,)*];
+            /// The name in tables, JSON and reports.
+            pub fn name(self) -> &'static str {
+                match self { $($name::$v => $s,)* }
+            }
+        }
+        impl fmt::Display for $name {
+            fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    };
+}
+
+named_enum!(
+    /// A GPU stage of a frame, timed by timestamps when the device has them.
+    Stage {
+        /// Draws of a method without stages of its own.
+        Draw => "draw",
+        /// `vfc`'s frustum test.
+        FrustumCull => "frustum cull",
+        /// `vfc`'s list compaction.
+        Compact => "compact",
+        /// Drawing last frame's visible set (HROC §3.1).
+        OcclusionMap => "occlusion map",
+        /// HROC's bottom-up group extraction (§3.2).
+        GroupExtraction => "group extraction",
+        /// Box rasterization, ray casting or Hi-Z tests (HROC §3.3).
+        OcclusionTest => "occlusion test",
+        /// Drawing the objects that passed (HROC §3.4).
+        OccludeeRendering => "occludee rendering",
+        /// HROC's occluder filtering (§4.2).
+        Filtering => "filtering",
+        /// Hi-Z pyramid build.
+        HiZBuild => "hi-z build",
+        /// Counter read-back (HROC §4.1), a mid-frame submit and wait.
+        ReadBack => "read-back",
+        /// Query methods' interleaved queries and draws.
+        QueriesAndDraws => "queries and draws",
+        /// `woc`: keeping this frame's depth.
+        SaveDepth => "save depth",
+        /// `woc`: warping last frame's depth.
+        Warp => "warp",
+        /// Objects flagged never-culled or not-occluder, drawn by the culler.
+        FlaggedObjects => "flagged objects",
+    }
+);
+
+named_enum!(
+    /// A per-frame statistic a method reports.
+    Stat {
+        /// |V|: last frame's visible set, drawn first.
+        V => "V",
+        /// |O|: effective occluders.
+        O => "O",
+        /// |G|: occludee groups tested.
+        G => "G",
+        /// |U|: occludees that passed the test.
+        U => "U",
+        /// |D|: occludees with a fragment through early-Z.
+        D => "D",
+        /// Rays cast by HROC's test.
+        Rays => "rays",
+        /// BVH nodes visited per ray.
+        NodesPerRay => "nodes_per_ray",
+        /// Boxes rasterized.
+        Boxes => "boxes",
+        /// Mid-frame read-backs.
+        Readbacks => "readbacks",
+        /// BVH levels tested (`ioc`).
+        Levels => "levels",
+        /// BVH nodes tested (`ioc`).
+        NodesTested => "nodes_tested",
+        /// Objects tested (`hzb`, `woc`).
+        Tested => "tested",
+        /// Objects crossing the near plane, visible untested.
+        Near => "near",
+        /// Warped-depth texels no splat reached (`woc`).
+        FarTexels => "far_texels",
+        /// Occlusion queries issued.
+        Queries => "queries",
+        /// Query result read-backs.
+        QueryBatches => "query_batches",
+        /// Boxes drawn inside queries.
+        QueryBoxes => "query_boxes",
+        /// Host ms waiting for query results.
+        WaitMs => "wait_ms",
+        /// Draw calls handed to the host.
+        DrawCalls => "draw_calls",
+        /// CHC++ multiqueries.
+        Multiqueries => "multiqueries",
+        /// CHC++ randomized re-queries.
+        Requeried => "requeried",
+        /// Nodes rendered without a query.
+        RenderedUnqueried => "rendered_unqueried",
+    }
+);

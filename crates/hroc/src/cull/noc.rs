@@ -1,0 +1,32 @@
+//! `noc`: draw everything, in object order. Also the ground truth.
+
+use super::{CullMethod, Frame, Method, Stage};
+use crate::host::Phase;
+use crate::error::Result;
+
+/// The `noc` method: every object, no culling, in object order.
+pub struct NoCulling;
+
+impl CullMethod for NoCulling {
+    fn method(&self) -> Method {
+        Method::Noc
+    }
+
+    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {
+
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+    fn frame(&mut self, f: &mut Frame) -> Result<()> {
+        f.stage(Stage::Draw);
+        let all = f.all();
+        f.draw(Phase::Visible, &all, None);
+        Ok(())
+    }
+}

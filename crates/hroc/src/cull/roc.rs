@@ -1,0 +1,239 @@
+//! `roc` and `roc-all`: raster occlusion culling (NVIDIA, [KT14, BK15]).
+//!
+//! One frame:
+//! 1. occlusion map — draw V (last frame's visible set, packed in object
+//!    order) with forced early-Z;
+//! 2. occlusion test — rasterize the box of every object in the frustum
+//!    (`roc`: only those not in V; `roc-all`: every one, the HROC paper's
+//!    ROC row) against that depth with forced early-Z, depth writes off and
+//!    a small bias toward the camera; a passing fragment marks the object
+//!    (`roc_boxes.wgsl`). Boxes reaching the near plane lose fragments to
+//!    clipping, so their objects are visible without a test (`roc.wgsl`);
+//! 3. occludee rendering — draw the newly visible objects (packed in order).
+//!
+//! Next frame's V, the part where the two differ:
+//! - `roc-all` keeps the test result of every object, as NVIDIA's temporal
+//!   ROC does (its `bitsLast = bits`): an object of V stays in V while its
+//!   box is not hidden by the depth of V.
+//! - `roc` tests no box of V, so it has no test result for them; it keeps
+//!   the objects that had a fragment pass early-Z when drawn (in step 1 or
+//!   3), like HROC's O ∪ D. A V object hidden by another V object drawn
+//!   before it still counts (early-Z is order-dependent), so V stays a
+//!   superset of what owns pixels; what is dropped from V had no visible
+//!   fragment and is tested again next frame.
+//!
+//! Both are conservative: an object owning a pixel is in V (drawn), or its
+//! box's front face at that pixel lies in front of its surface, which lies
+//! in front of (or on) the depth of V there, so the box fragment passes
+//! `LessEqual` with the bias.
+
+use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
+use crate::host::Phase;
+use crate::error::Result;
+use crate::gpu::{dispatch_size, Gpu};
+use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::layout::DrawArgs;
+use crate::shaders::source as shader_source;
+use crate::cull::DrawList;
+
+/// The box rasterization test (`roc_boxes.wgsl`), shared with IOC: a
+/// pipeline with forced early-Z on a read-only depth attachment, no depth
+/// writes, `LessEqual` and a small bias toward the camera (as HROC's).
+pub(crate) struct BoxPass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// How many boxes a [`BoxPass`] draws: from an indirect `DrawArgs` the GPU
+/// filled, or a count the host knows.
+pub(crate) enum BoxCount<'a> {
+    Indirect(&'a wgpu::Buffer),
+    Direct(u32),
+}
+
+impl BoxPass {
+    pub(crate) fn new(cx: &MethodContext) -> Self {
+        let (gpu, device) = (cx.gpu, &cx.gpu.device);
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("roc boxes"),
+            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), storage_entry(3, false)],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("roc boxes"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let module = gpu.shader("roc_boxes.wgsl", &shader_source("roc_boxes.wgsl"));
+        let pipeline = crate::shaders::box_test_pipeline(gpu, "roc boxes", &pl, &module, Some("box_fs"), (cx.targets.depth_format, cx.targets.depth));
+        BoxPass { pipeline, layout }
+    }
+
+    /// Binds the frame uniform, the item list (one per instance), the boxes
+    /// it indexes (object bounds or BVH nodes) and the marks it sets.
+    pub(crate) fn bind(&self, gpu: &Gpu, frame: &wgpu::Buffer, list: &wgpu::Buffer, boxes: &wgpu::Buffer, marks: &wgpu::Buffer) -> wgpu::BindGroup {
+        gpu.bind_buffers(&self.layout, &[frame, list, boxes, marks])
+    }
+
+    pub(crate) fn record(&self, f: &mut Frame, bind: &wgpu::BindGroup, count: BoxCount) {
+        let targets = f.targets;
+        let mut pass = f.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("box occlusion test"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view: &targets.depth_attachment, depth_ops: None, stencil_ops: None }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        match count {
+            BoxCount::Indirect(args) => pass.draw_indirect(args, 0),
+            BoxCount::Direct(n) => pass.draw(0..36, 0..n),
+        }
+    }
+}
+
+/// The `roc` and `roc-all` methods, with per-view temporal state (V).
+pub struct Roc {
+    all: bool,
+    n: u32,
+    /// V: last frame's visible set, per object.
+    visible: wgpu::Buffer,
+    /// `roc`: objects with a fragment through early-Z this frame (next V).
+    next: wgpu::Buffer,
+    tested: wgpu::Buffer,
+    candidates: wgpu::Buffer,
+    args: wgpu::Buffer,
+    v_list: DrawList,
+    u_list: DrawList,
+    compactor: Compactor,
+    v_job: CompactJob,
+    u_job: CompactJob,
+    marks_next: wgpu::BindGroup,
+    bind: wgpu::BindGroup,
+    select: wgpu::ComputePipeline,
+    split: wgpu::ComputePipeline,
+    boxes: BoxPass,
+    box_bind: wgpu::BindGroup,
+    leaf_of_object: Vec<u32>,
+}
+
+impl Roc {
+    /// `all`: test every object's box (`roc-all`), not only those outside V.
+    pub fn new(cx: &MethodContext, all: bool) -> Self {
+        let gpu = cx.gpu;
+        let n = cx.object_count;
+        use wgpu::BufferUsages as U;
+        let flags = |label| gpu.buffer(label, n as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+        let (visible, next, tested, fresh, candidates) = (flags("roc V"), flags("roc next V"), flags("roc tested"), flags("roc fresh"), flags("roc boxes"));
+        let args = gpu.buffer("roc box args", 16, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC);
+        let compactor = Compactor::new(gpu, n);
+        let (v_list, v_job) = compactor.packed_list(gpu, "roc V list", &visible, cx.commands);
+        let (u_list, u_job) = compactor.packed_list(gpu, "roc U list", if all { &fresh } else { &tested }, cx.commands);
+        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("roc"),
+            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false), storage_entry(3, false), storage_entry(4, false), storage_entry(5, false), storage_entry(6, false)],
+        });
+        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("roc"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let module = gpu.shader("roc.wgsl", &shader_source("roc.wgsl"));
+        let constants = [("ALL", if all { 1.0 } else { 0.0 })];
+        let boxes = BoxPass::new(cx);
+        Roc {
+            all,
+            n,
+            bind: gpu.bind_buffers(&layout, &[cx.frame, cx.bounds, &visible, &tested, &candidates, &args, &fresh]),
+            select: gpu.compute_pipeline(&module, "select_boxes", Some(&pl), &constants),
+            split: gpu.compute_pipeline(&module, "split", Some(&pl), &constants),
+            box_bind: boxes.bind(gpu, cx.frame, &candidates, cx.bounds, &tested),
+            boxes,
+            marks_next: cx.marks_bind(&next),
+            visible,
+            next,
+            tested,
+            candidates,
+            args,
+            v_list,
+            u_list,
+            compactor,
+            v_job,
+            u_job,
+            leaf_of_object: cx.bvh.leaf_of_object.clone(),
+        }
+    }
+
+    fn dispatch(&self, enc: &mut wgpu::CommandEncoder, pipeline: &wgpu::ComputePipeline) {
+        let (x, y) = dispatch_size(self.n, 256);
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(pipeline);
+        pass.set_bind_group(0, &self.bind, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+
+    /// Objects whose boxes the last frame rasterized.
+    pub fn tested_objects(&self, gpu: &Gpu) -> Result<Vec<u32>> {
+        let count = gpu.read::<DrawArgs>(&self.args, 0, 1)?[0].instance_count.min(self.n);
+        let mut objects: Vec<u32> = gpu.read(&self.candidates, 0, count as u64)?;
+        objects.sort_unstable();
+        Ok(objects)
+    }
+}
+
+impl CullMethod for Roc {
+    fn method(&self) -> Method {
+        if self.all { Method::RocAll } else { Method::Roc }
+    }
+
+    fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
+        enc.clear_buffer(&self.visible, 0, None);
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+
+    fn frame(&mut self, f: &mut Frame) -> Result<()> {
+        // 1. Occlusion map: last frame's visible set.
+        f.stage(Stage::OcclusionMap);
+        let enc = f.encoder();
+        self.compactor.record(enc, &self.v_job);
+        if self.all {
+            f.draw(Phase::Occluders, &self.v_list, None);
+        } else {
+            enc.clear_buffer(&self.next, 0, None);
+            f.draw(Phase::Occluders, &self.v_list, Some(&self.marks_next));
+        }
+        // 2. Box test.
+        f.stage(Stage::OcclusionTest);
+        let enc = f.encoder();
+        enc.clear_buffer(&self.tested, 0, None);
+        enc.clear_buffer(&self.args, 0, None);
+        self.dispatch(enc, &self.select);
+        self.boxes.record(f, &self.box_bind, BoxCount::Indirect(&self.args));
+        if self.all {
+            self.dispatch(f.encoder(), &self.split);
+        }
+        // 3. The newly visible objects.
+        f.stage(Stage::OccludeeRendering);
+        self.compactor.record(f.encoder(), &self.u_job);
+        if self.all {
+            f.draw(Phase::Occludees, &self.u_list, None);
+        } else {
+            f.draw(Phase::Occludees, &self.u_list, Some(&self.marks_next));
+            let bytes = self.n as u64 * 4;
+            f.encoder().copy_buffer_to_buffer(&self.next, 0, &self.visible, 0, bytes);
+        }
+        Ok(())
+    }
+
+    fn stats(&mut self, gpu: &Gpu) -> Result<Vec<(Stat, f64)>> {
+        let count = |b: &wgpu::Buffer| -> Result<f64> { Ok(gpu.read::<u32>(b, 0, 1)?[0] as f64) };
+        let boxes = gpu.read::<DrawArgs>(&self.args, 0, 1)?[0].instance_count;
+        Ok(vec![(Stat::V, count(&self.v_list.count)?), (Stat::Boxes, boxes as f64), (Stat::U, count(&self.u_list.count)?), (Stat::Readbacks, 0.0)])
+    }
+
+    fn tested_nodes(&self, gpu: &Gpu) -> Result<Option<Vec<u32>>> {
+        let mut nodes: Vec<u32> = self.tested_objects(gpu)?.iter().map(|&o| self.leaf_of_object[o as usize]).collect();
+        nodes.sort_unstable();
+        Ok(Some(nodes))
+    }
+}

@@ -1,0 +1,78 @@
+//! `vfc`: GPU view-frustum culling, one thread per object box, then ordered
+//! compaction into a packed list.
+
+use super::{CullMethod, Frame, Method, MethodContext, Stage};
+use crate::host::Phase;
+use crate::error::Result;
+use crate::gpu::dispatch_size;
+use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::shaders::source as shader_source;
+use crate::cull::DrawList;
+
+/// The `vfc` method: per-object frustum test, compacted into one list.
+pub struct FrustumCuller {
+    pipeline: wgpu::ComputePipeline,
+    bind: wgpu::BindGroup,
+    compactor: Compactor,
+    job: CompactJob,
+    list: DrawList,
+}
+
+impl FrustumCuller {
+    /// Creates the test pipeline, flags and the compacted list for all objects.
+    pub fn new(cx: &MethodContext) -> Self {
+        let gpu = cx.gpu;
+        let n = cx.object_count;
+        use wgpu::BufferUsages as U;
+        let flags = gpu.buffer("vfc flags", n as u64 * 4, U::STORAGE);
+        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("vfc"),
+            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false)],
+        });
+        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("vfc"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let module = gpu.shader("vfc.wgsl", &shader_source("vfc.wgsl"));
+        let compactor = Compactor::new(gpu, n);
+        let (list, job) = compactor.packed_list(gpu, "vfc list", &flags, cx.commands);
+        FrustumCuller {
+            pipeline: gpu.compute_pipeline(&module, "main", Some(&pl), &[]),
+            bind: gpu.bind_buffers(&layout, &[cx.frame, cx.bounds, &flags]),
+            compactor,
+            job,
+            list,
+        }
+    }
+}
+
+impl CullMethod for FrustumCuller {
+    fn method(&self) -> Method {
+        Method::Vfc
+    }
+
+    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {
+
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+
+    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
+        self
+    }
+    fn frame(&mut self, f: &mut Frame) -> Result<()> {
+        f.stage(Stage::FrustumCull);
+        let n = f.object_count();
+        {
+            let mut pass = f.encoder().begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.bind, &[]);
+            let (x, y) = dispatch_size(n, 256);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+        f.stage(Stage::Compact);
+        self.compactor.record(f.encoder(), &self.job);
+        f.stage(Stage::Draw);
+        f.draw(Phase::Visible, &self.list, None);
+        Ok(())
+    }
+}

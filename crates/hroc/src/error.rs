@@ -1,0 +1,38 @@
+//! Errors of the culling library: every variant prints as one clear line.
+
+/// What can go wrong when culling: the host's device, objects, targets or view.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// The device lacks features the culler needs.
+    #[error("{what} needs device features {missing:?}: request them when creating the device")]
+    MissingFeatures {
+        /// What needs them.
+        what: String,
+        /// The features the device lacks.
+        missing: wgpu::Features,
+    },
+    /// An object the host registered is unusable.
+    #[error("invalid object: {0}")]
+    InvalidObject(String),
+    /// A render target the host handed in is unusable.
+    #[error("invalid render targets: {0}")]
+    InvalidTargets(String),
+    /// A view or projection the host handed in is unusable.
+    #[error("invalid view: {0}")]
+    InvalidView(String),
+    /// The objects (or their BVH) do not fit what a method can hold.
+    #[error("invalid scene: {0}")]
+    InvalidScene(String),
+    /// The objects exceed the device's limits.
+    #[error("scene too large for this device: {0}")]
+    OverDeviceLimits(String),
+    /// The device reported an error, or a read-back failed.
+    #[error("GPU error: {0}")]
+    Gpu(String),
+    /// A bad parameter (a method name, an option).
+    #[error("invalid argument: {0}")]
+    Arg(String),
+}
+
+/// `Result` with [`Error`].
+pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,0 +1,160 @@
+//! Views in the conventions engines use: a right- or left-handed perspective
+//! projection with standard (near → 0) or reversed (near → 1) depth and a
+//! finite or infinite far plane. Everything the culling passes need of a view
+//! (planes, eye, pixel rays, near distance) is derived here, once, on the CPU.
+
+use glam::{Mat4, Vec3, Vec4};
+
+use crate::error::{Error, Result};
+
+/// Which end of the depth range is near.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum DepthRange {
+    /// Near plane at depth 0, far at 1; the host's depth test is `Less` or
+    /// `LessEqual` and it clears to 1.
+    #[default]
+    Standard,
+    /// Near plane at depth 1, far (or infinity) at 0; the host's depth test is
+    /// `Greater` or `GreaterEqual` and it clears to 0.
+    Reversed,
+}
+
+/// The six frustum planes (left, right, bottom, top, near, far) of a
+/// standard-depth view-projection matrix, each `n·p + d >= 0` inside
+/// (Gribb–Hartmann).
+pub fn frustum_planes(view_proj: &Mat4) -> [Vec4; 6] {
+    frustum_planes_for(view_proj, DepthRange::Standard)
+}
+
+/// [`frustum_planes`] for either depth range: plane 4 is always the near
+/// plane. The plane at infinity of an infinite projection has no normal; it
+/// is returned as `(0, 0, 0, 1)`, which every point is inside.
+pub fn frustum_planes_for(view_proj: &Mat4, depth: DepthRange) -> [Vec4; 6] {
+    let r = view_proj.transpose(); // rows of view_proj as columns
+    let (r0, r1, r2, r3) = (r.x_axis, r.y_axis, r.z_axis, r.w_axis);
+    // wgpu clip space: -w <= x,y <= w, 0 <= z <= w.
+    let (near, far) = match depth {
+        DepthRange::Standard => (r2, r3 - r2),
+        DepthRange::Reversed => (r3 - r2, r2),
+    };
+    let planes = [r3 + r0, r3 - r0, r3 + r1, r3 - r1, near, far];
+    planes.map(|p| {
+        let len = p.truncate().length();
+        if len > 1e-12 * p.w.abs().max(1.0) {
+            p / len
+        } else {
+            Vec4::new(0.0, 0.0, 0.0, 1.0)
+        }
+    })
+}
+
+/// Conservative box-vs-frustum test: false only when the box lies wholly
+/// outside one plane (boxes near corners may pass; that is conservative).
+pub fn aabb_in_frustum(planes: &[Vec4; 6], min: Vec3, max: Vec3) -> bool {
+    planes.iter().all(|p| {
+        let n = p.truncate();
+        let v = Vec3::select(n.cmpge(Vec3::ZERO), max, min); // the "positive vertex"
+        n.dot(v) + p.w >= 0.0
+    })
+}
+
+/// A view as the host renders it this frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewDesc {
+    /// World to view space.
+    pub view: Mat4,
+    /// View to clip space: a perspective projection, right- or left-handed,
+    /// symmetric or off-centre, finite or infinite far plane.
+    pub proj: Mat4,
+    /// Which end of the depth range is near; it must match `proj`.
+    pub depth: DepthRange,
+}
+
+/// What the culling passes know of a view (the CPU side of the `Frame`
+/// uniform in `common.wgsl`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ViewGeometry {
+    /// `proj * view`.
+    pub view_proj: Mat4,
+    /// Frustum planes, plane 4 the near plane ([`frustum_planes_for`]).
+    pub planes: [Vec4; 6],
+    /// Camera position in world space.
+    pub eye: Vec3,
+    /// Columns x, y, z: world offsets such that the ray through NDC (x, y)
+    /// is `eye + t * (x * X + y * Y + Z)`, reaching the near plane at t = 1.
+    /// Built from the view basis, not by unprojecting through the inverse
+    /// view-projection, which loses the direction to cancellation.
+    pub ray_dirs: Mat4,
+    /// Distance from the eye to the near plane.
+    pub near: f32,
+    /// Distance from the eye to the far plane (infinite for an infinite projection).
+    pub far: f32,
+}
+
+impl ViewGeometry {
+    /// The `Frame` uniform every culling pass reads, for a depth attachment
+    /// of `size` pixels.
+    pub fn uniform(&self, size: (u32, u32), object_count: u32, node_count: u32, depth: DepthRange) -> crate::layout::FrameUniform {
+        let (w, h) = (size.0 as f32, size.1 as f32);
+        crate::layout::FrameUniform {
+            view_proj: self.view_proj.to_cols_array_2d(),
+            ray_dirs: self.ray_dirs.to_cols_array_2d(),
+            eye: self.eye.extend(1.0).to_array(),
+            viewport: [w, h, 1.0 / w, 1.0 / h],
+            planes: self.planes.map(|p| p.to_array()),
+            object_count,
+            node_count,
+            near: self.near,
+            reversed: (depth == DepthRange::Reversed) as u32,
+        }
+    }
+}
+
+impl ViewDesc {
+    /// A right-handed standard-depth view from a look-at camera (what hroc's
+    /// own scenes and camera paths use).
+    pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y_deg: f32, aspect: f32, near: f32, far: f32) -> Self {
+        ViewDesc { view: Mat4::look_at_rh(eye, target, up), proj: Mat4::perspective_rh(fov_y_deg.to_radians(), aspect, near, far), depth: DepthRange::Standard }
+    }
+
+    /// Checks the projection and derives the view's geometry. Errors (never
+    /// panics) on a non-perspective or non-invertible matrix, and on a
+    /// projection whose depth range is not `self.depth`.
+    pub fn geometry(&self) -> Result<ViewGeometry> {
+        let bad = |m: &str| Err(Error::InvalidView(m.to_string()));
+        if !self.view.is_finite() || !self.proj.is_finite() {
+            return bad("view or projection matrix is not finite");
+        }
+        let p = self.proj;
+        // Perspective: clip w = s * z_view with s = ±1 (right-handed: -1).
+        let s = p.z_axis.w;
+        if (s.abs() - 1.0).abs() > 1e-5 || p.x_axis.w != 0.0 || p.y_axis.w != 0.0 || p.w_axis.w != 0.0 {
+            return bad("projection is not perspective (orthographic views are not supported: HROC casts rays from the eye)");
+        }
+        if p.x_axis.x == 0.0 || p.y_axis.y == 0.0 || self.view.determinant().abs() < 1e-12 {
+            return bad("view or projection matrix is singular");
+        }
+        let view_proj = p * self.view;
+        let planes = frustum_planes_for(&view_proj, self.depth);
+        let inv_view = self.view.inverse();
+        let eye = inv_view.w_axis.truncate();
+        // Near distance: the eye lies `near` behind the (normalized) near plane.
+        let near = -(planes[4].truncate().dot(eye) + planes[4].w);
+        let far_plane = planes[5];
+        let far = if far_plane.truncate() == Vec3::ZERO { f32::INFINITY } else { far_plane.truncate().dot(eye) + far_plane.w };
+        if !(near > 0.0) || !(far > near) {
+            return Err(Error::InvalidView(format!(
+                "projection does not match {:?} depth (near {near}, far {far}): a reversed-Z projection needs DepthRange::Reversed",
+                self.depth
+            )));
+        }
+        // View-space direction of the ray through NDC (x, y), scaled to reach
+        // the near plane: (near (x - s p20) / p00, near (y - s p21) / p11, s near).
+        let (p00, p11, p20, p21) = (p.x_axis.x, p.y_axis.y, p.z_axis.x, p.z_axis.y);
+        let cx = inv_view.transform_vector3(Vec3::new(near / p00, 0.0, 0.0));
+        let cy = inv_view.transform_vector3(Vec3::new(0.0, near / p11, 0.0));
+        let cz = inv_view.transform_vector3(Vec3::new(-s * p20 * near / p00, -s * p21 * near / p11, s * near));
+        let ray_dirs = Mat4::from_cols(cx.extend(0.0), cy.extend(0.0), cz.extend(0.0), Vec4::W);
+        Ok(ViewGeometry { view_proj, planes, eye, ray_dirs, near, far })
+    }
+}

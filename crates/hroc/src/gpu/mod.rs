@@ -1,0 +1,177 @@
+//! The host's device and queue as the culler records with them, read-back
+//! helpers and GPU timestamps.
+
+pub mod timer;
+
+use crate::error::{Error, Result};
+use wgpu::util::DeviceExt;
+
+pub use timer::GpuTimer;
+
+/// A device and its queue (cheap clones of the host's), with the helpers
+/// the methods record with.
+#[derive(Clone, Debug)]
+pub struct Gpu {
+    /// The host's device.
+    pub device: wgpu::Device,
+    /// The host's queue.
+    pub queue: wgpu::Queue,
+    /// Where the host's error handler, if it installed one through
+    /// [`Gpu::capture_errors`], keeps the first device error.
+    errors: std::sync::Arc<std::sync::Mutex<Option<String>>>,
+}
+
+impl Gpu {
+    /// Wraps the host's device and queue (clones share them).
+    pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Gpu {
+        Gpu { device: device.clone(), queue: queue.clone(), errors: Default::default() }
+    }
+
+    /// Routes the device's uncaptured errors into this wrapper, so
+    /// [`Gpu::wait`] returns them as errors instead of wgpu's default panic.
+    /// For devices the caller owns outright (the benchmark, the tests); a
+    /// host with its own error handler leaves it alone.
+    pub fn capture_errors(&self) {
+        let sink = self.errors.clone();
+        self.device.on_uncaptured_error(std::sync::Arc::new(move |e: wgpu::Error| {
+            let mut slot = sink.lock().unwrap_or_else(|p| p.into_inner());
+            slot.get_or_insert_with(|| e.to_string().lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(": "));
+        }));
+    }
+
+    /// The device's limits.
+    pub fn limits(&self) -> wgpu::Limits {
+        self.device.limits()
+    }
+
+    /// A buffer holding `contents` (at least 16 bytes, so empty lists still bind).
+    pub fn buffer_init(&self, label: &str, contents: &[u8], usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        // wgpu rejects zero-sized mapped-at-creation buffers of odd sizes; keep a
+        // minimum so empty lists still bind.
+        let padded;
+        let contents = if contents.len() < 16 {
+            padded = {
+                let mut v = contents.to_vec();
+                v.resize(16, 0);
+                v
+            };
+            &padded[..]
+        } else {
+            contents
+        };
+        self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
+    }
+
+    /// An uninitialized (zeroed) buffer of at least `size` bytes, 16 at least.
+    pub fn buffer(&self, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        self.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16).next_multiple_of(4), usage, mapped_at_creation: false })
+    }
+
+    /// A command encoder.
+    pub fn encoder(&self, label: &str) -> wgpu::CommandEncoder {
+        self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
+    }
+
+    /// Blocks until all submitted work is done; reports any device error.
+    pub fn wait(&self) -> Result<()> {
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Gpu(format!("poll: {e}")))?;
+        self.check()
+    }
+
+    /// The first error the device reported since it was opened, if any.
+    pub fn check(&self) -> Result<()> {
+        match self.errors.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
+            Some(e) => Err(Error::Gpu(e.clone())),
+            None => Ok(()),
+        }
+    }
+
+    /// Copies `size` bytes of `src` from `offset` to the host. Submits and waits.
+    pub fn read_bytes(&self, src: &wgpu::Buffer, offset: u64, size: u64) -> Result<Vec<u8>> {
+        let size = size.next_multiple_of(4);
+        if size == 0 {
+            return Ok(Vec::new());
+        }
+        let staging = self.buffer("read-back", size, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
+        let mut enc = self.encoder("read-back");
+        enc.copy_buffer_to_buffer(src, offset, &staging, 0, size);
+        self.queue.submit([enc.finish()]);
+        self.map_read(&staging, size)
+    }
+
+    /// Maps a MAP_READ buffer already written by submitted work.
+    pub fn map_read(&self, staging: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
+        let slice = staging.slice(..size);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.wait()?;
+        rx.recv().map_err(|e| Error::Gpu(e.to_string()))?.map_err(|e| Error::Gpu(format!("map: {e}")))?;
+        let data = slice.get_mapped_range().map_err(|e| Error::Gpu(format!("mapped range: {e:?}")))?.to_vec();
+        staging.unmap();
+        Ok(data)
+    }
+
+    /// Reads `count` items of `T` from `src`, starting at item `first`. Submits and waits.
+    pub fn read<T: bytemuck::Pod>(&self, src: &wgpu::Buffer, first: u64, count: u64) -> Result<Vec<T>> {
+        let sz = std::mem::size_of::<T>() as u64;
+        let bytes = self.read_bytes(src, first * sz, count * sz)?;
+        Ok(bytemuck::pod_collect_to_vec(&bytes[..(count * sz) as usize]))
+    }
+
+    /// Reads a 2D texture of 4-byte texels (R32Uint, R32Float, Depth32Float, Rgba8) row by row.
+    pub fn read_texture<T: bytemuck::Pod>(&self, tex: &wgpu::Texture, aspect: wgpu::TextureAspect) -> Result<Vec<T>> {
+        let (w, h) = (tex.width(), tex.height());
+        let row = (w * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
+        let staging = self.buffer("texture read-back", (row * h) as u64, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
+        let mut enc = self.encoder("texture read-back");
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo { texture: tex, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect },
+            wgpu::TexelCopyBufferInfo { buffer: &staging, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(h) } },
+            wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        );
+        self.queue.submit([enc.finish()]);
+        let bytes = self.map_read(&staging, (row * h) as u64)?;
+        let mut out = Vec::with_capacity((w * h) as usize);
+        for y in 0..h as usize {
+            let r = &bytes[y * row as usize..][..w as usize * 4];
+            out.extend_from_slice(&bytemuck::pod_collect_to_vec::<u8, T>(r));
+        }
+        Ok(out)
+    }
+
+    /// A WGSL module.
+    pub fn shader(&self, label: &str, source: &str) -> wgpu::ShaderModule {
+        self.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(source.into()) })
+    }
+
+    /// A compute pipeline at `entry`, with override `constants`.
+    pub fn compute_pipeline(&self, module: &wgpu::ShaderModule, entry: &str, layout: Option<&wgpu::PipelineLayout>, constants: &[(&str, f64)]) -> wgpu::ComputePipeline {
+        self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout,
+            module,
+            entry_point: Some(entry),
+            compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
+            cache: None,
+        })
+    }
+
+    /// Bind group whose entries are whole buffers at bindings 0, 1, 2, ...
+    pub fn bind_buffers(&self, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
+        let entries: Vec<_> = buffers.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
+        self.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries })
+    }
+}
+
+/// Workgroups for `n` threads of `size`, as a 2D grid when one dimension is
+/// not enough (65535 groups per dimension); shaders rebuild the flat id.
+pub fn dispatch_size(n: u32, size: u32) -> (u32, u32) {
+    let groups = n.div_ceil(size).max(1);
+    if groups <= 65535 {
+        (groups, 1)
+    } else {
+        (65535, groups.div_ceil(65535))
+    }
+}

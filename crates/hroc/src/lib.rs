@@ -1,0 +1,116 @@
+//! # hroc: GPU occlusion culling for any wgpu renderer
+//!
+//! Hierarchical Raster Occlusion Culling (HROC; Lee et al., CGF 2021) and
+//! the methods it is measured against, behind one API. The host keeps its
+//! device, pipelines, materials, vertex layout and render targets; hroc
+//! decides which of its objects to draw, and hands the host GPU draw lists.
+//!
+//! ## The frame
+//! ```no_run
+//! # fn frame(device: &wgpu::Device, queue: &wgpu::Queue, depth: &wgpu::Texture, ids: &wgpu::Texture,
+//! #          objects: &[hroc::ObjectDesc], view: glam::Mat4, proj: glam::Mat4,
+//! #          draw_with_my_pipeline: &mut dyn FnMut(&mut wgpu::CommandEncoder, &hroc::Draw)) -> hroc::Result<()> {
+//! use hroc::{Culler, CullerDesc, DepthRange, FrameInput, Method, ViewDesc, ViewTargets};
+//! // Once: the objects (world box + the host's own indexed draw each), then a view.
+//! let culler = Culler::new(device, queue, &CullerDesc::new(objects))?;
+//! let targets = ViewTargets { depth, depth_range: DepthRange::Standard, ids: Some(ids) };
+//! let mut main_view = culler.view(Method::HROC, &targets)?;
+//! // Every frame: clear the targets, cull, draw what comes back, submit.
+//! let mut encoder = device.create_command_encoder(&Default::default());
+//! let input = FrameInput { view: ViewDesc { view, proj, depth: DepthRange::Standard }, targets, cut: false, time: 0.0 };
+//! main_view.cull(&culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
+//!     draw_with_my_pipeline(enc, draw) // multi_draw_indexed_indirect_count(draw.commands, draw.count)
+//! })?;
+//! queue.submit([encoder.finish()]);
+//! # Ok(()) }
+//! ```
+//!
+//! ## The host contract
+//! What every method needs from the host's pipelines. Break one and a method
+//! may cull a visible object.
+//! - **Device.** Features [`REQUIRED_FEATURES`] (multi-draw-indirect-count,
+//!   `first_instance` in indirect draws, forced early depth test), plus
+//!   [`TIMESTAMP_FEATURES`] for per-stage GPU times. [`Culler::new`] names
+//!   what is missing.
+//! - **Objects.** Object `i` is one indexed draw of the host's index buffer
+//!   ([`ObjectDesc`]) with a world box that holds every vertex it can
+//!   rasterize this frame. The culler hands back
+//!   `DrawIndexedIndirectArgs` with `first_instance = i` and
+//!   `instance_count` 1 or 0: the host's vertex shader reads its per-object
+//!   data (transform, material) at `@builtin(instance_index)`.
+//! - **Draws.** For each [`Draw`], in the order handed over, the host records
+//!   `multi_draw_indexed_indirect_count(commands, 0, count, 0, max_count)`
+//!   into a render pass on the view's depth attachment, before returning
+//!   ([`Draw::record`]). Object order within a list is kept; the host must
+//!   not reorder, split or skip a list, because the culler's next pass reads
+//!   the depth it left.
+//! - **Depth.** Every occluding phase ([`Phase::occludes`]) writes depth with
+//!   the depth test of its [`DepthRange`] (`Less`/`LessEqual` standard,
+//!   `Greater`/`GreaterEqual` reversed), no depth bias, and only for
+//!   geometry inside the object's box. The depth texture has usage
+//!   `RENDER_ATTACHMENT | TEXTURE_BINDING`, one sample, and is cleared by the
+//!   host before [`View::cull`]; the culler binds it read-only between the
+//!   host's draws (box tests) and samples it in compute passes (Hi-Z).
+//! - **Marks and forced early-Z.** The fragment shader of every occluding
+//!   phase is declared `@early_depth_test(force)` and calls `hroc_mark(object)`
+//!   from [`marks_wgsl`] when [`Draw::mark`] is set, with the [`Draw::marks`]
+//!   bind group at the group it names ([`Culler::marks_layout`]). Forced
+//!   early-Z keeps hidden fragments from running at all, so a mark means
+//!   "owns a fragment that passed" (HROC §3.1). A shader that discards
+//!   (alpha testing) cannot force early-Z: flag such objects
+//!   [`ObjectFlags::NOT_OCCLUDER`] or draw them in a separate pass.
+//! - **Object IDs.** For HROC with occluder filtering (OF, §4.2; the default
+//!   [`Method::HROC`]), the host writes `object index + 1` to an `R32Uint`
+//!   target ([`ViewTargets::ids`]) in every occluding phase and clears it to 0
+//!   each frame. `hroc-cr` and `hroc-na` need no ID target.
+//! - **Mid-frame submits.** Methods with counter read-back (`hroc`,
+//!   `hroc-cr`, `ioc`, `oq`, `soq`, `chc++`) submit the host's encoder in the
+//!   middle of [`View::cull`], wait for the GPU, and continue in a new
+//!   encoder left in the host's `&mut CommandEncoder`. Record nothing before
+//!   the cull that must not be submitted yet.
+//! - **Views.** Perspective projections only (HROC casts rays from the eye):
+//!   right- or left-handed, symmetric or off-centre, finite or infinite far
+//!   plane, standard or reversed depth ([`ViewDesc::geometry`] checks).
+//!   Each [`View`] keeps its own temporal state; all views share the
+//!   culler's BVH and object buffers. Set [`FrameInput::cut`] on a camera cut.
+//! - **Non-occluders.** [`ObjectFlags::NOT_OCCLUDER`] objects (blended
+//!   glass, particles) are culled like any other object but never enter the
+//!   occlusion map: they come back in [`Phase::NonOccluders`], last, to draw
+//!   with depth test on, depth writes off, and no ID writes.
+//!   [`ObjectFlags::NEVER_CULL`] objects come back in [`Phase::Always`], first.
+//!
+//! ## Methods
+//! [`Method`] is the one registry. Every method fits the contract except
+//! `ref`, the benchmark's ideal culler, which needs `noc`'s ID image before
+//! the frame ([`View::set_oracle`]); `woc` takes standard depth only and is
+//! not conservative.
+//!
+//! ## Modules
+//! - [`bvh`]: the object-level BVH every hierarchical method walks;
+//! - [`cull`]: the methods, one file each, reading top to bottom like the
+//!   paper's Figure 2, with CPU references beside the GPU passes;
+//! - [`frustum`]: view conventions, frustum planes and pixel rays;
+//! - [`gpu`]: read-back helpers and timestamps on the host's device;
+//! - [`layout`]: `#[repr(C)]` mirrors of the WGSL structs;
+//! - [`shaders`]: the WGSL passes.
+
+#![deny(missing_docs)]
+
+pub mod aabb;
+pub mod bvh;
+pub mod cull;
+pub mod error;
+pub mod frustum;
+pub mod gpu;
+mod host;
+pub mod layout;
+pub mod rng;
+pub mod shaders;
+
+pub use aabb::Aabb;
+pub use cull::{DrawList, Method, MethodOptions, Stage, Stat, Variant};
+pub use error::{Error, Result};
+pub use frustum::{DepthRange, ViewDesc, ViewGeometry};
+pub use host::{
+    marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, ObjectDesc, ObjectFlags, Phase, Targets, View, ViewTargets, REQUIRED_FEATURES, TIMESTAMP_FEATURES,
+};

@@ -1,0 +1,72 @@
+//! Every WGSL pass of the culler. Each is compiled with `common.wgsl`
+//! prepended; `tests/shaders.rs` validates each with naga and checks the
+//! Rust mirrors in [`crate::layout`] against the WGSL structs.
+
+use crate::frustum::DepthRange;
+use crate::gpu::Gpu;
+
+/// Every pass, by file name.
+pub const SHADERS: &[(&str, &str)] = &[
+    ("compact.wgsl", include_str!("../shaders/compact.wgsl")),
+    ("split.wgsl", include_str!("../shaders/split.wgsl")),
+    ("vfc.wgsl", include_str!("../shaders/vfc.wgsl")),
+    ("hroc_groups.wgsl", include_str!("../shaders/hroc_groups.wgsl")),
+    ("hroc_test.wgsl", include_str!("../shaders/hroc_test.wgsl")),
+    ("roc_boxes.wgsl", include_str!("../shaders/roc_boxes.wgsl")),
+    ("roc.wgsl", include_str!("../shaders/roc.wgsl")),
+    ("ioc.wgsl", include_str!("../shaders/ioc.wgsl")),
+    ("hzb_pyramid.wgsl", include_str!("../shaders/hzb_pyramid.wgsl")),
+    ("hzb_test.wgsl", include_str!("../shaders/hzb_test.wgsl")),
+    ("woc_warp.wgsl", include_str!("../shaders/woc_warp.wgsl")),
+];
+
+/// The shared header: the `Frame` uniform, object boxes, BVH nodes, draw
+/// commands and the box helpers.
+pub const COMMON_WGSL: &str = include_str!("../shaders/common.wgsl");
+
+/// The full source of a pass: the shared header, then the pass. Panics on a
+/// name not in [`SHADERS`] (a programming error, caught by the tests).
+pub fn source(name: &str) -> String {
+    let body = SHADERS.iter().find(|(n, _)| *n == name).map(|(_, s)| *s).unwrap_or_else(|| panic!("no shader {name}"));
+    format!("{COMMON_WGSL}\n{body}")
+}
+
+/// The raster occlusion test's pipeline, shared by every box-testing
+/// method: 36 vertices per box from `box_vs` (no vertex buffers), front
+/// faces only (a box clear of the near plane is entered through them by
+/// every ray that reaches what it bounds), depth test "nearer or equal"
+/// (`LessEqual`, or `GreaterEqual` for reversed depth) with a small bias
+/// toward the camera so a face lying on the surface it bounds passes, no
+/// depth or colour writes. `fragment`: the entry point that records a
+/// passing fragment (forced early-Z), or `None` for a depth-only pass
+/// counted by occlusion queries.
+pub fn box_test_pipeline(
+    gpu: &Gpu,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment: Option<&str>,
+    depth: (wgpu::TextureFormat, DepthRange),
+) -> wgpu::RenderPipeline {
+    let (compare, bias) = match depth.1 {
+        DepthRange::Standard => (wgpu::CompareFunction::LessEqual, -16),
+        DepthRange::Reversed => (wgpu::CompareFunction::GreaterEqual, 16),
+    };
+    gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(label),
+        layout: Some(layout),
+        vertex: wgpu::VertexState { module, entry_point: Some("box_vs"), compilation_options: Default::default(), buffers: &[] },
+        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: depth.0,
+            depth_write_enabled: Some(false),
+            depth_compare: Some(compare),
+            stencil: Default::default(),
+            bias: wgpu::DepthBiasState { constant: bias, slope_scale: 0.0, clamp: 0.0 },
+        }),
+        multisample: Default::default(),
+        fragment: fragment.map(|entry| wgpu::FragmentState { module, entry_point: Some(entry), compilation_options: Default::default(), targets: &[] }),
+        multiview_mask: None,
+        cache: None,
+    })
+}

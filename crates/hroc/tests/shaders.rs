@@ -1,0 +1,80 @@
+//! GPU-free: every WGSL pass parses and validates with naga (with the
+//! shared header prepended, as the renderer compiles it), and every Rust
+//! struct mirrored in WGSL has the WGSL size.
+
+use hroc::layout::mirrored_sizes;
+use hroc::shaders::{source as shader_source, SHADERS};
+
+fn module(name: &str) -> naga::Module {
+    naga::front::wgsl::parse_str(&shader_source(name)).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&shader_source(name))))
+}
+
+fn validate(name: &str, m: &naga::Module) -> naga::valid::ModuleInfo {
+    naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+        .validate(m)
+        .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&shader_source(name))))
+}
+
+#[test]
+fn every_shader_validates() {
+    assert!(!SHADERS.is_empty());
+    for (name, _) in SHADERS {
+        let m = module(name);
+        validate(name, &m);
+        assert!(!m.entry_points.is_empty(), "{name} has no entry point");
+    }
+}
+
+#[test]
+fn shader_folder_is_complete() {
+    // A WGSL file the renderer does not list would never be validated.
+    let dir = concat!(env!("CARGO_MANIFEST_DIR"), "/shaders");
+    for e in std::fs::read_dir(dir).unwrap() {
+        let f = e.unwrap().file_name().into_string().unwrap();
+        if f.ends_with(".wgsl") && f != "common.wgsl" {
+            assert!(SHADERS.iter().any(|(n, _)| *n == f), "{f} is not in render::SHADERS");
+        }
+    }
+}
+
+#[test]
+fn rust_structs_match_wgsl_layout() {
+    let m = module("compact.wgsl");
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(m.to_ctx()).unwrap();
+    for (wgsl, rust_size) in mirrored_sizes() {
+        let (handle, ty) = m.types.iter().find(|(_, t)| t.name.as_deref() == Some(wgsl)).unwrap_or_else(|| panic!("no WGSL struct {wgsl}"));
+        let naga::TypeInner::Struct { span, .. } = ty.inner else { panic!("{wgsl} is not a struct") };
+        assert_eq!(span as usize, rust_size, "{wgsl}: WGSL {span} bytes, Rust {rust_size}");
+        // Arrays of it have the same stride on both sides.
+        assert_eq!(layouter[handle].to_stride() as usize, rust_size, "{wgsl} stride");
+    }
+}
+
+/// A host fragment shader that includes the marks snippet, as the crate
+/// docs tell hosts to write it.
+fn host_shader(group: u32) -> String {
+    format!(
+        "{}\n@vertex fn vs(@builtin(instance_index) i: u32) -> @builtin(position) vec4<f32> {{ return vec4<f32>(f32(i)); }}\n\
+         @fragment @early_depth_test(force) fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {{ hroc_mark(u32(p.x)); return p; }}\n",
+        hroc::marks_wgsl(group)
+    )
+}
+
+#[test]
+fn marks_snippet_validates_and_matches_the_marks_layout() {
+    for group in [0, 1, 3] {
+        let src = host_shader(group);
+        let m = naga::front::wgsl::parse_str(&src).unwrap_or_else(|e| panic!("{}", e.emit_to_string(&src)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all()).validate(&m).unwrap();
+        // The one global the snippet declares is what `Culler::marks_layout`
+        // describes: a read-write storage array of u32 at (group, 0).
+        let globals: Vec<_> = m.global_variables.iter().map(|(_, g)| g).collect();
+        assert_eq!(globals.len(), 1);
+        let g = globals[0];
+        assert_eq!(g.binding, Some(naga::ResourceBinding { group, binding: 0 }));
+        assert_eq!(g.space, naga::AddressSpace::Storage { access: naga::StorageAccess::LOAD | naga::StorageAccess::STORE });
+        let naga::TypeInner::Array { base, .. } = m.types[g.ty].inner else { panic!("marks is not an array") };
+        assert_eq!(m.types[base].inner, naga::TypeInner::Scalar(naga::Scalar::U32));
+    }
+}

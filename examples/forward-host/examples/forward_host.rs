@@ -1,0 +1,39 @@
+//! Renders the demo (a generated city, a wall, two blended panels) with the
+//! forward host, culled by hroc, headless to PNG.
+//!
+//! `cargo run --release -p hroc-forward-host --example forward_host -- [METHOD] [OUT.png]`
+
+use hroc::{DepthRange, Method};
+use hroc_forward_host::{open_device, Demo, ForwardHost};
+
+fn main() -> std::process::ExitCode {
+    match run() {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            std::process::ExitCode::FAILURE
+        }
+    }
+}
+
+fn run() -> Result<(), String> {
+    let mut args = std::env::args().skip(1);
+    let method: Method = args.next().as_deref().unwrap_or("hroc").parse().map_err(|e: hroc::Error| e.to_string())?;
+    let out = args.next().unwrap_or_else(|| "forward_host.png".into());
+    let (device, queue) = open_device()?;
+    let demo = Demo::new(3000, 16)?;
+    let size = (640, 360);
+    let mut host = ForwardHost::new(&device, &queue, &demo.scene, size, method, DepthRange::Reversed).map_err(|e| e.to_string())?;
+    let mut last = None;
+    for k in 0..demo.cameras.len() {
+        let (view, proj) = demo.matrices(k, size.0 as f32 / size.1 as f32, DepthRange::Reversed);
+        let f = host.frame(view, proj, k == demo.cut).map_err(|e| e.to_string())?;
+        let drawn = f.drawn.iter().filter(|&&d| d).count();
+        println!("frame {k:2}: {method} drew {drawn} of {} objects", f.drawn.len());
+        last = Some(f);
+    }
+    let f = last.ok_or("no frames")?;
+    image::RgbaImage::from_raw(size.0, size.1, f.color).ok_or("image size")?.save(&out).map_err(|e| format!("{out}: {e}"))?;
+    println!("wrote {out}");
+    Ok(())
+}

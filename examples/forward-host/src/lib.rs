@@ -1,0 +1,379 @@
+//! A small forward renderer of its own that culls with `hroc`: its own
+//! device, vertex layout (interleaved position/normal/uv), per-instance
+//! transforms in a storage buffer, a lit shader and one alpha-blended
+//! material. It uses neither hroc's benchmark nor its renderer: only the
+//! public culling API and the scene crate's generators.
+//!
+//! What hroc adds to the renderer, all in [`ForwardHost::frame`]:
+//! a [`hroc::Culler`] over the objects, a [`hroc::View`], and a draw
+//! callback that records `multi_draw_indexed_indirect_count` with the
+//! opaque or the blended pipeline by [`hroc::Phase`].
+
+use glam::{Mat4, Vec2, Vec3};
+use hroc::{Culler, CullerDesc, DepthRange, FrameInput, Method, ObjectDesc, ObjectFlags, Phase, View, ViewDesc, ViewTargets};
+use hroc_scene::Scene;
+
+/// Interleaved vertex: position, normal, uv (32 bytes).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Vertex {
+    pub position: [f32; 3],
+    pub normal: [f32; 3],
+    pub uv: [f32; 2],
+}
+
+/// One instance: transform and material colour (alpha < 1: blended).
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct Instance {
+    pub model: [[f32; 4]; 4],
+    pub color: [f32; 4],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+struct CameraUniform {
+    view_proj: [[f32; 4]; 4],
+    light_dir: [f32; 4],
+}
+
+const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+const IDS: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+
+/// Opens a headless device with the features hroc needs.
+pub fn open_device() -> Result<(wgpu::Device, wgpu::Queue), String> {
+    pollster::block_on(async {
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = instance.request_adapter(&wgpu::RequestAdapterOptions::default()).await.map_err(|e| format!("no adapter: {e}"))?;
+        let missing = hroc::REQUIRED_FEATURES - adapter.features();
+        if !missing.is_empty() {
+            return Err(format!("{} lacks {missing:?}", adapter.get_info().name));
+        }
+        adapter
+            .request_device(&wgpu::DeviceDescriptor { label: Some("forward host"), required_features: hroc::REQUIRED_FEATURES, required_limits: adapter.limits(), ..Default::default() })
+            .await
+            .map_err(|e| format!("cannot open device: {e}"))
+    })
+}
+
+/// The host's scene: meshes converted to its vertex format, one instance per object.
+pub struct HostScene {
+    pub vertices: Vec<Vertex>,
+    pub indices: Vec<u32>,
+    pub instances: Vec<Instance>,
+    /// Per object: world box, its draw in the index buffer, flags.
+    pub objects: Vec<ObjectDesc>,
+}
+
+impl HostScene {
+    /// Converts a scene of the scene crate; objects whose colour index is in
+    /// `blended` get alpha 0.4 and [`ObjectFlags::NOT_OCCLUDER`].
+    pub fn from_scene(scene: &Scene, blended: &[usize]) -> HostScene {
+        let (mut vertices, mut indices, mut ranges) = (Vec::new(), Vec::new(), Vec::new());
+        for m in &scene.meshes {
+            ranges.push((indices.len() as u32, vertices.len() as i32, m.indices.len() as u32));
+            let e = m.bounds.extent().max(Vec3::splat(1e-6));
+            vertices.extend(m.vertices.iter().map(|v| {
+                let p = (Vec3::from(v.position) - m.bounds.min) / e;
+                Vertex { position: v.position, normal: v.normal, uv: (Vec2::new(p.x + p.z, p.y)).to_array() }
+            }));
+            indices.extend_from_slice(&m.indices);
+        }
+        let mut instances = Vec::new();
+        let mut objects = Vec::new();
+        for (i, o) in scene.objects.iter().enumerate() {
+            let glass = blended.contains(&i);
+            instances.push(Instance { model: o.transform.to_cols_array_2d(), color: [o.color[0], o.color[1], o.color[2], if glass { 0.4 } else { 1.0 }] });
+            let (first_index, base_vertex, index_count) = ranges[o.mesh as usize];
+            objects.push(ObjectDesc { bounds: o.bounds, index_count, first_index, base_vertex, flags: if glass { ObjectFlags::NOT_OCCLUDER } else { ObjectFlags::NONE } });
+        }
+        HostScene { vertices, indices, instances, objects }
+    }
+}
+
+/// What one frame drew, from the host's own instrumentation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FrameOutput {
+    /// Objects visible in the final picture: opaque objects that own a pixel
+    /// of the ID target, blended objects with a fragment through the final
+    /// depth (they are drawn last and write no depth, so that is exact).
+    pub visible: Vec<bool>,
+    /// Objects the culler handed over (a command with an instance).
+    pub drawn: Vec<bool>,
+    /// The depth buffer, row-major.
+    pub depth: Vec<f32>,
+    /// The colour image, RGBA8.
+    pub color: Vec<u8>,
+}
+
+/// The forward renderer, with hroc culling it.
+pub struct ForwardHost {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    size: (u32, u32),
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    camera: wgpu::Buffer,
+    seen: wgpu::Buffer,
+    bind: wgpu::BindGroup,
+    opaque: wgpu::RenderPipeline,
+    blend: wgpu::RenderPipeline,
+    depth: wgpu::Texture,
+    ids: wgpu::Texture,
+    color: wgpu::Texture,
+    n: u32,
+    blended: Vec<bool>,
+    depth_range: DepthRange,
+    /// The culler over the host's objects.
+    pub culler: Culler,
+    /// The main camera's view.
+    pub view: View,
+}
+
+fn texture(device: &wgpu::Device, (w, h): (u32, u32), format: wgpu::TextureFormat, label: &str) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+impl ForwardHost {
+    /// Uploads the scene and builds the pipelines; `method` culls it.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &HostScene, size: (u32, u32), method: Method, depth_range: DepthRange) -> hroc::Result<ForwardHost> {
+        use wgpu::util::DeviceExt;
+        use wgpu::BufferUsages as U;
+        let init = |label, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let n = scene.instances.len() as u32;
+        let vertices = init("vertices", bytemuck::cast_slice(&scene.vertices), U::VERTEX);
+        let indices = init("indices", bytemuck::cast_slice(&scene.indices), U::INDEX);
+        let instances = init("instances", bytemuck::cast_slice(&scene.instances), U::STORAGE);
+        let camera = device.create_buffer(&wgpu::BufferDescriptor { label: Some("camera"), size: 80, usage: U::UNIFORM | U::COPY_DST, mapped_at_creation: false });
+        let seen = device.create_buffer(&wgpu::BufferDescriptor { label: Some("seen"), size: (n as u64 * 4).max(16), usage: U::STORAGE | U::COPY_SRC | U::COPY_DST, mapped_at_creation: false });
+
+        // hroc: the culler over the host's objects, and one view.
+        let culler = Culler::new(device, queue, &CullerDesc::new(&scene.objects))?;
+        let (depth, ids, color) = (texture(device, size, DEPTH, "depth"), texture(device, size, IDS, "ids"), texture(device, size, COLOR, "color"));
+        let view = culler.view(method, &ViewTargets { depth: &depth, depth_range, ids: Some(&ids) })?;
+
+        let entry = |binding, ty, visibility| wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None };
+        let storage = |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("host"),
+            entries: &[
+                entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }, wgpu::ShaderStages::VERTEX_FRAGMENT),
+                entry(1, storage(true), wgpu::ShaderStages::VERTEX_FRAGMENT),
+                entry(2, storage(false), wgpu::ShaderStages::FRAGMENT),
+            ],
+        });
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("host"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: instances.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 2, resource: seen.as_entire_binding() },
+            ],
+        });
+        // hroc: the marks snippet at group 1 and the culler's marks layout there.
+        let source = format!("{}\n{}", include_str!("shader.wgsl"), hroc::marks_wgsl(1));
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("forward"), source: wgpu::ShaderSource::Wgsl(source.into()) });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("forward"), bind_group_layouts: &[Some(&layout), Some(culler.marks_layout())], immediate_size: 0 });
+        let vertex_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2],
+        };
+        let pipeline = |blend: bool| {
+            let over = wgpu::BlendState::ALPHA_BLENDING;
+            let targets = [
+                Some(wgpu::ColorTargetState { format: COLOR, blend: blend.then_some(over), write_mask: wgpu::ColorWrites::ALL }),
+                Some(wgpu::ColorTargetState { format: IDS, blend: None, write_mask: if blend { wgpu::ColorWrites::empty() } else { wgpu::ColorWrites::ALL } }),
+            ];
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(if blend { "blend" } else { "opaque" }),
+                layout: Some(&pl),
+                vertex: wgpu::VertexState { module: &module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(vertex_layout.clone())] },
+                primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH,
+                    depth_write_enabled: Some(!blend),
+                    depth_compare: Some(if depth_range == DepthRange::Reversed { wgpu::CompareFunction::Greater } else { wgpu::CompareFunction::Less }),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some(if blend { "fs_blend" } else { "fs_opaque" }), compilation_options: Default::default(), targets: &targets }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        Ok(ForwardHost {
+            device: device.clone(),
+            queue: queue.clone(),
+            size,
+            vertices,
+            indices,
+            camera,
+            seen,
+            bind,
+            opaque: pipeline(false),
+            blend: pipeline(true),
+            depth,
+            ids,
+            color,
+            n,
+            blended: scene.objects.iter().map(|o| o.flags.contains(ObjectFlags::NOT_OCCLUDER)).collect(),
+            depth_range,
+            culler,
+            view,
+        })
+    }
+
+    /// Renders one frame from `view`/`proj`, culled by the view's method;
+    /// `cut` signals a camera cut. Reads back what was drawn.
+    pub fn frame(&mut self, view: Mat4, proj: Mat4, cut: bool) -> hroc::Result<FrameOutput> {
+        let cam = CameraUniform { view_proj: (proj * view).to_cols_array_2d(), light_dir: Vec3::new(0.4, 0.8, 0.45).normalize().extend(0.0).to_array() };
+        self.queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&cam));
+        let (depth_view, ids_view, color_view) = (self.depth.create_view(&Default::default()), self.ids.create_view(&Default::default()), self.color.create_view(&Default::default()));
+        let mut encoder = self.device.create_command_encoder(&Default::default());
+        encoder.clear_buffer(&self.seen, 0, None);
+        // Clear the targets (hroc does not touch them).
+        drop(begin_pass(&mut encoder, &color_view, &ids_view, &depth_view, Some(self.depth_range)));
+        let mut drawn_lists = Vec::new();
+        let input = FrameInput { view: ViewDesc { view, proj, depth: self.depth_range }, targets: ViewTargets { depth: &self.depth, depth_range: self.depth_range, ids: Some(&self.ids) }, cut, time: 0.0 };
+        // hroc: cull, and draw each list it hands back with our own pipelines.
+        self.view.cull(&self.culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
+            let mut pass = begin_pass(enc, &color_view, &ids_view, &depth_view, None);
+            pass.set_pipeline(if draw.phase == Phase::NonOccluders { &self.blend } else { &self.opaque });
+            pass.set_bind_group(0, &self.bind, &[]);
+            pass.set_vertex_buffer(0, self.vertices.slice(..));
+            pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+            draw.record(&mut pass, 1);
+            drawn_lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count));
+        })?;
+        self.queue.submit([encoder.finish()]);
+        let gpu = hroc::gpu::Gpu::from_device(&self.device, &self.queue);
+        let mut drawn = vec![false; self.n as usize];
+        for (commands, count, max) in drawn_lists {
+            let c = gpu.read::<u32>(&count, 0, 1)?[0].min(max);
+            for cmd in gpu.read::<hroc::layout::DrawCommand>(&commands, 0, c as u64)? {
+                if cmd.instance_count > 0 && cmd.index_count > 0 {
+                    drawn[cmd.first_instance as usize] = true;
+                }
+            }
+        }
+        let seen: Vec<u32> = gpu.read(&self.seen, 0, self.n as u64)?;
+        let mut visible: Vec<bool> = (0..self.n as usize).map(|o| self.blended[o] && seen[o] != 0).collect();
+        for id in gpu.read_texture::<u32>(&self.ids, wgpu::TextureAspect::All)? {
+            if id > 0 {
+                visible[id as usize - 1] = true;
+            }
+        }
+        Ok(FrameOutput {
+            visible,
+            drawn,
+            depth: gpu.read_texture(&self.depth, wgpu::TextureAspect::DepthOnly)?,
+            color: bytemuck::cast_slice::<u32, u8>(&gpu.read_texture::<u32>(&self.color, wgpu::TextureAspect::All)?).to_vec(),
+        })
+    }
+
+    /// Width and height.
+    pub fn size(&self) -> (u32, u32) {
+        self.size
+    }
+}
+
+/// A render pass on the host's targets: clears them for `Some(depth range)`, else loads them.
+fn begin_pass<'e>(enc: &'e mut wgpu::CommandEncoder, color: &wgpu::TextureView, ids: &wgpu::TextureView, depth: &wgpu::TextureView, clear: Option<DepthRange>) -> wgpu::RenderPass<'e> {
+    let far = if clear == Some(DepthRange::Reversed) { 0.0 } else { 1.0 };
+    let clear = clear.is_some();
+    let op = |c: wgpu::Color| wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(c) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store };
+    let colors = [
+        Some(wgpu::RenderPassColorAttachment { view: color, depth_slice: None, resolve_target: None, ops: op(wgpu::Color { r: 0.55, g: 0.7, b: 0.9, a: 1.0 }) }),
+        Some(wgpu::RenderPassColorAttachment { view: ids, depth_slice: None, resolve_target: None, ops: op(wgpu::Color::TRANSPARENT) }),
+    ];
+    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: None,
+        color_attachments: &colors,
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(far) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// The demo: a generated city, an opaque wall in front of the first camera,
+/// one blended panel hidden behind the wall and one in front of it.
+pub struct Demo {
+    /// The host's scene.
+    pub scene: HostScene,
+    /// (eye, target) per frame; frame `cut` starts a camera cut.
+    pub cameras: Vec<(Vec3, Vec3)>,
+    /// The frame of the camera cut.
+    pub cut: usize,
+    /// The blended panel behind the wall (hidden: must be culled).
+    pub glass_behind: usize,
+    /// The blended panel in front of the wall (visible: must be drawn).
+    pub glass_front: usize,
+    /// Near and far plane distances.
+    pub near_far: (f32, f32),
+}
+
+impl Demo {
+    /// `objects` city objects plus the wall and the two panels; `frames`
+    /// frames, half from a fixed eye turning a little, half after a cut.
+    pub fn new(objects: usize, frames: usize) -> Result<Demo, String> {
+        let mut scene = hroc_scene::load("radial-city", Some(objects), 0).map_err(|e| e.to_string())?;
+        let (near, far) = hroc_scene::camera::clip_planes(&scene.bounds(), &scene.path);
+        let path = scene.path.frames(frames.max(2), near, far);
+        let (eye, target) = (path[0].eye, path[0].target);
+        let f = (target - eye).normalize();
+        let r = f.cross(path[0].up).normalize();
+        let u = r.cross(f);
+        let mesh = scene.meshes.len() as u32;
+        scene.meshes.push(hroc_scene::generators::shapes::cuboid(Vec3::splat(-0.5), Vec3::splat(0.5)).into_mesh("panel"));
+        let basis = |c: Vec3, s: Vec3| Mat4::from_cols((r * s.x).extend(0.0), (u * s.y).extend(0.0), (f * s.z).extend(0.0), c.extend(1.0));
+        scene.push_object(mesh, basis(eye + f * 10.0, Vec3::new(24.0, 24.0, 0.5)), [0.8, 0.75, 0.7]);
+        let glass_behind = scene.objects.len();
+        scene.push_object(mesh, basis(eye + f * 14.0, Vec3::new(3.0, 3.0, 0.1)), [0.2, 0.9, 0.3]);
+        let glass_front = scene.objects.len();
+        scene.push_object(mesh, basis(eye + f * 5.0 + r * 1.0, Vec3::new(2.0, 2.0, 0.1)), [0.9, 0.2, 0.2]);
+        let cut = frames / 2;
+        let cameras = (0..frames)
+            .map(|k| {
+                if k < cut {
+                    // A fixed eye, turning 3 degrees either way.
+                    let yaw = 3f32.to_radians() * (k as f32 * 0.7).sin();
+                    (eye, eye + glam::Quat::from_axis_angle(u, yaw) * f)
+                } else {
+                    (path[k].eye, path[k].target)
+                }
+            })
+            .collect();
+        Ok(Demo { scene: HostScene::from_scene(&scene, &[glass_behind, glass_front]), cameras, cut, glass_behind, glass_front, near_far: (near, far) })
+    }
+
+    /// View and projection of frame `k`: finite standard depth, or infinite
+    /// reversed depth.
+    pub fn matrices(&self, k: usize, aspect: f32, depth: DepthRange) -> (Mat4, Mat4) {
+        let (eye, target) = self.cameras[k];
+        let view = Mat4::look_at_rh(eye, target, Vec3::Y);
+        let fov = 60f32.to_radians();
+        let proj = match depth {
+            DepthRange::Standard => Mat4::perspective_rh(fov, aspect, self.near_far.0, self.near_far.1),
+            DepthRange::Reversed => Mat4::perspective_infinite_reverse_rh(fov, aspect, self.near_far.0),
+        };
+        (view, proj)
+    }
+}
