@@ -81,14 +81,6 @@ fn main() {
         bvh.validate(&boxes).expect("invalid BVH");
         let mut ms: Vec<f64> = (0..args.runs.max(1)).map(|_| Bvh::build(&boxes, split).build_ms).collect();
         ms.sort_by(f64::total_cmp);
-        println!(
-            "{:<5} {:>10.2} {:>10.2} {:>10.1} {:>6} {:>9}",
-            split,
-            ms[ms.len() / 2],
-            ms[0],
-            bvh.sah_cost(),
-            bvh.depth(),
-            bvh.nodes.len()
-        );
+        println!("{:<5} {:>10.2} {:>10.2} {:>10.1} {:>6} {:>9}", split, ms[ms.len() / 2], ms[0], bvh.sah_cost(), bvh.depth(), bvh.nodes.len());
     }
 }

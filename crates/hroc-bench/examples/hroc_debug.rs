@@ -1,7 +1,7 @@
 //! Finds frames where an HROC variant misses objects and explains why.
+use hroc::cull::hroc::{cpu, Hroc};
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc::cull::hroc::{cpu, Hroc};
 use hroc_bench::gpu::Gpu;
 
 fn main() -> hroc_bench::Result<()> {
@@ -33,7 +33,14 @@ fn main() -> hroc_bench::Result<()> {
         let cam = s.cameras[k];
         println!("frame {k}: fn {} missing {} eye {:?}", chk.false_negatives, chk.missing_pixels, cam.eye);
         let planes = hroc_bench::scene::camera::frustum_planes(&cam.view_proj(s.renderer.aspect()));
-        let (cg, forced) = cpu::groups(&s.bvh(), &cpu::node_states(&s.bvh(), &dbg.occluders), &planes, cam.near, cam.eye, cpu::pixel_angle(&cam.ray_dirs(s.renderer.aspect()), cam.near, s.renderer.targets.height));
+        let (cg, forced) = cpu::groups(
+            s.bvh(),
+            &cpu::node_states(s.bvh(), &dbg.occluders),
+            &planes,
+            cam.near,
+            cam.eye,
+            cpu::pixel_angle(&cam.ray_dirs(s.renderer.aspect()), cam.near, s.renderer.targets.height),
+        );
         println!("  groups gpu {} cpu {} equal {}; forced {}", dbg.groups.len(), cg.len(), cg == dbg.groups, forced.len());
         for &o in truth.visible.iter().filter(|&&o| !drawn[o as usize]) {
             let leaf = s.bvh().leaf_of_object[o as usize];
@@ -41,11 +48,19 @@ fn main() -> hroc_bench::Result<()> {
             let mut m = leaf;
             loop {
                 chain.push((m, dbg.state[m as usize], dbg.groups.binary_search(&m).is_ok()));
-                match s.bvh().parent(m) { Some(p) => m = p, None => break }
+                match s.bvh().parent(m) {
+                    Some(p) => m = p,
+                    None => break,
+                }
             }
             let b = s.scene.objects[o as usize].bounds;
             let mesh = &s.scene.meshes[s.scene.objects[o as usize].mesh as usize].name;
-            println!("  mesh {mesh}: eye-box distance {:.4} (eye inside {}), box extent {:?}", (cam.eye.clamp(b.min, b.max) - cam.eye).length(), b.contains_point(cam.eye), b.extent());
+            println!(
+                "  mesh {mesh}: eye-box distance {:.4} (eye inside {}), box extent {:?}",
+                (cam.eye.clamp(b.min, b.max) - cam.eye).length(),
+                b.contains_point(cam.eye),
+                b.extent()
+            );
             let depth = s.read_depth()?;
             let (w, hh) = (s.renderer.targets.width, s.renderer.targets.height);
             let vp = cam.view_proj(s.renderer.aspect());
@@ -66,10 +81,18 @@ fn main() -> hroc_bench::Result<()> {
                 println!("  pixel ({x},{y}) noc depth {:.9} method depth {:.9}", truth.depth[i], depth[i]);
                 println!("    rock box {:?} padded {:?}", hit(b), hit(cpu::padded(b, cam.eye, pa)));
                 for &(node, _, g) in &chain {
-                    if g { println!("    group {node} padded {:?}", hit(cpu::padded(s.bvh().aabb(node), cam.eye, pa))); }
+                    if g {
+                        println!("    group {node} padded {:?}", hit(cpu::padded(s.bvh().aabb(node), cam.eye, pa)));
+                    }
                 }
             }
-            println!("  missed object {o} box {:?} O {} U {} chain (node,state,group) {:?}", s.scene.objects[o as usize].bounds, dbg.occluders[o as usize], dbg.occludees[o as usize], &chain[..chain.len().min(8)]);
+            println!(
+                "  missed object {o} box {:?} O {} U {} chain (node,state,group) {:?}",
+                s.scene.objects[o as usize].bounds,
+                dbg.occluders[o as usize],
+                dbg.occludees[o as usize],
+                &chain[..chain.len().min(8)]
+            );
         }
     }
     Ok(())

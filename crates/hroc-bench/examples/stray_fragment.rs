@@ -17,10 +17,16 @@ fn main() -> hroc_bench::Result<()> {
     let ids: Vec<u32> = gpu.read_texture(&s.renderer.targets.id, wgpu::TextureAspect::All)?;
     let depth = s.read_depth()?;
     for y in py - 2..=py + 2 {
-        let row: Vec<String> = (px - 3..=px + 3).map(|x| {
-            let i = (y * 640 + x) as usize;
-            if ids[i] == 0 { "    -     ".into() } else { format!("{:.7}", depth[i]) }
-        }).collect();
+        let row: Vec<String> = (px - 3..=px + 3)
+            .map(|x| {
+                let i = (y * 640 + x) as usize;
+                if ids[i] == 0 {
+                    "    -     ".into()
+                } else {
+                    format!("{:.7}", depth[i])
+                }
+            })
+            .collect();
         println!("y {y}: {}", row.join(" "));
     }
     let all: Vec<usize> = (0..ids.len()).filter(|&i| ids[i] != 0).collect();

@@ -1,7 +1,7 @@
 //! Which meshes HROC tests positive (U) without being visible: where C/R is lost.
+use hroc::cull::hroc::Hroc;
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc::cull::hroc::Hroc;
 use hroc_bench::gpu::Gpu;
 use std::collections::BTreeMap;
 
@@ -21,7 +21,11 @@ fn main() -> hroc_bench::Result<()> {
             if u {
                 let name = s.scene.meshes[s.scene.objects[o].mesh as usize].name.clone();
                 let e = waste.entry(name).or_default();
-                if truth.visible.binary_search(&(o as u32)).is_ok() { e.0 += 1 } else { e.1 += 1 }
+                if truth.visible.binary_search(&(o as u32)).is_ok() {
+                    e.0 += 1
+                } else {
+                    e.1 += 1
+                }
             }
         }
     }

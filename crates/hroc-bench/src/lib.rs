@@ -3,7 +3,7 @@
 //!
 //! - [`render`]: a forward renderer (one vertex/index pool, object colours,
 //!   colour/depth/object-ID targets) that draws what a [`hroc::View`] hands it;
-//! - [`bench`]: the session (scene + camera path on the GPU), the side-by-side
+//! - [`bench`](mod@bench): the session (scene + camera path on the GPU), the side-by-side
 //!   benchmark checked against `noc`, tables, plots and the papers' reports;
 //! - [`headless`]: a headless Vulkan device with the features hroc needs.
 

@@ -2,9 +2,9 @@
 //! scene's path, RC', and the hard paths; GPU passes against the CPU
 //! references (group extraction, ray marking).
 
+use hroc::cull::hroc::{cpu, Hroc};
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc::cull::hroc::{cpu, Hroc};
 use hroc_bench::gpu::Gpu;
 use hroc_bench::scene::paths;
 use std::sync::OnceLock;
@@ -138,11 +138,7 @@ fn box_winding_faces_outward() {
     // rasterizer's back-face culling keeps exactly the near faces.
     let src = hroc::shaders::source("hroc_test.wgsl");
     let table = &src[src.find("array<u32, 36>(").unwrap() + 15..];
-    let idx: Vec<u32> = table[..table.find(");").unwrap()]
-        .split(|c: char| !c.is_ascii_digit())
-        .filter(|t| !t.is_empty())
-        .map(|t| t.parse().unwrap())
-        .collect();
+    let idx: Vec<u32> = table[..table.find(");").unwrap()].split(|c: char| !c.is_ascii_digit()).filter(|t| !t.is_empty()).map(|t| t.parse().unwrap()).collect();
     assert_eq!(idx.len(), 36);
     let corner = |c: u32| glam::Vec3::new((c & 1) as f32, ((c >> 1) & 1) as f32, ((c >> 2) & 1) as f32);
     for t in idx.chunks(3) {

@@ -4,10 +4,10 @@
 //! tighter bounds.
 
 use glam::{Vec3, Vec4};
-use hroc_bench::bench::Session;
-use hroc_bench::bvh::{Bvh, Split};
 use hroc::cull::queries::{box_distance, chc, front_to_back, oq, soq, Class, NodeView};
 use hroc::cull::MethodOptions;
+use hroc_bench::bench::Session;
+use hroc_bench::bvh::{Bvh, Split};
 use hroc_bench::gpu::Gpu;
 use hroc_bench::scene::{paths, Aabb};
 use std::collections::BTreeMap;
@@ -304,4 +304,3 @@ fn query_batches_chain_query_sets() {
     assert!(visible > 0 && visible < big.len(), "{visible} of {} boxes visible", big.len());
     assert_eq!(q.stats.batches as usize, 1 + testable.len().div_ceil(700));
 }
-

@@ -4,10 +4,10 @@
 //! references (Hi-Z pyramid on non-power-of-two sizes, the Hi-Z object
 //! test, IOC's level queues).
 
-use hroc_bench::bench::{self, BenchOptions, Session};
-use hroc_bench::bvh::{Bvh, Split};
 use hroc::cull::hzb::{cpu as hzb_cpu, Hzb, Pyramid};
 use hroc::cull::ioc::{cpu as ioc_cpu, Ioc};
+use hroc_bench::bench::{self, BenchOptions, Session};
+use hroc_bench::bvh::{Bvh, Split};
 use hroc_bench::gpu::Gpu;
 use hroc_bench::scene::{paths, Aabb};
 use std::sync::OnceLock;
@@ -152,7 +152,7 @@ fn ioc_level_queues_match_cpu_reference() {
                 let m = marks[n as usize];
                 m & 4 != 0 || (m & 2 != 0 && m & 1 != 0)
             };
-            let cpu = ioc_cpu::levels(&s.bvh(), start, bottom, passed);
+            let cpu = ioc_cpu::levels(s.bvh(), start, bottom, passed);
             assert_eq!(cpu.queues.len(), ioc(&view).debug_queues().len(), "{key} frame {k}: levels");
             for (l, (c, g)) in cpu.queues.iter().zip(ioc(&view).debug_queues()).enumerate() {
                 assert_eq!(c, g, "{key} frame {k}: queue of level {}", start as usize + l);
@@ -291,7 +291,6 @@ fn bench_rows_carry_stats_and_woc_reports() {
     let json = serde_json::to_string(&report).unwrap();
     assert!(json.contains("\"nodes_tested\""));
 }
-
 
 fn ioc(v: &hroc::View) -> &Ioc {
     v.method_state().expect("an ioc view")

@@ -92,7 +92,14 @@ struct MethodArgs {
 
 impl MethodArgs {
     fn options(&self) -> cull::MethodOptions {
-        cull::MethodOptions { soq_base_time: self.soq_base_time, chc_batch: self.chc_batch as usize, chc_nav: self.chc_nav, chc_dmax: self.chc_dmax, chc_smax: self.chc_smax, ioc_range: self.ioc_range }
+        cull::MethodOptions {
+            soq_base_time: self.soq_base_time,
+            chc_batch: self.chc_batch as usize,
+            chc_nav: self.chc_nav,
+            chc_dmax: self.chc_dmax,
+            chc_smax: self.chc_smax,
+            ioc_range: self.ioc_range,
+        }
     }
 }
 
@@ -256,7 +263,9 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     }
     let lists = last.map(|r| r.lists).unwrap_or_default();
     let px = if a.view == View::Groups {
-        let nodes = culler.tested_nodes(&session.culler)?.ok_or_else(|| Error::Arg(format!("{method} tests no boxes; the groups view is for box-testing methods (hroc, roc, roc-all, ioc)")))?;
+        let nodes = culler
+            .tested_nodes(&session.culler)?
+            .ok_or_else(|| Error::Arg(format!("{method} tests no boxes; the groups view is for box-testing methods (hroc, roc, roc-all, ioc)")))?;
         let mut px = views::capture(&gpu, &session.renderer, View::Color, &lists)?;
         let boxes: Vec<_> = nodes.iter().map(|&n| (session.bvh().aabb(n), if session.bvh().is_leaf(n) { [255, 220, 0, 255] } else { [255, 40, 40, 255] })).collect();
         let vp = session.cameras[a.frame].view_proj(session.renderer.aspect());

@@ -141,8 +141,29 @@ fn hroc_cli(args: &[&str]) -> std::process::Output {
 fn bench_rows_and_options_on_the_command_line() {
     let json = std::env::temp_dir().join(format!("hroc-queries-{}.json", std::process::id()));
     let out = hroc_cli(&[
-        "bench", "--scene", "radial-city", "--objects", "300", "--frames", "3", "--resolution", "96x64", "--methods", "noc,oq,soq,chc++",
-        "--soq-base-time", "0.25", "--chc-batch", "8", "--chc-nav", "3", "--chc-dmax", "2", "--chc-smax", "1.2", "--json", json.to_str().unwrap(),
+        "bench",
+        "--scene",
+        "radial-city",
+        "--objects",
+        "300",
+        "--frames",
+        "3",
+        "--resolution",
+        "96x64",
+        "--methods",
+        "noc,oq,soq,chc++",
+        "--soq-base-time",
+        "0.25",
+        "--chc-batch",
+        "8",
+        "--chc-nav",
+        "3",
+        "--chc-dmax",
+        "2",
+        "--chc-smax",
+        "1.2",
+        "--json",
+        json.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();

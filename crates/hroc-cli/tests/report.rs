@@ -45,9 +45,9 @@ fn small_report(out: &Path) -> Output {
 }
 
 fn chromium() -> PathBuf {
-    let found = ["chromium", "chromium-browser", "google-chrome"].iter().find_map(|b| {
-        std::env::var_os("PATH").and_then(|p| std::env::split_paths(&p).map(|d| d.join(b)).find(|f| f.is_file()))
-    });
+    let found = ["chromium", "chromium-browser", "google-chrome"]
+        .iter()
+        .find_map(|b| std::env::var_os("PATH").and_then(|p| std::env::split_paths(&p).map(|d| d.join(b)).find(|f| f.is_file())));
     found.expect("Chromium not found: run scripts/ensure-test-deps.sh (installs Debian's chromium)")
 }
 
@@ -102,7 +102,18 @@ fn report_is_complete_and_renders_in_chromium() {
     }
 
     let md = std::fs::read_to_string(out.join("report.md")).unwrap();
-    for h in ["Frame time (HROC paper Table 1)", "HROC accelerations", "BVH splits", "Culling efficiency", "Frame time along the path", "per-stage GPU time", "Overdraw", "Scale sweep", "High resolution", "Scenes (thesis Table 1)"] {
+    for h in [
+        "Frame time (HROC paper Table 1)",
+        "HROC accelerations",
+        "BVH splits",
+        "Culling efficiency",
+        "Frame time along the path",
+        "per-stage GPU time",
+        "Overdraw",
+        "Scale sweep",
+        "High resolution",
+        "Scenes (thesis Table 1)",
+    ] {
         assert!(md.contains(h), "report.md lacks '{h}'");
     }
 

@@ -275,13 +275,7 @@ fn check_span(what: &str, view: &gltf::buffer::View, offset: usize, count: usize
     let (vi, buffer) = (view.index(), view.buffer());
     let view_end = view.offset().checked_add(view.length());
     if view_end.is_none_or(|end| end > buffer.length()) {
-        return Err(format!(
-            "buffer view {vi}: {} bytes at offset {} exceed buffer {} ({} bytes)",
-            view.length(),
-            view.offset(),
-            buffer.index(),
-            buffer.length()
-        ));
+        return Err(format!("buffer view {vi}: {} bytes at offset {} exceed buffer {} ({} bytes)", view.length(), view.offset(), buffer.index(), buffer.length()));
     }
     let stride = view.stride().unwrap_or(elem);
     if stride < elem {
@@ -392,11 +386,7 @@ fn resolve_uri(uri: &str, base: &Path, path: &Path) -> Result<Option<PathBuf>> {
         return Ok(None);
     }
     let unsafe_uri = || Error::UnsafeUri { uri: uri.to_string(), path: path.to_path_buf() };
-    let decoded = percent_decode(uri).ok_or_else(|| Error::Malformed {
-        format: "glTF",
-        path: path.to_path_buf(),
-        msg: format!("URI '{uri}' has invalid percent-encoding"),
-    })?;
+    let decoded = percent_decode(uri).ok_or_else(|| Error::Malformed { format: "glTF", path: path.to_path_buf(), msg: format!("URI '{uri}' has invalid percent-encoding") })?;
     // Any ':' is a scheme (http:, file:) or a drive letter; both are refused.
     // Both slash kinds separate components so that `..\` is caught everywhere.
     let normal = !decoded.is_empty()

@@ -14,8 +14,8 @@ pub mod paths;
 use glam::{Mat4, Vec3};
 use std::path::Path;
 
-pub use error::{Error, Result};
 pub use camera::{Camera, CameraKey, CameraPath};
+pub use error::{Error, Result};
 pub use hroc::Aabb;
 
 /// Vertex of the shared pool: position and normal, 24 bytes, mirrored in
@@ -118,13 +118,7 @@ impl Scene {
     pub fn stats(&self) -> SceneStats {
         let triangles = self.objects.iter().map(|o| self.meshes[o.mesh as usize].triangle_count() as u64).sum();
         let vertices = self.objects.iter().map(|o| self.meshes[o.mesh as usize].vertices.len() as u64).sum();
-        SceneStats {
-            objects: self.objects.len(),
-            meshes: self.meshes.len(),
-            triangles,
-            vertices,
-            unique_triangles: self.meshes.iter().map(|m| m.triangle_count() as u64).sum(),
-        }
+        SceneStats { objects: self.objects.len(), meshes: self.meshes.len(), triangles, vertices, unique_triangles: self.meshes.iter().map(|m| m.triangle_count() as u64).sum() }
     }
 
     /// Adds an object drawing `mesh` under `transform`; its world box is the
@@ -147,11 +141,7 @@ impl Scene {
                 return Err(Error::InvalidScene(format!("mesh {mi} ('{}'): index count {} is not a multiple of 3", m.name, m.indices.len())));
             }
             if let Some(&i) = m.indices.iter().find(|&&i| i as usize >= m.vertices.len()) {
-                return Err(Error::InvalidScene(format!(
-                    "mesh {mi} ('{}'): index {i} out of range ({} vertices)",
-                    m.name,
-                    m.vertices.len()
-                )));
+                return Err(Error::InvalidScene(format!("mesh {mi} ('{}'): index {i} out of range ({} vertices)", m.name, m.vertices.len())));
             }
             if let Some(v) = m.vertices.iter().find(|v| !v.position.iter().chain(&v.normal).all(|c| c.is_finite())) {
                 return Err(Error::InvalidScene(format!("mesh {mi} ('{}'): non-finite vertex {:?}", m.name, v.position)));

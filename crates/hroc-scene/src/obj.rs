@@ -40,8 +40,7 @@ pub fn load(path: &Path) -> Result<Scene> {
         }
         let positions: Vec<[f32; 3]> = m.positions.chunks_exact(3).map(|p| [p[0], p[1], p[2]]).collect();
         // Faces may give normals for some corners only; then compute them all.
-        let normals =
-            (m.normals.len() == m.positions.len()).then(|| m.normals.chunks_exact(3).map(|n| [n[0], n[1], n[2]]).collect()).and_then(super::gltf::unit_normals);
+        let normals = (m.normals.len() == m.positions.len()).then(|| m.normals.chunks_exact(3).map(|n| [n[0], n[1], n[2]]).collect()).and_then(super::gltf::unit_normals);
         let mesh_name = if model.name.is_empty() { format!("object{i}") } else { model.name };
         scene.meshes.push(Mesh::new(mesh_name, positions, normals, m.indices));
         scene.push_object(scene.meshes.len() as u32 - 1, Mat4::IDENTITY, color(i as u64));

@@ -203,12 +203,7 @@ impl<'a> Caster<'a> {
         let tris = scene
             .meshes
             .iter()
-            .map(|m| {
-                m.indices
-                    .chunks_exact(3)
-                    .map(|t| t.iter().map(|&i| Vec3::from(m.vertices[i as usize].position)).collect::<Vec<_>>().try_into().unwrap())
-                    .collect()
-            })
+            .map(|m| m.indices.chunks_exact(3).map(|t| t.iter().map(|&i| Vec3::from(m.vertices[i as usize].position)).collect::<Vec<_>>().try_into().unwrap()).collect())
             .collect();
         let inv = scene.objects.iter().map(|o| o.transform.inverse()).collect();
         let mut c = Caster { scene, tris, inv, nodes: vec![], order: (0..scene.objects.len() as u32).collect() };
@@ -407,15 +402,7 @@ fn mesh_report() {
         println!("{} ({} triangles):", g.key, s.stats().triangles);
         for (m, u) in s.meshes.iter().zip(uses) {
             let (lo, hi) = (m.bounds.min, m.bounds.max);
-            println!(
-                "  {:20} {:6} tris x {:6} = {:8}  bounds {:.2?} .. {:.2?}",
-                m.name,
-                m.triangle_count(),
-                u,
-                m.triangle_count() * u,
-                lo.to_array(),
-                hi.to_array()
-            );
+            println!("  {:20} {:6} tris x {:6} = {:8}  bounds {:.2?} .. {:.2?}", m.name, m.triangle_count(), u, m.triangle_count() * u, lo.to_array(), hi.to_array());
         }
     }
 }

@@ -3,8 +3,8 @@
 //! panic or a file read outside the asset's folder.
 
 use glam::Vec3;
-use hroc_scene::{self as scene, Scene};
 use hroc_scene::Error;
+use hroc_scene::{self as scene, Scene};
 use serde_json::{json, Value};
 use std::fs;
 use std::path::{Path, PathBuf};

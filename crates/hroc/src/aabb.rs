@@ -83,4 +83,3 @@ impl Aabb {
         Aabb { min, max }
     }
 }
-

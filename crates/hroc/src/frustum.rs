@@ -142,7 +142,9 @@ impl ViewDesc {
         let near = -(planes[4].truncate().dot(eye) + planes[4].w);
         let far_plane = planes[5];
         let far = if far_plane.truncate() == Vec3::ZERO { f32::INFINITY } else { far_plane.truncate().dot(eye) + far_plane.w };
-        if !(near > 0.0) || !(far > near) {
+        // NaN fails both comparisons, so it is refused too.
+        let valid = near > 0.0 && far > near;
+        if !valid {
             return Err(Error::InvalidView(format!(
                 "projection does not match {:?} depth (near {near}, far {far}): a reversed-Z projection needs DepthRange::Reversed",
                 self.depth

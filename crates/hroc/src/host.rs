@@ -2,7 +2,7 @@
 //! The crate docs state the preconditions once; this module implements them.
 
 use crate::bvh::{Bvh, Split};
-use crate::cull::{compact::Compactor, CullMethod, DrawList, Frame, Method, MethodContext, MethodOptions, Stage, Stat};
+use crate::cull::{compact::Compactor, CullMethod, DrawList, Frame, FrameBody, Method, MethodContext, MethodOptions, Stage, Stat};
 use crate::error::{Error, Result};
 use crate::frustum::{DepthRange, ViewDesc};
 use crate::gpu::{dispatch_size, Gpu, GpuTimer};
@@ -526,7 +526,7 @@ impl View {
     /// [`View::cull`] with `body` recorded in place of the method's frame:
     /// for tests of a method's building blocks (`cull::queries::QueryRenderer`).
     #[doc(hidden)]
-    pub fn cull_with(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: &mut dyn FnMut(&mut Frame) -> Result<()>) -> Result<()> {
+    pub fn cull_with(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: FrameBody) -> Result<()> {
         self.record(culler, encoder, input, host, Some(body))
     }
 
@@ -538,7 +538,7 @@ impl View {
         cx
     }
 
-    fn record(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: Option<&mut dyn FnMut(&mut Frame) -> Result<()>>) -> Result<()> {
+    fn record(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: Option<FrameBody>) -> Result<()> {
         if !self.targets.same(&input.targets) {
             let fresh = culler.view_with(self.method, &input.targets, &self.options)?;
             let frames = self.frames;

@@ -130,26 +130,20 @@ fn box_set(max: usize) -> impl Strategy<Value = Vec<Aabb>> {
 }
 
 fn query_box() -> impl Strategy<Value = Aabb> {
-    (prop::array::uniform3(-120.0f32..120.0), prop::array::uniform3(0.0f32..60.0))
-        .prop_map(|(c, h)| Aabb::new(Vec3::from(c) - Vec3::from(h), Vec3::from(c) + Vec3::from(h)))
+    (prop::array::uniform3(-120.0f32..120.0), prop::array::uniform3(0.0f32..60.0)).prop_map(|(c, h)| Aabb::new(Vec3::from(c) - Vec3::from(h), Vec3::from(c) + Vec3::from(h)))
 }
 
 /// A random perspective view-projection looking into the box region.
 fn view_proj() -> impl Strategy<Value = Mat4> {
-    (
-        prop::array::uniform3(-200.0f32..200.0),
-        prop::array::uniform3(-100.0f32..100.0),
-        10.0f32..120.0,
-        0.5f32..2.0,
-        0.01f32..10.0,
-        1.0f32..400.0,
-    )
-        .prop_filter_map("degenerate camera", |(eye, target, fov, aspect, near, depth)| {
+    (prop::array::uniform3(-200.0f32..200.0), prop::array::uniform3(-100.0f32..100.0), 10.0f32..120.0, 0.5f32..2.0, 0.01f32..10.0, 1.0f32..400.0).prop_filter_map(
+        "degenerate camera",
+        |(eye, target, fov, aspect, near, depth)| {
             let (eye, target) = (Vec3::from(eye), Vec3::from(target));
             let dir = target - eye;
             let up = if dir.normalize_or_zero().y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
             (dir.length() > 1e-3).then(|| Mat4::perspective_rh(fov.to_radians(), aspect, near, near + depth) * Mat4::look_at_rh(eye, target, up))
-        })
+        },
+    )
 }
 
 /// Any finite f32, with extra weight on huge, tiny and repeated values.

@@ -51,7 +51,12 @@ pub fn open_device() -> Result<(wgpu::Device, wgpu::Queue), String> {
             return Err(format!("{} lacks {missing:?}", adapter.get_info().name));
         }
         adapter
-            .request_device(&wgpu::DeviceDescriptor { label: Some("forward host"), required_features: hroc::REQUIRED_FEATURES, required_limits: adapter.limits(), ..Default::default() })
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("forward host"),
+                required_features: hroc::REQUIRED_FEATURES,
+                required_limits: adapter.limits(),
+                ..Default::default()
+            })
             .await
             .map_err(|e| format!("cannot open device: {e}"))
     })
@@ -155,7 +160,12 @@ impl ForwardHost {
         let indices = init("indices", bytemuck::cast_slice(&scene.indices), U::INDEX);
         let instances = init("instances", bytemuck::cast_slice(&scene.instances), U::STORAGE);
         let camera = device.create_buffer(&wgpu::BufferDescriptor { label: Some("camera"), size: 80, usage: U::UNIFORM | U::COPY_DST, mapped_at_creation: false });
-        let seen = device.create_buffer(&wgpu::BufferDescriptor { label: Some("seen"), size: (n as u64 * 4).max(16), usage: U::STORAGE | U::COPY_SRC | U::COPY_DST, mapped_at_creation: false });
+        let seen = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("seen"),
+            size: (n as u64 * 4).max(16),
+            usage: U::STORAGE | U::COPY_SRC | U::COPY_DST,
+            mapped_at_creation: false,
+        });
 
         // hroc: the culler over the host's objects, and one view.
         let culler = Culler::new(device, queue, &CullerDesc::new(&scene.objects))?;
@@ -167,7 +177,11 @@ impl ForwardHost {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("host"),
             entries: &[
-                entry(0, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None }, wgpu::ShaderStages::VERTEX_FRAGMENT),
+                entry(
+                    0,
+                    wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+                    wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ),
                 entry(1, storage(true), wgpu::ShaderStages::VERTEX_FRAGMENT),
                 entry(2, storage(false), wgpu::ShaderStages::FRAGMENT),
             ],
@@ -184,7 +198,11 @@ impl ForwardHost {
         // hroc: the marks snippet at group 1 and the culler's marks layout there.
         let source = format!("{}\n{}", include_str!("shader.wgsl"), hroc::marks_wgsl(1));
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("forward"), source: wgpu::ShaderSource::Wgsl(source.into()) });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("forward"), bind_group_layouts: &[Some(&layout), Some(culler.marks_layout())], immediate_size: 0 });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("forward"),
+            bind_group_layouts: &[Some(&layout), Some(culler.marks_layout())],
+            immediate_size: 0,
+        });
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<Vertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
@@ -209,7 +227,12 @@ impl ForwardHost {
                     bias: Default::default(),
                 }),
                 multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some(if blend { "fs_blend" } else { "fs_opaque" }), compilation_options: Default::default(), targets: &targets }),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(if blend { "fs_blend" } else { "fs_opaque" }),
+                    compilation_options: Default::default(),
+                    targets: &targets,
+                }),
                 multiview_mask: None,
                 cache: None,
             })
@@ -241,13 +264,19 @@ impl ForwardHost {
     pub fn frame(&mut self, view: Mat4, proj: Mat4, cut: bool) -> hroc::Result<FrameOutput> {
         let cam = CameraUniform { view_proj: (proj * view).to_cols_array_2d(), light_dir: Vec3::new(0.4, 0.8, 0.45).normalize().extend(0.0).to_array() };
         self.queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&cam));
-        let (depth_view, ids_view, color_view) = (self.depth.create_view(&Default::default()), self.ids.create_view(&Default::default()), self.color.create_view(&Default::default()));
+        let (depth_view, ids_view, color_view) =
+            (self.depth.create_view(&Default::default()), self.ids.create_view(&Default::default()), self.color.create_view(&Default::default()));
         let mut encoder = self.device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&self.seen, 0, None);
         // Clear the targets (hroc does not touch them).
         drop(begin_pass(&mut encoder, &color_view, &ids_view, &depth_view, Some(self.depth_range)));
         let mut drawn_lists = Vec::new();
-        let input = FrameInput { view: ViewDesc { view, proj, depth: self.depth_range }, targets: ViewTargets { depth: &self.depth, depth_range: self.depth_range, ids: Some(&self.ids) }, cut, time: 0.0 };
+        let input = FrameInput {
+            view: ViewDesc { view, proj, depth: self.depth_range },
+            targets: ViewTargets { depth: &self.depth, depth_range: self.depth_range, ids: Some(&self.ids) },
+            cut,
+            time: 0.0,
+        };
         // hroc: cull, and draw each list it hands back with our own pipelines.
         self.view.cull(&self.culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
             let mut pass = begin_pass(enc, &color_view, &ids_view, &depth_view, None);
@@ -291,7 +320,13 @@ impl ForwardHost {
 }
 
 /// A render pass on the host's targets: clears them for `Some(depth range)`, else loads them.
-fn begin_pass<'e>(enc: &'e mut wgpu::CommandEncoder, color: &wgpu::TextureView, ids: &wgpu::TextureView, depth: &wgpu::TextureView, clear: Option<DepthRange>) -> wgpu::RenderPass<'e> {
+fn begin_pass<'e>(
+    enc: &'e mut wgpu::CommandEncoder,
+    color: &wgpu::TextureView,
+    ids: &wgpu::TextureView,
+    depth: &wgpu::TextureView,
+    clear: Option<DepthRange>,
+) -> wgpu::RenderPass<'e> {
     let far = if clear == Some(DepthRange::Reversed) { 0.0 } else { 1.0 };
     let clear = clear.is_some();
     let op = |c: wgpu::Color| wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(c) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store };

@@ -113,7 +113,9 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     let frames = s.cameras.len();
     let warm = warmup_frames(frames);
     let bar = if o.progress { indicatif::ProgressBar::new(frames as u64) } else { indicatif::ProgressBar::hidden() };
-    bar.set_style(indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames, {elapsed} (eta {eta})").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()));
+    bar.set_style(
+        indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames, {elapsed} (eta {eta})").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
     bar.set_message(format!("bench {}", s.scene.name));
     let mut accs: BTreeMap<String, Acc> = BTreeMap::new();
     let mut ref_culled = 0u64;
@@ -167,7 +169,15 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
                 ms_p95: percentile(timed, 0.95),
                 gpu_ms_mean: mean(&a.gpu),
                 c_over_n: a.culled as f64 / (n * frames as u64) as f64,
-                c_over_r: if ref_culled == 0 { if a.culled == 0 { 1.0 } else { f64::INFINITY } } else { a.culled as f64 / ref_culled as f64 },
+                c_over_r: if ref_culled == 0 {
+                    if a.culled == 0 {
+                        1.0
+                    } else {
+                        f64::INFINITY
+                    }
+                } else {
+                    a.culled as f64 / ref_culled as f64
+                },
                 false_negatives: a.fneg,
                 missing_pixels: a.missing,
                 stray_pixels: a.stray,

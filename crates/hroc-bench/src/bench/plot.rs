@@ -143,8 +143,7 @@ fn render(d: &impl Draw, size: (u32, u32)) -> Result<Figure> {
         root.present().map_err(|e| fail(e.to_string()))?;
     }
     let mut png = Vec::new();
-    image::ImageEncoder::write_image(image::codecs::png::PngEncoder::new(&mut png), &rgb, w, h, image::ExtendedColorType::Rgb8)
-        .map_err(|e| fail(e.to_string()))?;
+    image::ImageEncoder::write_image(image::codecs::png::PngEncoder::new(&mut png), &rgb, w, h, image::ExtendedColorType::Rgb8).map_err(|e| fail(e.to_string()))?;
     Ok(Figure { svg, png, size })
 }
 
@@ -370,8 +369,7 @@ impl Draw for Bars<'_> {
         let vertical = widest + 8 > slot;
         let x_area = if vertical { (widest + 14).min(plot.dim_in_pixel().1 / 3) } else { tallest + 16 };
 
-        let mut chart =
-            ChartBuilder::on(&plot).margin(margin).x_label_area_size(x_area).y_label_area_size(y_area).build_cartesian_2d(0.0..n as f64, 0.0..self.y_max)?;
+        let mut chart = ChartBuilder::on(&plot).margin(margin).x_label_area_size(x_area).y_label_area_size(y_area).build_cartesian_2d(0.0..n as f64, 0.0..self.y_max)?;
         let sci = wants_sci(0.0, self.y_max);
         let fy = |v: &f64| number(*v, sci);
         chart
@@ -551,11 +549,7 @@ mod tests {
     }
 
     fn layers() -> Vec<(String, Vec<f64>)> {
-        vec![
-            ("draw visible".into(), vec![1.0, 1.2, 0.9, 1.0]),
-            ("find groups".into(), vec![0.3, 0.3, 0.4, 0.35]),
-            ("test groups".into(), vec![0.8, 0.5, 0.7, 0.45]),
-        ]
+        vec![("draw visible".into(), vec![1.0, 1.2, 0.9, 1.0]), ("find groups".into(), vec![0.3, 0.3, 0.4, 0.35]), ("test groups".into(), vec![0.8, 0.5, 0.7, 0.45])]
     }
 
     #[test]

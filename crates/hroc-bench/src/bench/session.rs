@@ -120,7 +120,7 @@ impl<'g> Session<'g> {
 
     /// [`run_camera`](Self::run_camera) with `body` recorded in place of
     /// the method's frame ([`View::cull_with`]).
-    pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, body: Option<&mut dyn FnMut(&mut hroc::cull::Frame) -> hroc::Result<()>>) -> Result<FrameResult> {
+    pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, body: Option<hroc::cull::FrameBody>) -> Result<FrameResult> {
         let start = std::time::Instant::now();
         let aspect = self.renderer.aspect();
         let r = &self.renderer;
@@ -237,7 +237,6 @@ impl<'g> Session<'g> {
             stray_pixels: strays,
         })
     }
-
 }
 
 /// Tells a rasterizer's stray fragment from geometry: the fragment's depth
@@ -268,7 +267,7 @@ impl Stray {
         let b = hroc::cull::hroc::cpu::padded(*bounds, eye, self.pixel);
         let (t0, t1) = ((b.min - eye) / dir, (b.max - eye) / dir);
         let (enter, exit) = (t0.min(t1).max_element().max(1.0), t0.max(t1).min_element());
-        if !(exit >= enter) {
+        if exit.is_nan() || enter.is_nan() || exit < enter {
             return true;
         }
         let (c0, c1) = (self.view_proj * eye.extend(1.0), self.view_proj * dir.extend(0.0));

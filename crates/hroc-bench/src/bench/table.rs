@@ -17,7 +17,11 @@ fn grid(head: &[String], rows: &[Vec<String>], markdown: bool) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "{}", line(head));
     if markdown {
-        let _ = writeln!(out, "|{}|", widths.iter().enumerate().map(|(i, w)| if i == 0 { format!(":{}", "-".repeat(w + 1)) } else { format!("{}:", "-".repeat(w + 1)) }).collect::<Vec<_>>().join("|"));
+        let _ = writeln!(
+            out,
+            "|{}|",
+            widths.iter().enumerate().map(|(i, w)| if i == 0 { format!(":{}", "-".repeat(w + 1)) } else { format!("{}:", "-".repeat(w + 1)) }).collect::<Vec<_>>().join("|")
+        );
     }
     for row in rows {
         let _ = writeln!(out, "{}", line(row));

@@ -149,11 +149,8 @@ impl Renderer {
             verts.extend_from_slice(&m.vertices);
             idx.extend_from_slice(&m.indices);
         }
-        let objects: Vec<ObjectData> = scene
-            .objects
-            .iter()
-            .map(|o| ObjectData { model: o.transform.to_cols_array_2d(), color: [o.color[0], o.color[1], o.color[2], 1.0] })
-            .collect();
+        let objects: Vec<ObjectData> =
+            scene.objects.iter().map(|o| ObjectData { model: o.transform.to_cols_array_2d(), color: [o.color[0], o.color[1], o.color[2], 1.0] }).collect();
         let descs = object_descs(scene);
         use wgpu::BufferUsages as U;
         let n = scene.objects.len() as u32;
@@ -182,20 +179,18 @@ impl Renderer {
             let constants = [("MARK", if mark { 1.0 } else { 0.0 })];
             let blend = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
             let targets_draw = [Some(wgpu::ColorTargetState::from(COLOR_FORMAT)), Some(wgpu::ColorTargetState::from(ID_FORMAT))];
-            let targets_over = [Some(wgpu::ColorTargetState {
-                format: OVERDRAW_FORMAT,
-                blend: Some(wgpu::BlendState { color: blend, alpha: blend }),
-                write_mask: wgpu::ColorWrites::ALL,
-            })];
+            let targets_over =
+                [Some(wgpu::ColorTargetState { format: OVERDRAW_FORMAT, blend: Some(wgpu::BlendState { color: blend, alpha: blend }), write_mask: wgpu::ColorWrites::ALL })];
             gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(if overdraw { "overdraw" } else if mark { "draw+mark" } else { "draw" }),
+                label: Some(if overdraw {
+                    "overdraw"
+                } else if mark {
+                    "draw+mark"
+                } else {
+                    "draw"
+                }),
                 layout: Some(&layout),
-                vertex: wgpu::VertexState {
-                    module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[Some(vertex_layout.clone())],
-                },
+                vertex: wgpu::VertexState { module: &module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(vertex_layout.clone())] },
                 primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
                 depth_stencil: (!overdraw).then(|| wgpu::DepthStencilState {
                     format: DEPTH_FORMAT,

@@ -16,8 +16,8 @@ use winit::window::{Window, WindowId};
 
 use super::fly::{Fly, Move};
 use super::ui::{self, Action, Status, VIEWS};
-use hroc_bench::bench::Session;
 use hroc::{Method, View as CullView};
+use hroc_bench::bench::Session;
 use hroc_bench::error::{Error, Result};
 use hroc_bench::render::{views, views::View, DrawList};
 use hroc_bench::scene::{Camera, Scene};
@@ -138,9 +138,7 @@ impl<'g> App<'g> {
     fn open(&mut self, event_loop: &ActiveEventLoop) -> Result<()> {
         let gpu = self.session.gpu;
         let t = &self.session.renderer.targets;
-        let attrs = Window::default_attributes()
-            .with_title(format!("hroc view: {}", self.session.scene.name))
-            .with_inner_size(winit::dpi::PhysicalSize::new(t.width, t.height));
+        let attrs = Window::default_attributes().with_title(format!("hroc view: {}", self.session.scene.name)).with_inner_size(winit::dpi::PhysicalSize::new(t.width, t.height));
         let window = Arc::new(event_loop.create_window(attrs).map_err(|e| Error::Gpu(format!("cannot open a window: {e}")))?);
         let surface = self.instance.create_surface(window.clone()).map_err(|e| Error::Gpu(format!("cannot draw into the window: {e}")))?;
         if !gpu.adapter.is_surface_supported(&surface) {
@@ -280,11 +278,7 @@ impl<'g> App<'g> {
         let gpu = self.session.gpu;
         let check = std::mem::take(&mut self.check_next);
         // `noc` first, when the frame is checked or the method (`ref`) needs its visible set.
-        let truth = if check || self.culler.wants_oracle() {
-            Some(self.session.truth_at(*camera, self.clock)?.1)
-        } else {
-            None
-        };
+        let truth = if check || self.culler.wants_oracle() { Some(self.session.truth_at(*camera, self.clock)?.1) } else { None };
         if let (true, Some(t)) = (self.culler.wants_oracle(), &truth) {
             self.culler.set_oracle(&self.session.culler, &t.visible)?;
         }

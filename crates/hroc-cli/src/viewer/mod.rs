@@ -13,9 +13,9 @@ pub mod ui;
 
 use std::path::PathBuf;
 
+use hroc::Method;
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc::Method;
 use hroc_bench::error::{Error, Result};
 use hroc_bench::gpu::Gpu;
 use hroc_bench::render::views::View;

@@ -2,8 +2,8 @@
 //! reads [`Status`] and returns [`Action`]s; the app applies them, as it
 //! applies the same actions from the keyboard.
 
-use hroc_bench::bench::Check;
 use hroc::Method;
+use hroc_bench::bench::Check;
 use hroc_bench::render::views::View;
 
 /// What the user asked for this frame.

@@ -58,9 +58,7 @@ struct Prop {
 }
 
 fn prop_meshes(b: &mut Builder) -> Vec<Prop> {
-    let lamp = cylinder(0.08, 6.0, 6)
-        .with(box_at(Vec3::new(0.0, 6.0, 0.7), Vec3::new(0.12, 0.1, 1.5)))
-        .with(box_at(Vec3::new(0.0, 5.9, 1.35), Vec3::new(0.3, 0.15, 0.5)));
+    let lamp = cylinder(0.08, 6.0, 6).with(box_at(Vec3::new(0.0, 6.0, 0.7), Vec3::new(0.12, 0.1, 1.5))).with(box_at(Vec3::new(0.0, 5.9, 1.35), Vec3::new(0.3, 0.15, 0.5)));
     let tree = cylinder(0.18, 2.5, 6).with(icosphere(1).scaled(Vec3::new(2.2, 2.6, 2.2)).at(Vec3::Y * 4.2));
     let bench = block(1.8, 0.06, 0.5)
         .at(Vec3::Y * 0.45)

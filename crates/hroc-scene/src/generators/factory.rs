@@ -209,8 +209,7 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
     let rack_m = b.mesh("rack", rack());
     let pipe = b.mesh("pipe", cylinder(1.0, 1.0, 12).rotated(Quat::from_rotation_z(-FRAC_PI_2)));
     let tank_m = b.mesh("tank", tank());
-    let machines =
-        [b.mesh("lathe", lathe_machine()), b.mesh("press", press()), b.mesh("cnc", cnc()), b.mesh("compressor", compressor()), b.mesh("forklift", forklift())];
+    let machines = [b.mesh("lathe", lathe_machine()), b.mesh("press", press()), b.mesh("cnc", cnc()), b.mesh("compressor", compressor()), b.mesh("forklift", forklift())];
     let robot_m = b.mesh("robot", robot());
     let conveyor_m = b.mesh("conveyor", conveyor());
     let mut rr = Rng::new(b.rng.next_u64());
@@ -341,11 +340,7 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
                             b.push(conveyor_m, trs(Vec3::new(x0 + 4.0 + u as f32 * 6.0, 0.0, z), 0.0, Vec3::ONE), [0.3, 0.3, 0.32]);
                             let side = if u % 2 == 0 { 1.6 } else { -1.6 };
                             let color = b.rng.color(&[[0.9, 0.5, 0.1], [0.9, 0.8, 0.2]], 0.05);
-                            b.push(
-                                robot_m,
-                                trs(Vec3::new(x0 + 4.0 + u as f32 * 6.0, 0.0, z + side), if side > 0.0 { -FRAC_PI_2 } else { FRAC_PI_2 }, Vec3::ONE),
-                                color,
-                            );
+                            b.push(robot_m, trs(Vec3::new(x0 + 4.0 + u as f32 * 6.0, 0.0, z + side), if side > 0.0 { -FRAC_PI_2 } else { FRAC_PI_2 }, Vec3::ONE), color);
                         }
                         for u in 0..5 {
                             slots.push(Slot { pos: Vec3::new(x0 + 2.5 + u as f32 * 3.8, 0.0, z - 2.2), yaw: 0.0, max_h: 6.0, floor: true });
@@ -366,11 +361,8 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         let color = b.rng.color(&[[0.6, 0.3, 0.15], [0.3, 0.5, 0.3], [0.7, 0.7, 0.7]], 0.05);
         for k in 0..side {
             let (a, c) = (line(k), line(k + 1));
-            let m = if along_x {
-                trs(Vec3::new(a, y, line(i) + 1.0), 0.0, Vec3::new(c - a, r, r))
-            } else {
-                trs(Vec3::new(line(i) + 1.0, y, a), -FRAC_PI_2, Vec3::new(c - a, r, r))
-            };
+            let m =
+                if along_x { trs(Vec3::new(a, y, line(i) + 1.0), 0.0, Vec3::new(c - a, r, r)) } else { trs(Vec3::new(line(i) + 1.0, y, a), -FRAC_PI_2, Vec3::new(c - a, r, r)) };
             b.push(pipe, m, color);
         }
     }

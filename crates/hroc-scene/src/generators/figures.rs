@@ -87,11 +87,8 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         let scale = b.rng.range(0.55, 1.25);
         let stretch = Vec3::new(1.0, b.rng.range(0.7, 1.8), 1.0) * scale;
         let jitter = b.rng.vec2(-0.2, 0.2) * CELL;
-        let rot = if centred {
-            Quat::from_rotation_x(b.rng.range(0.0, TAU)) * Quat::from_rotation_z(b.rng.range(0.0, TAU))
-        } else {
-            Quat::from_rotation_x(b.rng.range(-0.15, 0.15))
-        };
+        let rot =
+            if centred { Quat::from_rotation_x(b.rng.range(0.0, TAU)) * Quat::from_rotation_z(b.rng.range(0.0, TAU)) } else { Quat::from_rotation_x(b.rng.range(-0.15, 0.15)) };
         let rot = Quat::from_rotation_y(b.rng.range(0.0, TAU)) * rot;
         let color = hsv(b.rng.f32(), b.rng.range(0.4, 0.9), b.rng.range(0.5, 0.95));
         let (x, z, y) = ((cell % g) as f32, (cell / g) as f32, layer as f32 * 2.0);

@@ -110,8 +110,7 @@ fn fill_shelf(b: &mut Builder, section: u32, x0: f32, w: f32, y: f32, out: &mut 
                 let color = rng.color(LEATHER, 0.15);
                 let kind = rng.weighted(&[0.45, 0.25, 0.3]);
                 // Height axis along +x, thickness axis down.
-                let m =
-                    Mat4::from_translation(Vec3::new(x, yy + t, front - d * 0.5)) * Mat4::from_rotation_z(-FRAC_PI_2) * Mat4::from_scale(Vec3::new(t, len, d));
+                let m = Mat4::from_translation(Vec3::new(x, yy + t, front - d * 0.5)) * Mat4::from_rotation_z(-FRAC_PI_2) * Mat4::from_scale(Vec3::new(t, len, d));
                 out.push(Book { section, local: m, kind, color });
                 yy += t;
             }

@@ -54,42 +54,17 @@ static GENERATORS: [Generator; 10] = [
         default_objects: 20_000,
         paper_objects: 72_000,
     },
-    Generator {
-        key: "fantasy",
-        description: "few, very detailed objects: rocks, trees, arches, crystals (HROC FN)",
-        default_objects: 1_200,
-        paper_objects: 7_437,
-    },
-    Generator {
-        key: "factory",
-        description: "wide factory hall: racks, machines, tanks, barrels, pipes (HROC FC)",
-        default_objects: 15_000,
-        paper_objects: 46_600,
-    },
-    Generator {
-        key: "radial-city",
-        description: "radial city of low-poly buildings, tall towers at the centre (HROC RC)",
-        default_objects: 20_000,
-        paper_objects: 73_812,
-    },
-    Generator {
-        key: "radial-city-fast",
-        description: "radial-city with fast rotations and a backward walk (HROC RC')",
-        default_objects: 20_000,
-        paper_objects: 73_812,
-    },
+    Generator { key: "fantasy", description: "few, very detailed objects: rocks, trees, arches, crystals (HROC FN)", default_objects: 1_200, paper_objects: 7_437 },
+    Generator { key: "factory", description: "wide factory hall: racks, machines, tanks, barrels, pipes (HROC FC)", default_objects: 15_000, paper_objects: 46_600 },
+    Generator { key: "radial-city", description: "radial city of low-poly buildings, tall towers at the centre (HROC RC)", default_objects: 20_000, paper_objects: 73_812 },
+    Generator { key: "radial-city-fast", description: "radial-city with fast rotations and a backward walk (HROC RC')", default_objects: 20_000, paper_objects: 73_812 },
     Generator {
         key: "satellites",
         description: "field of satellites, rocks and a few planets of varied size and detail (HROC ST)",
         default_objects: 20_000,
         paper_objects: 120_000,
     },
-    Generator {
-        key: "library",
-        description: "rows of shelves without backs; the books are the occluders (statistical OQ paper)",
-        default_objects: 15_000,
-        paper_objects: 40_000,
-    },
+    Generator { key: "library", description: "rows of shelves without backs; the books are the occluders (statistical OQ paper)", default_objects: 15_000, paper_objects: 40_000 },
     Generator { key: "teapots", description: "randomly placed teapots in a volume (statistical OQ paper)", default_objects: 5_000, paper_objects: 5_000 },
 ];
 

@@ -56,9 +56,7 @@ fn bed() -> Part {
 }
 
 fn wardrobe() -> Part {
-    block(1.2, 2.0, 0.6)
-        .with(box_at(Vec3::new(-0.05, 1.0, 0.31), Vec3::new(0.03, 0.3, 0.03)))
-        .with(box_at(Vec3::new(0.05, 1.0, 0.31), Vec3::new(0.03, 0.3, 0.03)))
+    block(1.2, 2.0, 0.6).with(box_at(Vec3::new(-0.05, 1.0, 0.31), Vec3::new(0.03, 0.3, 0.03))).with(box_at(Vec3::new(0.05, 1.0, 0.31), Vec3::new(0.03, 0.3, 0.03)))
 }
 
 fn bookshelf() -> Part {
@@ -211,8 +209,7 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
         let color = b.rng.tint(wall_color, 0.08);
         let piece = |b: &mut Builder, u0: f32, u1: f32, y0: f32, y1: f32| {
             let (c, len) = ((u0 + u1) * 0.5, u1 - u0);
-            let (pos, size) =
-                if along_x { (Vec3::new(c, y0, w), Vec3::new(len, y1 - y0, WALL_T)) } else { (Vec3::new(w, y0, c), Vec3::new(WALL_T, y1 - y0, len)) };
+            let (pos, size) = if along_x { (Vec3::new(c, y0, w), Vec3::new(len, y1 - y0, WALL_T)) } else { (Vec3::new(w, y0, c), Vec3::new(WALL_T, y1 - y0, len)) };
             b.push(unit, trs(pos, 0.0, size), color);
         };
         let (u0, u1) = (start - WALL_T * 0.5, end + WALL_T * 0.5);

@@ -462,14 +462,7 @@ pub fn tetrahedron(r: f32) -> Part {
 
 /// Gabled roof (triangular prism) over x, z in [-0.5, 0.5], y in [0, 1].
 pub fn gable() -> Part {
-    let v = [
-        Vec3::new(-0.5, 0.0, -0.5),
-        Vec3::new(0.5, 0.0, -0.5),
-        Vec3::new(0.0, 1.0, -0.5),
-        Vec3::new(-0.5, 0.0, 0.5),
-        Vec3::new(0.5, 0.0, 0.5),
-        Vec3::new(0.0, 1.0, 0.5),
-    ];
+    let v = [Vec3::new(-0.5, 0.0, -0.5), Vec3::new(0.5, 0.0, -0.5), Vec3::new(0.0, 1.0, -0.5), Vec3::new(-0.5, 0.0, 0.5), Vec3::new(0.5, 0.0, 0.5), Vec3::new(0.0, 1.0, 0.5)];
     let faces: [&[usize]; 5] = [&[0, 1, 2], &[3, 4, 5], &[0, 1, 4, 3], &[1, 2, 5, 4], &[2, 0, 3, 5]];
     convex(&v, &faces)
 }

@@ -91,10 +91,7 @@ impl fmt::Display for Split {
 impl FromStr for Split {
     type Err = String;
     fn from_str(s: &str) -> Result<Self, String> {
-        Split::ALL
-            .into_iter()
-            .find(|x| x.name().eq_ignore_ascii_case(s))
-            .ok_or_else(|| format!("unknown split '{s}' (expected sah, mid or eq)"))
+        Split::ALL.into_iter().find(|x| x.name().eq_ignore_ascii_case(s)).ok_or_else(|| format!("unknown split '{s}' (expected sah, mid or eq)"))
     }
 }
 

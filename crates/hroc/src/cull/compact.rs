@@ -1,10 +1,10 @@
-//! GPU ordered compaction: flags[i] != 0 selects command i; the survivors
+//! GPU ordered compaction: `flags[i] != 0` selects command i; the survivors
 //! are packed in order and their number written to a count buffer that the
 //! multi-draw-indirect-count reads (HROC §4.1, thesis prefix-sum packing).
 
+use crate::cull::DrawList;
 use crate::gpu::{dispatch_size, Gpu};
 use crate::layout::{CompactParams, DrawCommand};
-use crate::cull::DrawList;
 
 const WG: u32 = 256;
 
@@ -50,11 +50,7 @@ impl Compactor {
     /// A compactor for lists of `n` items.
     pub fn new(gpu: &Gpu, n: u32) -> Self {
         let blocks = n.div_ceil(WG).max(1);
-        let params = gpu.buffer_init(
-            "compact params",
-            bytemuck::bytes_of(&CompactParams { n, blocks, _pad: [0; 2] }),
-            wgpu::BufferUsages::UNIFORM,
-        );
+        let params = gpu.buffer_init("compact params", bytemuck::bytes_of(&CompactParams { n, blocks, _pad: [0; 2] }), wgpu::BufferUsages::UNIFORM);
         let block_sums = gpu.buffer("block sums", blocks as u64 * 4, wgpu::BufferUsages::STORAGE);
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("compact"),

@@ -41,6 +41,9 @@ pub struct DrawList {
     pub max_count: u32,
 }
 
+/// Recorded in place of a method's frame (`View::cull_with`, for tests).
+pub type FrameBody<'b> = &'b mut dyn FnMut(&mut Frame) -> Result<()>;
+
 /// Everything a method sees while recording one frame of one view.
 pub struct Frame<'a> {
     /// The device the culler was created on.

@@ -1,8 +1,8 @@
 //! `noc`: draw everything, in object order. Also the ground truth.
 
 use super::{CullMethod, Frame, Method, Stage};
-use crate::host::Phase;
 use crate::error::Result;
+use crate::host::Phase;
 
 /// The `noc` method: every object, no culling, in object order.
 pub struct NoCulling;
@@ -12,9 +12,7 @@ impl CullMethod for NoCulling {
         Method::Noc
     }
 
-    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {
-
-    }
+    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
 
     fn as_any(&self) -> &dyn std::any::Any {
         self

@@ -3,11 +3,11 @@
 //! before the frame (outside the timed region) and multi-drawn in one batch.
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
-use crate::host::Phase;
+use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::Gpu;
+use crate::host::Phase;
 use crate::layout::DrawCommand;
-use crate::cull::DrawList;
 
 /// The `ref` method: draws the list set by `set_oracle` (`noc`'s ID image).
 pub struct Reference {
@@ -20,7 +20,7 @@ impl Reference {
     pub fn new(cx: &MethodContext) -> Result<Self> {
         let n = cx.object_count;
         use wgpu::BufferUsages as U;
-        let all = cx.gpu.read(&cx.commands, 0, n as u64)?;
+        let all = cx.gpu.read(cx.commands, 0, n as u64)?;
         Ok(Reference {
             all,
             list: DrawList {
@@ -37,9 +37,7 @@ impl CullMethod for Reference {
         Method::Ref
     }
 
-    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {
-
-    }
+    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
 
     fn as_any(&self) -> &dyn std::any::Any {
         self

@@ -28,13 +28,13 @@
 //! `LessEqual` with the bias.
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::host::Phase;
+use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::{dispatch_size, Gpu};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::host::Phase;
 use crate::layout::DrawArgs;
 use crate::shaders::source as shader_source;
-use crate::cull::DrawList;
 
 /// The box rasterization test (`roc_boxes.wgsl`), shared with IOC: a
 /// pipeline with forced early-Z on a read-only depth attachment, no depth
@@ -128,7 +128,15 @@ impl Roc {
         let (u_list, u_job) = compactor.packed_list(gpu, "roc U list", if all { &fresh } else { &tested }, cx.commands);
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("roc"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false), storage_entry(3, false), storage_entry(4, false), storage_entry(5, false), storage_entry(6, false)],
+            entries: &[
+                uniform_entry(0),
+                storage_entry(1, true),
+                storage_entry(2, false),
+                storage_entry(3, false),
+                storage_entry(4, false),
+                storage_entry(5, false),
+                storage_entry(6, false),
+            ],
         });
         let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("roc"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("roc.wgsl", &shader_source("roc.wgsl"));
@@ -176,7 +184,11 @@ impl Roc {
 
 impl CullMethod for Roc {
     fn method(&self) -> Method {
-        if self.all { Method::RocAll } else { Method::Roc }
+        if self.all {
+            Method::RocAll
+        } else {
+            Method::Roc
+        }
     }
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {

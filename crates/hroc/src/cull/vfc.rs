@@ -2,12 +2,12 @@
 //! compaction into a packed list.
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
-use crate::host::Phase;
+use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::dispatch_size;
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::host::Phase;
 use crate::shaders::source as shader_source;
-use crate::cull::DrawList;
 
 /// The `vfc` method: per-object frustum test, compacted into one list.
 pub struct FrustumCuller {
@@ -25,21 +25,14 @@ impl FrustumCuller {
         let n = cx.object_count;
         use wgpu::BufferUsages as U;
         let flags = gpu.buffer("vfc flags", n as u64 * 4, U::STORAGE);
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("vfc"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false)],
-        });
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("vfc"), entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false)] });
         let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("vfc"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("vfc.wgsl", &shader_source("vfc.wgsl"));
         let compactor = Compactor::new(gpu, n);
         let (list, job) = compactor.packed_list(gpu, "vfc list", &flags, cx.commands);
-        FrustumCuller {
-            pipeline: gpu.compute_pipeline(&module, "main", Some(&pl), &[]),
-            bind: gpu.bind_buffers(&layout, &[cx.frame, cx.bounds, &flags]),
-            compactor,
-            job,
-            list,
-        }
+        FrustumCuller { pipeline: gpu.compute_pipeline(&module, "main", Some(&pl), &[]), bind: gpu.bind_buffers(&layout, &[cx.frame, cx.bounds, &flags]), compactor, job, list }
     }
 }
 
@@ -48,9 +41,7 @@ impl CullMethod for FrustumCuller {
         Method::Vfc
     }
 
-    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {
-
-    }
+    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
 
     fn as_any(&self) -> &dyn std::any::Any {
         self

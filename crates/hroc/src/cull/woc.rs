@@ -1,4 +1,4 @@
-//! `woc`: warping-based occlusion culling [LKE18] (the HROC paper's WOC
+//! `woc`: warping-based occlusion culling \[LKE18\] (the HROC paper's WOC
 //! row: single-layer warping, holes left open). One frame:
 //! 1. warp — last frame's final depth buffer, forward-splatted into the
 //!    current view (one point per old pixel, `atomicMin` on depth bits);
@@ -15,7 +15,7 @@
 //! object seen only there is culled. The bench reports its false negatives
 //! and missing pixels as they are.
 //!
-//! [LKE18] itself is an *iterative backward* warp (each new pixel searches
+//! \[LKE18\] itself is an *iterative backward* warp (each new pixel searches
 //! the old depth buffer along the motion field), which fills the holes a
 //! forward splat leaves where the view magnifies (walking forward). This is
 //! the simpler forward splat the issue asks for: the `far_texels` statistic
@@ -27,12 +27,12 @@ use glam::{DMat4, Mat4};
 
 use super::hzb::{depth_texture_entry, HizTest, Pyramid};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::host::Phase;
+use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::host::Phase;
 use crate::shaders::source as shader_source;
-use crate::cull::DrawList;
 
 /// The `woc` method: forward-warped last-frame depth, Hi-Z tested before drawing.
 pub struct Woc {

@@ -4,7 +4,7 @@
 //!
 //! The run is a fixed sequence of measurements (each a [`super::run_scene`],
 //! so every row is also checked against `noc`), then one pass that writes
-//! the document: [`sections`] turns the measurements into tables and
+//! the document: `sections` turns the measurements into tables and
 //! figures, [`doc`] renders them as Markdown and HTML.
 
 pub mod doc;
@@ -105,14 +105,14 @@ impl Plan {
         if heat_frame >= a.frames {
             return Err(Error::Arg(format!("--heat-frame {heat_frame} is past the last frame ({} frames)", a.frames)));
         }
-        let splits = list(&a.splits)
-            .iter()
-            .map(|s| s.parse::<Split>().map_err(|_| Error::Arg(format!("unknown split '{s}' (sah, mid, eq)"))))
-            .collect::<Result<Vec<_>>>()?;
+        let splits = list(&a.splits).iter().map(|s| s.parse::<Split>().map_err(|_| Error::Arg(format!("unknown split '{s}' (sah, mid, eq)")))).collect::<Result<Vec<_>>>()?;
         let sweep = if a.sweep.trim() == "none" {
             Vec::new()
         } else {
-            list(&a.sweep).iter().map(|s| s.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(|| Error::Arg(format!("--sweep: '{s}' is not an object count")))).collect::<Result<Vec<_>>>()?
+            list(&a.sweep)
+                .iter()
+                .map(|s| s.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(|| Error::Arg(format!("--sweep: '{s}' is not an object count"))))
+                .collect::<Result<Vec<_>>>()?
         };
         let hires = if a.hires.trim() == "none" { None } else { Some(parse_resolution(&a.hires).map_err(Error::Arg)?) };
         Ok(Plan {
@@ -370,7 +370,9 @@ mod tests {
         assert_eq!(Plan::new(&args(&["--methods", "hroc"])).unwrap().methods, ["noc", "hroc"]);
         let none = Plan::new(&args(&["--sweep", "none", "--hires", "none"])).unwrap();
         assert!(none.sweep.is_empty() && none.hires.is_none());
-        for bad in [&["--scenes", ","][..], &["--frames", "0"], &["--heat-frame", "60"], &["--splits", "sah,foo"], &["--sweep", "10,x"], &["--hires", "4096"], &["--methods", "nope"]] {
+        for bad in
+            [&["--scenes", ","][..], &["--frames", "0"], &["--heat-frame", "60"], &["--splits", "sah,foo"], &["--sweep", "10,x"], &["--hires", "4096"], &["--methods", "nope"]]
+        {
             assert!(Plan::new(&args(bad)).is_err(), "{bad:?}");
         }
     }

@@ -178,7 +178,12 @@ fn per_frame_plots(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
     doc.heading("Frame time along the path (HROC paper Figure 5, thesis Figure 15)");
     let mut imgs = Vec::new();
     for s in &d.scenes {
-        let series: Vec<Series> = s.main.rows.iter().map(|r| Series { name: r.method.clone(), points: r.frame_ms.iter().enumerate().skip(s.main.warmup_frames).map(|(k, &v)| (k as f64, v)).collect() }).collect();
+        let series: Vec<Series> = s
+            .main
+            .rows
+            .iter()
+            .map(|r| Series { name: r.method.clone(), points: r.frame_ms.iter().enumerate().skip(s.main.warmup_frames).map(|(k, &v)| (k as f64, v)).collect() })
+            .collect();
         let title = format!("{}: ms per frame", s.spec);
         let fig = plot::line_plot(&LinePlot { title: &title, x_label: "frame", y_label: "ms", series: &series, log_x: false, log_y: false }, PLOT)?;
         let stem = format!("frames-{}", stem(&s.spec));
@@ -264,7 +269,11 @@ fn sweep(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
     }
     doc.table(t);
     let series = |f: &dyn Fn(&MethodRow) -> Option<f64>| -> Vec<Series> {
-        methods.iter().map(|m| Series { name: m.clone(), points: d.sweep.iter().filter_map(|p| row(&p.report, m).and_then(f).map(|v| (p.objects as f64, v))).collect() }).filter(|s| !s.points.is_empty()).collect()
+        methods
+            .iter()
+            .map(|m| Series { name: m.clone(), points: d.sweep.iter().filter_map(|p| row(&p.report, m).and_then(f).map(|v| (p.objects as f64, v))).collect() })
+            .filter(|s| !s.points.is_empty())
+            .collect()
     };
     let frame = series(&|r| Some(r.ms_mean));
     // noc culls nothing: its zero has no place on a log axis.

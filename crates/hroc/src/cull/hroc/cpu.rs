@@ -92,7 +92,18 @@ pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3
 /// no padding, a shrinking `grow` and a negative tolerance this is what the
 /// GPU must find; with padding and generous ones, all it may find.
 #[allow(clippy::too_many_arguments)]
-pub fn ray_marked(bvh: &Bvh, groups: &[u32], view_proj: &Mat4, ray_dirs: &Mat4, eye: Vec3, (w, h): (u32, u32), depth: &[f32], pixel: Option<f32>, grow: f32, tolerance: f32) -> Vec<bool> {
+pub fn ray_marked(
+    bvh: &Bvh,
+    groups: &[u32],
+    view_proj: &Mat4,
+    ray_dirs: &Mat4,
+    eye: Vec3,
+    (w, h): (u32, u32),
+    depth: &[f32],
+    pixel: Option<f32>,
+    grow: f32,
+    tolerance: f32,
+) -> Vec<bool> {
     let n_obj = bvh.leaf_of_object.len();
     let mut in_group = vec![false; bvh.nodes.len()];
     for &g in groups {

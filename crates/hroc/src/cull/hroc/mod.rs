@@ -13,13 +13,13 @@
 pub mod cpu;
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::host::Phase;
+use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::cull::DrawList;
 use crate::error::{Error, Result};
 use crate::gpu::{dispatch_size, Gpu};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::host::Phase;
 use crate::layout::DrawArgs;
 use crate::shaders::source as shader_source;
-use crate::cull::DrawList;
 
 /// The stacks in both shaders hold at most this many entries.
 pub const MAX_DEPTH: u32 = 62;

@@ -19,12 +19,12 @@
 pub mod cpu;
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::host::Phase;
+use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::{dispatch_size, Gpu};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::host::Phase;
 use crate::shaders::source as shader_source;
-use crate::cull::DrawList;
 pub use cpu::Mip;
 
 pub(crate) fn depth_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
@@ -157,7 +157,15 @@ impl HizTest {
         let stats = gpu.buffer("hi-z test stats", 8, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC);
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hi-z test"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), storage_entry(3, true), storage_entry(4, false), storage_entry(5, false), storage_entry(6, false)],
+            entries: &[
+                uniform_entry(0),
+                storage_entry(1, true),
+                storage_entry(2, true),
+                storage_entry(3, true),
+                storage_entry(4, false),
+                storage_entry(5, false),
+                storage_entry(6, false),
+            ],
         });
         let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hi-z test"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("hzb_test.wgsl", &shader_source("hzb_test.wgsl"));
@@ -263,12 +271,6 @@ impl CullMethod for Hzb {
     fn stats(&mut self, gpu: &Gpu) -> Result<Vec<(Stat, f64)>> {
         let count = |b: &wgpu::Buffer| -> Result<f64> { Ok(gpu.read::<u32>(b, 0, 1)?[0] as f64) };
         let (tested, near) = self.test.counts(gpu)?;
-        Ok(vec![
-            (Stat::V, count(&self.v_list.count)?),
-            (Stat::Tested, tested as f64),
-            (Stat::Near, near as f64),
-            (Stat::U, count(&self.u_list.count)?),
-            (Stat::Readbacks, 0.0),
-        ])
+        Ok(vec![(Stat::V, count(&self.v_list.count)?), (Stat::Tested, tested as f64), (Stat::Near, near as f64), (Stat::U, count(&self.u_list.count)?), (Stat::Readbacks, 0.0)])
     }
 }

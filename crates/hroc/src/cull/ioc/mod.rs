@@ -21,12 +21,12 @@ pub mod cpu;
 
 use super::roc::{BoxCount, BoxPass};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::host::Phase;
+use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::cull::DrawList;
 use crate::error::{Error, Result};
 use crate::gpu::{dispatch_size, Gpu};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::host::Phase;
 use crate::shaders::source as shader_source;
-use crate::cull::DrawList;
 
 /// Parses `START:BOTTOM` (BVH depths, root = 0; START <= BOTTOM).
 pub fn parse_range(s: &str) -> std::result::Result<(u32, u32), String> {
@@ -105,16 +105,9 @@ impl Ioc {
         let marks = flags("ioc node marks", node_count);
         let start_queue = cpu::start_queue(bvh, start);
         let start_len = start_queue.len() as u32;
-        let queues = [
-            gpu.buffer_init("ioc start queue", bytemuck::cast_slice(&start_queue), U::STORAGE | U::COPY_SRC),
-            flags("ioc queue a", node_count),
-            flags("ioc queue b", node_count),
-        ];
-        let counts = [
-            gpu.buffer_init("ioc start count", bytemuck::bytes_of(&start_len), U::STORAGE | U::COPY_SRC),
-            flags("ioc count a", 1),
-            flags("ioc count b", 1),
-        ];
+        let queues =
+            [gpu.buffer_init("ioc start queue", bytemuck::cast_slice(&start_queue), U::STORAGE | U::COPY_SRC), flags("ioc queue a", node_count), flags("ioc queue b", node_count)];
+        let counts = [gpu.buffer_init("ioc start count", bytemuck::bytes_of(&start_len), U::STORAGE | U::COPY_SRC), flags("ioc count a", 1), flags("ioc count b", 1)];
         let (order, ranges) = cpu::leaf_ranges(bvh);
         let leaf_objects = gpu.buffer_init("ioc leaf objects", bytemuck::cast_slice(&order), U::STORAGE);
         let leaf_range = gpu.buffer_init("ioc leaf ranges", bytemuck::cast_slice(&ranges), U::STORAGE);

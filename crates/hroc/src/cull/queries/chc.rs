@@ -28,10 +28,10 @@
 //! only by a query of its own (tighter) boxes against the depth of objects
 //! drawn earlier in the same frame, so every frame is conservative.
 
-use crate::cull::{Method, Stage, Stat};
 use super::{front_to_back, Class, NodeView, QueryRenderer};
 use crate::bvh::{Bvh, NO_PARENT};
-use crate::cull::{CullMethod, Frame, MethodOptions, MethodContext};
+use crate::cull::{CullMethod, Frame, MethodContext, MethodOptions};
+use crate::cull::{Method, Stage, Stat};
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::rng::Rng;

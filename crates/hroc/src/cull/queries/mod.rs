@@ -32,14 +32,14 @@ use glam::{Mat4, Vec3, Vec4};
 use std::time::Instant;
 
 use super::{hroc::cpu, Frame, MethodContext, Stat};
-use crate::host::Phase;
 use crate::bvh::Bvh;
+use crate::cull::compact::{storage_entry, uniform_entry};
+use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::cull::compact::{storage_entry, uniform_entry};
+use crate::host::Phase;
 use crate::layout::DrawCommand;
 use crate::shaders::source as shader_source;
-use crate::cull::DrawList;
 use crate::{frustum::aabb_in_frustum, Aabb};
 
 /// Queries per `wgpu::QuerySet` (`wgpu::QUERY_SET_MAX_QUERIES` in wgpu 30);
@@ -130,7 +130,13 @@ pub struct QueryStats {
 impl QueryStats {
     /// The counters as `(Stat, value)` rows.
     pub fn rows(&self) -> Vec<(Stat, f64)> {
-        vec![(Stat::Queries, self.queries as f64), (Stat::QueryBatches, self.batches as f64), (Stat::WaitMs, self.wait_ms), (Stat::QueryBoxes, self.boxes as f64), (Stat::DrawCalls, self.draws as f64)]
+        vec![
+            (Stat::Queries, self.queries as f64),
+            (Stat::QueryBatches, self.batches as f64),
+            (Stat::WaitMs, self.wait_ms),
+            (Stat::QueryBoxes, self.boxes as f64),
+            (Stat::DrawCalls, self.draws as f64),
+        ]
     }
 }
 
@@ -215,7 +221,11 @@ impl QueryRenderer {
             staging: gpu.buffer("query read-back", 16, U::MAP_READ | U::COPY_DST),
             capacity: 0,
             commands,
-            all_count: gpu.buffer_init("query list count", bytemuck::bytes_of(&u32::MAX), wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC),
+            all_count: gpu.buffer_init(
+                "query list count",
+                bytemuck::bytes_of(&u32::MAX),
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC,
+            ),
             pool: ListPool::default(),
             draw_queue: Vec::new(),
             query_boxes: Vec::new(),

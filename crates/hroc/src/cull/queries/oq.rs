@@ -5,10 +5,10 @@
 //! subtree. Boxes that cross the near plane or hold the eye are visible
 //! without a query.
 
-use crate::cull::{Method, Stage, Stat};
 use super::{front_to_back, Class, NodeView, QueryRenderer};
 use crate::bvh::Bvh;
 use crate::cull::{CullMethod, Frame, MethodContext};
+use crate::cull::{Method, Stage, Stat};
 use crate::error::Result;
 use crate::gpu::Gpu;
 
@@ -72,9 +72,7 @@ impl CullMethod for Oq {
         Method::Oq
     }
 
-    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {
-
-    }
+    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
 
     fn as_any(&self) -> &dyn std::any::Any {
         self

@@ -20,10 +20,10 @@
 
 use std::collections::VecDeque;
 
-use crate::cull::{Method, Stage, Stat};
 use super::{front_to_back, Class, NodeView, QueryRenderer};
 use crate::bvh::Bvh;
 use crate::cull::{CullMethod, Frame, MethodContext};
+use crate::cull::{Method, Stage, Stat};
 use crate::error::Result;
 use crate::gpu::Gpu;
 
