@@ -115,19 +115,27 @@ impl<'g> Session<'g> {
     /// flight), timed as [`run_frame`](Self::run_frame); `time` is the
     /// frame's [`FrameInput::time`].
     pub fn run_camera(&mut self, view: &mut View, camera: Camera, time: f32) -> Result<FrameResult> {
-        self.run_camera_with(view, camera, time, None)
+        self.run_camera_with(view, camera, time, false, None)
+    }
+
+    /// [`run_frame`](Self::run_frame) with a camera-cut signal
+    /// ([`FrameInput::cut`]). The benchmark itself signals no cuts: methods
+    /// are measured as they cope with them.
+    pub fn run_frame_cut(&mut self, view: &mut View, k: usize, cut: bool) -> Result<FrameResult> {
+        let k = k.min(self.cameras.len() - 1);
+        self.run_camera_with(view, self.cameras[k], self.times[k], cut, None)
     }
 
     /// [`run_camera`](Self::run_camera) with `body` recorded in place of
     /// the method's frame ([`View::cull_with`]).
-    pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, body: Option<hroc::cull::FrameBody>) -> Result<FrameResult> {
+    pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, cut: bool, body: Option<hroc::cull::FrameBody>) -> Result<FrameResult> {
         let start = std::time::Instant::now();
         let aspect = self.renderer.aspect();
         let r = &self.renderer;
         r.write_view(self.gpu, &camera.view_proj(aspect));
         let mut enc = self.gpu.encoder("frame");
         r.clear(&mut enc);
-        let input = FrameInput { view: self.view_desc(&camera), targets: r.view_targets(), cut: false, time };
+        let input = FrameInput { view: self.view_desc(&camera), targets: r.view_targets(), cut, time };
         let mut host = Recorder { renderer: r, lists: Vec::new() };
         match body {
             Some(body) => view.cull_with(&self.culler, &mut enc, &input, &mut host, body)?,

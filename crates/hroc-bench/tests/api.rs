@@ -1,0 +1,102 @@
+//! The host API beyond the paper, on lavapipe: several views of one
+//! culler keep their own state, a camera cut makes a view start over,
+//! never-culled objects are drawn once every frame, and every one of
+//! them stays conservative against `noc`.
+
+use hroc::{ObjectFlags, View};
+use hroc_bench::bench::{FrameResult, Session};
+use hroc_bench::bvh::Split;
+use hroc_bench::gpu::Gpu;
+use std::sync::OnceLock;
+
+const RES: (u32, u32) = (160, 96);
+const FRAMES: usize = 16;
+
+fn gpu() -> &'static Gpu {
+    static GPU: OnceLock<Gpu> = OnceLock::new();
+    GPU.get_or_init(|| Gpu::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
+}
+
+fn session() -> Session<'static> {
+    let scene = hroc_bench::scene::load("radial-city", Some(2000), 3).unwrap();
+    Session::new(gpu(), scene, None, FRAMES, RES, Split::Sah).unwrap()
+}
+
+/// Objects drawn per command list of a frame (instance_count > 0), counted
+/// with repeats.
+fn draws_of(s: &Session, r: &FrameResult) -> Vec<u32> {
+    let mut n = vec![0u32; s.renderer.object_count as usize];
+    for l in &r.lists {
+        let count = s.gpu.read::<u32>(&l.count, 0, 1).unwrap()[0].min(l.max_count);
+        for c in s.gpu.read::<hroc::layout::DrawCommand>(&l.commands, 0, count as u64).unwrap() {
+            if c.instance_count > 0 && c.index_count > 0 {
+                n[c.first_instance as usize] += 1;
+            }
+        }
+    }
+    n
+}
+
+/// Runs `view` at camera `k` (with `cut`) and checks it against noc there.
+fn checked(s: &mut Session, view: &mut View, k: usize, cut: bool) -> Vec<u32> {
+    let (_, truth) = s.truth(k).unwrap();
+    let r = s.run_frame_cut(view, k, cut).unwrap();
+    let c = s.check(&r, &truth).unwrap();
+    assert_eq!((c.false_negatives, c.missing_pixels), (0, 0), "{} frame {k}", view.method());
+    draws_of(s, &r)
+}
+
+#[test]
+fn views_of_one_culler_keep_their_own_state() {
+    let mut s = session();
+    for method in ["hroc", "hzb", "roc"] {
+        // One view alone along the path...
+        let mut solo = s.create(method).unwrap();
+        let alone: Vec<Vec<u32>> = (0..FRAMES).map(|k| checked(&mut s, &mut solo, k, false)).collect();
+        // ...and the same method again, interleaved with a second view that
+        // flies the path backwards: its frames must not change.
+        let (mut a, mut b) = (s.create(method).unwrap(), s.create(method).unwrap());
+        for k in 0..FRAMES {
+            let drawn = checked(&mut s, &mut a, k, false);
+            assert_eq!(drawn, alone[k], "{method} frame {k}: a second view changed the first one's result");
+            checked(&mut s, &mut b, FRAMES - 1 - k, false);
+        }
+    }
+}
+
+#[test]
+fn a_camera_cut_starts_the_view_over() {
+    let mut s = session();
+    for method in ["hroc", "hzb", "roc", "chc++"] {
+        let mut warm = s.create(method).unwrap();
+        for k in 0..FRAMES / 2 {
+            checked(&mut s, &mut warm, k, false);
+        }
+        // After a cut to the last camera, the warm view culls exactly as a
+        // fresh view's first frame there.
+        let cut = checked(&mut s, &mut warm, FRAMES - 1, true);
+        let mut fresh = s.create(method).unwrap();
+        let first = checked(&mut s, &mut fresh, FRAMES - 1, false);
+        assert_eq!(cut, first, "{method}: a cut did not reset the view");
+    }
+}
+
+#[test]
+fn never_culled_objects_are_drawn_once_every_frame() {
+    let mut s = session();
+    let n = s.renderer.object_count;
+    let never: Vec<u32> = (0..n).step_by(97).collect();
+    for &o in &never {
+        s.culler.set_flags(o, ObjectFlags::NEVER_CULL).unwrap();
+    }
+    assert!(s.culler.set_flags(n, ObjectFlags::NEVER_CULL).is_err(), "an object out of range is an error");
+    for method in ["hroc", "hzb", "vfc", "noc"] {
+        let mut v = s.create(method).unwrap();
+        for k in 0..FRAMES {
+            let drawn = checked(&mut s, &mut v, k, false);
+            for &o in &never {
+                assert_eq!(drawn[o as usize], 1, "{method} frame {k}: never-culled object {o} drawn {} times", drawn[o as usize]);
+            }
+        }
+    }
+}
