@@ -521,3 +521,42 @@ named_enum!(
         RenderedUnqueried => "rendered_unqueried",
     }
 );
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_registry_round_trips_every_name() {
+        let names = Method::names();
+        for (name, m, what) in &names {
+            assert_eq!(name.parse::<Method>().unwrap(), *m, "{name}");
+            assert!(!what.is_empty());
+        }
+        let mut unique: Vec<_> = names.iter().map(|n| n.0).collect();
+        unique.sort_unstable();
+        unique.dedup();
+        assert_eq!(unique.len(), names.len(), "a name is listed twice");
+        // Every method of ALL is listed, under its own name.
+        for m in Method::ALL {
+            assert!(names.iter().any(|n| n.1 == m && n.0 == m.name()), "{m:?}");
+        }
+        assert_eq!("hroc-cr+of".parse::<Method>().unwrap(), Method::HROC);
+        let e = "hroc-xyz".parse::<Method>().unwrap_err().to_string();
+        assert!(e.contains("unknown method 'hroc-xyz'") && e.contains("chc++"), "{e}");
+        assert_eq!(Method::parse_list("vfc, hroc,vfc").unwrap(), [Method::Vfc, Method::HROC]);
+        assert!(Method::parse_list(" ").is_err());
+    }
+
+    #[test]
+    fn stage_and_stat_names_are_unique() {
+        let mut s: Vec<_> = Stage::ALL.iter().map(|s| s.name()).collect();
+        s.sort_unstable();
+        s.dedup();
+        assert_eq!(s.len(), Stage::ALL.len());
+        let mut t: Vec<_> = Stat::ALL.iter().map(|s| s.name()).collect();
+        t.sort_unstable();
+        t.dedup();
+        assert_eq!(t.len(), Stat::ALL.len());
+    }
+}

@@ -28,7 +28,9 @@ pub const DEFAULT_SCENES: &str = "radial-city,factory,satellites";
 /// `chc++`) wait on the CPU per query batch and are opt-in.
 pub const DEFAULT_METHODS: &str = "noc,vfc,ref,roc,hzb,ioc,hroc-na,hroc-cr,hroc-of,hroc-cr+of";
 /// The HROC paper's Table 3 columns.
-pub const HROC_VARIANTS: [&str; 4] = ["hroc-na", "hroc-cr", "hroc-of", "hroc-cr+of"];
+pub fn hroc_variants() -> Vec<&'static str> {
+    hroc::Method::names().into_iter().filter(|(n, m, _)| matches!(m, hroc::Method::Hroc(_)) && *n != "hroc").map(|n| n.0).collect()
+}
 
 /// Command-line options of `hroc report`.
 #[derive(clap::Args, Debug, Clone)]
@@ -282,7 +284,7 @@ impl Runner<'_> {
         let others: Vec<Split> = plan.splits.iter().copied().filter(|&s| s != Split::Sah).collect();
         if !others.is_empty() {
             self.say(format!("{spec}: HROC variants with {} BVHs", others.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")));
-            let methods = with_noc(HROC_VARIANTS.iter().map(|s| s.to_string()).collect());
+            let methods = with_noc(hroc_variants().iter().map(|s| s.to_string()).collect());
             for split in others {
                 splits.push(super::run_scene(self.gpu, &self.opts(spec, &methods, a.frames, a.resolution, split), scene.clone(), None)?);
             }

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use super::doc::{Doc, Table};
-use super::{ReportData, SceneResult, HROC_VARIANTS};
+use super::{hroc_variants, ReportData, SceneResult};
 use crate::bench::plot::{self, LinePlot, Series, StackedBars};
 use crate::bench::{BenchReport, MethodRow};
 use crate::error::Result;
@@ -119,7 +119,7 @@ fn frame_times(doc: &mut Doc, d: &ReportData) {
 }
 
 fn accelerations(doc: &mut Doc, d: &ReportData) {
-    let present: Vec<&str> = HROC_VARIANTS.iter().copied().filter(|v| d.scenes.iter().all(|s| row(&s.main, v).is_some())).collect();
+    let present: Vec<&str> = hroc_variants().iter().copied().filter(|v| d.scenes.iter().all(|s| row(&s.main, v).is_some())).collect();
     if present.is_empty() {
         return;
     }
@@ -146,13 +146,13 @@ fn splits(doc: &mut Doc, d: &ReportData) {
     doc.heading("BVH splits (thesis Table 4)");
     doc.para("HROC variants' ms/frame with BVHs built by the surface area heuristic (SAH), the middle of the longest axis (MID) and equal counts (EQ); C/R of `hroc-cr+of`. Each split is its own run: compare rows through their `noc` ms, measured in the same run.");
     let mut head = vec!["scene".to_string(), "split".to_string(), "noc ms".to_string()];
-    head.extend(HROC_VARIANTS.iter().map(|v| format!("{v} ms")));
+    head.extend(hroc_variants().iter().map(|v| format!("{v} ms")));
     head.push("C/R cr+of".into());
     let mut t = Table { head, rows: Vec::new() };
     for s in &d.scenes {
         for r in std::iter::once(&s.main).chain(&s.splits) {
             let mut cells = vec![s.spec.clone(), r.split.clone(), row(r, "noc").map_or("-".into(), |x| ms(x.ms_mean))];
-            cells.extend(HROC_VARIANTS.iter().map(|v| row(r, v).map_or("-".into(), |x| ms(x.ms_mean))));
+            cells.extend(hroc_variants().iter().map(|v| row(r, v).map_or("-".into(), |x| ms(x.ms_mean))));
             cells.push(row(r, "hroc-cr+of").map_or("-".into(), |x| format!("{:.3}", x.c_over_r)));
             t.row(cells);
         }
