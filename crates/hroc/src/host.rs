@@ -629,7 +629,7 @@ impl View {
     /// The method's own state, for its debug read-backs (e.g.
     /// `view.method_state::<hroc::cull::hroc::Hroc>()`).
     pub fn method_state<T: 'static>(&self) -> Option<&T> {
-        self.imp.as_any().downcast_ref::<T>()
+        (&*self.imp as &dyn std::any::Any).downcast_ref::<T>()
     }
 
     /// True for `ref`, which needs [`View::set_oracle`] before each frame.
@@ -639,7 +639,7 @@ impl View {
 
     /// [`View::method_state`], mutable (debug switches of a method).
     pub fn method_state_mut<T: 'static>(&mut self) -> Option<&mut T> {
-        self.imp.as_any_mut().downcast_mut::<T>()
+        (&mut *self.imp as &mut dyn std::any::Any).downcast_mut::<T>()
     }
 
     /// Frames culled so far.

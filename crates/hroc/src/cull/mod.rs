@@ -173,8 +173,8 @@ pub trait CullMethod: Any {
     fn frame(&mut self, f: &mut Frame) -> Result<()>;
 
     /// Forgets what earlier frames taught (a camera cut): the next frame is
-    /// culled as a first frame.
-    fn reset(&mut self, enc: &mut wgpu::CommandEncoder);
+    /// culled as a first frame. Every method with temporal state overrides it.
+    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
 
     /// `ref` only: the objects that own a pixel in `noc`'s ID target this
     /// frame, sorted.
@@ -193,12 +193,6 @@ pub trait CullMethod: Any {
     fn tested_nodes(&self, _gpu: &Gpu) -> Result<Option<Vec<u32>>> {
         Ok(None)
     }
-
-    /// The method as `Any`, to reach a method's own debug read-backs.
-    fn as_any(&self) -> &dyn Any;
-
-    /// The method as mutable `Any`.
-    fn as_any_mut(&mut self) -> &mut dyn Any;
 }
 
 /// Method parameters the command line can set (`hroc bench`/`render`).

@@ -12,15 +12,6 @@ impl CullMethod for NoCulling {
         Method::Noc
     }
 
-    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
-    }
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         f.stage(Stage::Draw);
         let all = f.all();

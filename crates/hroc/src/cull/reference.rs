@@ -37,15 +37,6 @@ impl CullMethod for Reference {
         Method::Ref
     }
 
-    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
-    }
     fn set_oracle(&mut self, gpu: &Gpu, visible: &[u32]) -> Result<()> {
         let packed: Vec<DrawCommand> = visible.iter().map(|&o| self.all[o as usize]).collect();
         if !packed.is_empty() {

@@ -41,15 +41,6 @@ impl CullMethod for FrustumCuller {
         Method::Vfc
     }
 
-    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
-    }
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         f.stage(Stage::FrustumCull);
         let n = f.object_count();

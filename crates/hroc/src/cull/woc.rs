@@ -132,14 +132,6 @@ impl CullMethod for Woc {
         self.prev = None;
     }
 
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
-    }
-
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         // 1. Warp last frame's depth (none on the first frame: all holes).
         f.stage(Stage::Warp);

@@ -288,14 +288,6 @@ impl CullMethod for Hroc {
         enc.clear_buffer(&self.visible, 0, None);
     }
 
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
-    }
-
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         let (n, nodes) = (self.n, self.nodes);
         let (ox, oy) = dispatch_size(n, 256);

@@ -214,14 +214,6 @@ impl CullMethod for Ioc {
         enc.clear_buffer(&self.visible, 0, None);
     }
 
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
-    }
-
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);

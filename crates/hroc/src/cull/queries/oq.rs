@@ -72,16 +72,6 @@ impl CullMethod for Oq {
         Method::Oq
     }
 
-    fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
-
-    fn as_any(&self) -> &dyn std::any::Any {
-        self
-    }
-
-    fn as_any_mut(&mut self) -> &mut dyn std::any::Any {
-        self
-    }
-
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         f.stage(Stage::QueriesAndDraws);
         self.q.begin_frame();
