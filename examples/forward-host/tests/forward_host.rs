@@ -47,3 +47,64 @@ fn forward_host_culls_conservatively() {
         }
     }
 }
+
+/// What a host can get wrong gets a clear error, never a panic.
+#[test]
+fn host_mistakes_are_clear_errors() {
+    use hroc::{Culler, CullerDesc, ObjectDesc, ObjectFlags, ViewTargets};
+    let (device, queue) = open_device().expect("a Vulkan adapter");
+    let demo = Demo::new(200, 2).unwrap();
+    // Timestamps on a device opened without them: the missing features are named.
+    let mut desc = CullerDesc::new(&demo.scene.objects);
+    desc.timestamps = true;
+    let e = Culler::new(&device, &queue, &desc).err().expect("timestamps need features").to_string();
+    assert!(e.contains("TIMESTAMP_QUERY"), "{e}");
+    // A box that is not finite.
+    let mut bad = demo.scene.objects.clone();
+    bad[3] = ObjectDesc { bounds: hroc::Aabb::new(glam::Vec3::ZERO, glam::Vec3::splat(f32::NAN)), ..bad[3] };
+    let e = Culler::new(&device, &queue, &CullerDesc::new(&bad)).err().expect("NaN box").to_string();
+    assert!(e.contains("object 3"), "{e}");
+    let culler = Culler::new(&device, &queue, &CullerDesc::new(&demo.scene.objects)).unwrap();
+    let tex = |format, usage| {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: None,
+            size: wgpu::Extent3d { width: 64, height: 32, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    use wgpu::TextureUsages as U;
+    let depth = tex(wgpu::TextureFormat::Depth32Float, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING);
+    // HROC's occluder filtering without an ID target.
+    let no_ids = ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None };
+    let e = culler.view(Method::HROC, &no_ids).err().expect("OF needs IDs").to_string();
+    assert!(e.contains("object-ID target"), "{e}");
+    assert!(culler.view(Method::Hroc(hroc::Variant { cr: true, of: false }), &no_ids).is_ok());
+    // A depth target the culler cannot sample.
+    let unsampled = tex(wgpu::TextureFormat::Depth32Float, U::RENDER_ATTACHMENT);
+    let e = culler.view(Method::Hzb, &ViewTargets { depth: &unsampled, depth_range: DepthRange::Standard, ids: None }).err().expect("unsampled depth").to_string();
+    assert!(e.contains("TEXTURE_BINDING"), "{e}");
+    // An ID target of another size.
+    let ids = tex(wgpu::TextureFormat::R32Uint, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING);
+    let small = device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d { width: 32, height: 32, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R32Uint,
+        usage: U::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    assert!(culler.view(Method::HROC, &ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: Some(&small) }).is_err());
+    assert!(culler.view(Method::HROC, &ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: Some(&ids) }).is_ok());
+    // woc takes standard depth only.
+    assert!(culler.view(Method::Woc, &ViewTargets { depth: &depth, depth_range: DepthRange::Reversed, ids: None }).is_err());
+    // Flags of an object out of range.
+    let mut culler = culler;
+    assert!(culler.set_flags(10_000, ObjectFlags::NEVER_CULL).is_err());
+}
