@@ -24,15 +24,19 @@ fn run() -> Result<(), String> {
     let demo = Demo::new(3000, 16)?;
     let size = (640, 360);
     let mut host = ForwardHost::new(&device, &queue, &demo.scene, size, method, DepthRange::Reversed).map_err(|e| e.to_string())?;
-    let mut last = None;
+    // The picture: the last frame before the cut (the wall, the blended panel
+    // in front of it; the one behind it culled).
+    let mut shown = None;
     for k in 0..demo.cameras.len() {
         let (view, proj) = demo.matrices(k, size.0 as f32 / size.1 as f32, DepthRange::Reversed);
         let f = host.frame(view, proj, k == demo.cut).map_err(|e| e.to_string())?;
         let drawn = f.drawn.iter().filter(|&&d| d).count();
         println!("frame {k:2}: {method} drew {drawn} of {} objects", f.drawn.len());
-        last = Some(f);
+        if k + 1 == demo.cut {
+            shown = Some(f);
+        }
     }
-    let f = last.ok_or("no frames")?;
+    let f = shown.ok_or("no frames")?;
     image::RgbaImage::from_raw(size.0, size.1, f.color).ok_or("image size")?.save(&out).map_err(|e| format!("{out}: {e}"))?;
     println!("wrote {out}");
     Ok(())
