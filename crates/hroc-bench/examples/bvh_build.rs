@@ -1,5 +1,5 @@
 //! Builds the object BVH over random boxes with every split and prints build
-//! time and SAH cost (DESIGN.md: sum over nodes of area / root area), the
+//! time and SAH cost (sum over nodes of area / root area), the
 //! numbers compared against obvhs's presets.
 //!
 //! `cargo run --release --example bvh_build -- [--objects 120000] [--runs 9]`

@@ -90,7 +90,7 @@ fn never_culled_objects_are_drawn_once_every_frame() {
         s.culler.set_flags(o, ObjectFlags::NEVER_CULL).unwrap();
     }
     assert!(s.culler.set_flags(n, ObjectFlags::NEVER_CULL).is_err(), "an object out of range is an error");
-    for method in ["hroc", "hzb", "vfc", "noc"] {
+    for method in ["hroc", "hzb", "chc++", "vfc", "noc"] {
         let mut v = s.create(method).unwrap();
         for k in 0..FRAMES {
             let drawn = checked(&mut s, &mut v, k, false);

@@ -157,7 +157,7 @@ enum SceneCmd {
 }
 
 fn main() -> ExitCode {
-    // The Vulkan loader warns on every start without it (DESIGN.md).
+    // The Vulkan loader warns on every start without it.
     if std::env::var_os("XDG_RUNTIME_DIR").is_none() {
         let dir = std::env::temp_dir().join("hroc-xdg");
         if std::fs::create_dir_all(&dir).is_ok() {

@@ -1,4 +1,4 @@
-//! Scene model: shared meshes + object instances (DESIGN.md "Scenes").
+//! Scene model: shared meshes + object instances.
 //!
 //! Meshes are shared between objects (instancing), so scenes with hundreds of
 //! millions of triangles fit in memory. Every object is one draw: one mesh, one

@@ -1,5 +1,5 @@
-//! Camera paths that break careless culling (DESIGN.md "Where
-//! conservativeness is lost"): frame 0, camera cuts, the eye inside object
+//! Camera paths that break careless culling, where conservativeness is
+//! lost: frame 0, camera cuts, the eye inside object
 //! and group boxes, and boxes crossing the near plane. Every conservative
 //! method is tested on them against `noc`.
 

@@ -1,4 +1,4 @@
-// Shared layouts, prepended to every pass (src/render/layout.rs mirrors them;
+// Shared layouts, prepended to every pass (src/layout.rs mirrors them;
 // tests/shaders.rs checks the sizes).
 
 struct Frame {
@@ -103,7 +103,7 @@ fn pixel_angle(f: Frame) -> f32 {
 // never loses a pixel that the geometry inside covers: a fraction of a pixel at the
 // box's farthest corner (rasterizers snap vertices to a sub-pixel grid, so
 // a face lying on the surface it bounds can lose an edge pixel), plus a
-// little for float rounding (DESIGN.md "Where conservativeness is lost").
+// little for float rounding.
 fn padded_box(n: BvhNode, eye: vec3<f32>, pixel: f32) -> Box {
     let far = length(max(abs(n.min - eye), abs(n.max - eye)));
     let scale = max(max(abs(n.min.x), abs(n.min.y)), max(max(abs(n.min.z), abs(n.max.x)), max(abs(n.max.y), abs(n.max.z))));
@@ -121,7 +121,7 @@ fn crosses_near(planes: array<vec4<f32>, 6>, near: f32, b: Box) -> bool {
 }
 
 // Corner c of a box is (c & 1, c & 2, c & 4); the 12 triangles wind
-// counter-clockwise seen from outside (tests/hroc.rs checks), so back-face
+// counter-clockwise seen from outside (hroc-bench tests/hroc.rs checks), so back-face
 // culling keeps the faces nearest the eye.
 const CUBE: array<u32, 36> = array<u32, 36>(
     0u, 4u, 6u, 0u, 6u, 2u, // -x

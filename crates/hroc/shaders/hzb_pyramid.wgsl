@@ -1,6 +1,6 @@
 // Hi-Z pyramid (two-phase Hi-Z culling; WOC reuses it): every level in one
-// storage buffer, level 0 at full resolution. MAX reduction, because depth
-// is standard (near 0, far 1, compare Less): a texel holds the farthest
+// storage buffer, level 0 at full resolution. MAX reduction of standard
+// depth (near 0, far 1; a reversed attachment is read as 1 - d): a texel holds the farthest
 // depth of its footprint, so a box nearer than it may be visible.
 // Non-power-of-two sizes: level i+1 is floor(size_i / 2) (at least 1) and
 // its last texel on a side also takes the extra row/column of an odd level

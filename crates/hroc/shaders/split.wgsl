@@ -8,11 +8,12 @@
 @group(0) @binding(2) var<storage, read> count: array<u32>;
 @group(0) @binding(3) var<storage, read_write> dst: array<DrawCommand>;
 @group(0) @binding(4) var<storage, read_write> deferred: array<u32>;
+@group(0) @binding(5) var<uniform> max_count: vec4<u32>; // x: the list's bound
 
 @compute @workgroup_size(256)
 fn split(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let i = flat_id(wid, nwg, lid, 256u);
-    if i >= min(count[0], min(arrayLength(&src), arrayLength(&dst))) {
+    if i >= min(min(count[0], max_count.x), min(arrayLength(&src), arrayLength(&dst))) {
         return;
     }
     var c = src[i];

@@ -1,4 +1,4 @@
-//! Views in the conventions engines use: a right- or left-handed perspective
+//! Views in the conventions engines use: a right-handed perspective
 //! projection with standard (near → 0) or reversed (near → 1) depth and a
 //! finite or infinite far plane. Everything the culling passes need of a view
 //! (planes, eye, pixel rays, near distance) is derived here, once, on the CPU.
@@ -58,13 +58,13 @@ pub fn aabb_in_frustum(planes: &[Vec4; 6], min: Vec3, max: Vec3) -> bool {
     })
 }
 
-/// A view as the host renders it this frame.
+/// A view as the host renders it this frame: right-handed, perspective.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViewDesc {
     /// World to view space.
     pub view: Mat4,
-    /// View to clip space: a perspective projection, right- or left-handed,
-    /// symmetric or off-centre, finite or infinite far plane.
+    /// View to clip space: a right-handed perspective projection, symmetric
+    /// or off-centre, finite or infinite far plane.
     pub proj: Mat4,
     /// Which end of the depth range is near; it must match `proj`.
     pub depth: DepthRange,
@@ -134,8 +134,14 @@ impl ViewDesc {
         if p.x_axis.x == 0.0 || p.y_axis.y == 0.0 || self.view.determinant().abs() < 1e-12 {
             return bad("view or projection matrix is singular");
         }
+        // The box tests keep the faces a right-handed view sees in front
+        // (counter-clockwise on screen); a left-handed projection or a
+        // mirrored view would test the back faces instead.
+        if s > 0.0 || self.view.determinant() * p.x_axis.x * p.y_axis.y < 0.0 {
+            return bad("left-handed or mirrored views are not supported: use a right-handed view and projection");
+        }
         let view_proj = p * self.view;
-        let planes = frustum_planes_for(&view_proj, self.depth);
+        let mut planes = frustum_planes_for(&view_proj, self.depth);
         let inv_view = self.view.inverse();
         let eye = inv_view.w_axis.truncate();
         // Near distance: the eye lies `near` behind the (normalized) near plane.
@@ -149,6 +155,12 @@ impl ViewDesc {
                 "projection does not match {:?} depth (near {near}, far {far}): a reversed-Z projection needs DepthRange::Reversed",
                 self.depth
             )));
+        }
+        // A finite far plane from the near plane's normal: the far plane of
+        // a standard projection, r3 - r2, cancels and tilts at large far/near.
+        if far.is_finite() {
+            let n = planes[4].truncate();
+            planes[5] = (-n).extend(n.dot(eye) + far);
         }
         // View-space direction of the ray through NDC (x, y), scaled to reach
         // the near plane: (near (x - s p20) / p00, near (y - s p21) / p11, s near).

@@ -17,7 +17,7 @@ impl ObjectFlags {
     /// An ordinary object: culled, and an occluder when drawn.
     pub const NONE: ObjectFlags = ObjectFlags(0);
     /// Drawn every frame whatever the method decides (a skybox, a
-    /// first-person weapon, an object the host cannot bound).
+    /// first-person weapon). Its box must still be finite.
     pub const NEVER_CULL: ObjectFlags = ObjectFlags(1);
     /// Culled, but never in the occlusion map: the object does not write
     /// depth or the ID target (alpha-blended glass, particles). Such objects
@@ -242,8 +242,9 @@ impl Culler {
     /// A view of the objects culled by `method`, drawing into `targets`.
     /// Each view keeps its own temporal state (last frame's visible set).
     /// Errors when the method needs what the targets lack (an ID target for
-    /// HROC's occluder filtering), when a target has the wrong usage or
-    /// format, or when the method is benchmark-only.
+    /// HROC's occluder filtering), or when a target has the wrong usage or
+    /// format. A `ref` view (benchmark only) draws nothing until it is handed
+    /// `noc`'s visible set with [`View::set_oracle`] before each frame.
     pub fn view(&self, method: Method, targets: &ViewTargets) -> Result<View> {
         self.view_with(method, targets, &self.options)
     }
@@ -340,8 +341,8 @@ pub enum Phase {
     Occluders,
     /// The late pass: the objects that passed the occlusion test (HROC §3.4).
     Occludees,
-    /// A list drawn between occlusion queries or BVH levels (`oq`, `soq`,
-    /// `chc++`, `ioc`): each must be drawn before the culler's next pass.
+    /// A list drawn between occlusion queries (`oq`, `soq`, `chc++`): each
+    /// must be drawn before the culler's next pass.
     Interleaved,
     /// Objects flagged [`ObjectFlags::NOT_OCCLUDER`] that passed, last in the
     /// frame, against the final depth: draw them with blending, depth test
@@ -362,7 +363,8 @@ impl Phase {
 pub struct Draw<'a> {
     /// Which phase this is.
     pub phase: Phase,
-    /// `DrawIndexedIndirectArgs` (20 bytes each), in object order, with
+    /// `DrawIndexedIndirectArgs` (20 bytes each), in object order (query
+    /// methods: front-to-back traversal order), with
     /// `first_instance` the object index. Commands may have
     /// `instance_count` 0.
     pub commands: &'a wgpu::Buffer,
@@ -447,6 +449,7 @@ impl Targets {
         if d.sample_count() != 1 || d.dimension() != wgpu::TextureDimension::D2 {
             return bad("depth target must be 2D with one sample (resolve MSAA depth first)".into());
         }
+        // Layer 0, mip 0 is what the culler reads and draws against.
         let size = (d.width(), d.height());
         if let Some(ids) = t.ids {
             if ids.format() != wgpu::TextureFormat::R32Uint || !ids.usage().contains(U::TEXTURE_BINDING) || (ids.width(), ids.height()) != size {
@@ -462,11 +465,11 @@ impl Targets {
             }
         }
         Ok(Targets {
-            depth_attachment: d.create_view(&Default::default()),
-            depth_sampled: d.create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() }),
+            depth_attachment: d.create_view(&one_layer(wgpu::TextureAspect::All)),
+            depth_sampled: d.create_view(&one_layer(wgpu::TextureAspect::DepthOnly)),
             depth_format: d.format(),
             depth: t.depth_range,
-            ids: t.ids.map(|i| i.create_view(&Default::default())),
+            ids: t.ids.map(|i| i.create_view(&one_layer(wgpu::TextureAspect::All))),
             size,
             depth_id: d.clone(),
             ids_id: t.ids.cloned(),
@@ -478,14 +481,27 @@ impl Targets {
     }
 }
 
+/// A 2D view of layer 0, mip 0 (a depth array or a mipped target works).
+fn one_layer(aspect: wgpu::TextureAspect) -> wgpu::TextureViewDescriptor<'static> {
+    wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        aspect,
+        base_mip_level: 0,
+        mip_level_count: Some(1),
+        base_array_layer: 0,
+        array_layer_count: Some(1),
+        ..Default::default()
+    }
+}
+
 /// What the host hands in per frame of a view.
 #[derive(Clone, Copy, Debug)]
 pub struct FrameInput<'a> {
     /// The view and projection of this frame.
     pub view: ViewDesc,
     /// The targets the host draws this frame into. When they differ from the
-    /// last frame's (a resize), the view rebinds and starts over as after a
-    /// camera cut.
+    /// last frame's (a resize), the view is rebuilt and starts over as after
+    /// a camera cut: keep one depth texture per view.
     pub targets: ViewTargets<'a>,
     /// A camera cut: last frame's visibility says nothing about this one.
     pub cut: bool,
@@ -657,7 +673,8 @@ pub(crate) struct FlagSplit {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     deferred: wgpu::Buffer,
-    pool: Vec<wgpu::Buffer>,
+    /// Per list split this frame: its output commands and its bound.
+    pool: Vec<(wgpu::Buffer, wgpu::Buffer)>,
     used: usize,
     compactor: Compactor,
     list: DrawList,
@@ -671,7 +688,14 @@ impl FlagSplit {
         use wgpu::BufferUsages as U;
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hroc flag split"),
-            entries: &[storage_entry(0, true), storage_entry(1, true), storage_entry(2, true), storage_entry(3, false), storage_entry(4, false)],
+            entries: &[
+                storage_entry(0, true),
+                storage_entry(1, true),
+                storage_entry(2, true),
+                storage_entry(3, false),
+                storage_entry(4, false),
+                crate::cull::compact::uniform_entry(5),
+            ],
         });
         let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc flag split"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("split.wgsl", &shaders::source("split.wgsl"));
@@ -687,18 +711,18 @@ impl FlagSplit {
     }
 
     pub(crate) fn split(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, bounds: &wgpu::Buffer, list: &DrawList) -> DrawList {
+        use wgpu::BufferUsages as U;
         let need = (list.commands.size() / 20).max(1) * 20;
-        if self.used == self.pool.len() || self.pool[self.used].size() < need {
-            let b = gpu.buffer("hroc split list", need, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_SRC);
-            if self.used == self.pool.len() {
-                self.pool.push(b);
-            } else {
-                self.pool[self.used] = b;
-            }
+        if self.used == self.pool.len() {
+            self.pool.push((gpu.buffer("hroc split list", need, U::STORAGE | U::INDIRECT | U::COPY_SRC), gpu.buffer("hroc split bound", 16, U::UNIFORM | U::COPY_DST)));
+        } else if self.pool[self.used].0.size() < need {
+            self.pool[self.used].0 = gpu.buffer("hroc split list", need, U::STORAGE | U::INDIRECT | U::COPY_SRC);
         }
-        let dst = self.pool[self.used].clone();
+        let (dst, bound) = self.pool[self.used].clone();
         self.used += 1;
-        let bind = gpu.bind_buffers(&self.layout, &[bounds, &list.commands, &list.count, &dst, &self.deferred]);
+        // Written before the submit that runs this dispatch; each slot once a frame.
+        gpu.queue.write_buffer(&bound, 0, bytemuck::cast_slice(&[list.max_count, 0, 0, 0]));
+        let bind = gpu.bind_buffers(&self.layout, &[bounds, &list.commands, &list.count, &dst, &self.deferred, &bound]);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc flag split"), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);

@@ -67,17 +67,23 @@
 //!   `hroc-cr`, `ioc`, `oq`, `soq`, `chc++`) submit the host's encoder in the
 //!   middle of [`View::cull`], wait for the GPU, and continue in a new
 //!   encoder left in the host's `&mut CommandEncoder`. Record nothing before
-//!   the cull that must not be submitted yet.
-//! - **Views.** Perspective projections only (HROC casts rays from the eye):
-//!   right- or left-handed, symmetric or off-centre, finite or infinite far
-//!   plane, standard or reversed depth ([`ViewDesc::geometry`] checks).
+//!   the cull that must not be submitted yet, and keep no debug group open
+//!   across it.
+//! - **Views.** Right-handed perspective projections (HROC casts rays from
+//!   the eye, and the box tests rasterize the faces a right-handed view sees
+//!   in front): symmetric or off-centre, finite or infinite far plane,
+//!   standard or reversed depth ([`ViewDesc::geometry`] checks, and refuses
+//!   orthographic, left-handed and mirrored views).
 //!   Each [`View`] keeps its own temporal state; all views share the
 //!   culler's BVH and object buffers. Set [`FrameInput::cut`] on a camera cut.
+//!   A view draws into one depth texture (layer 0, mip 0); handing it
+//!   another one rebuilds the view, as after a cut.
 //! - **Non-occluders.** [`ObjectFlags::NOT_OCCLUDER`] objects (blended
 //!   glass, particles) are culled like any other object but never enter the
 //!   occlusion map: they come back in [`Phase::NonOccluders`], last, to draw
 //!   with depth test on, depth writes off, and no ID writes.
-//!   [`ObjectFlags::NEVER_CULL`] objects come back in [`Phase::Always`], first.
+//!   [`ObjectFlags::NEVER_CULL`] objects come back in [`Phase::Always`], first
+//!   (or, when also not occluders, in [`Phase::NonOccluders`]).
 //!
 //! ## Methods
 //! [`Method`] is the one registry. Every method fits the contract except

@@ -26,6 +26,12 @@ fn views_in_every_convention_give_the_same_rays_and_planes() {
     // A reversed projection declared standard (or the other way) is refused.
     assert!(ViewDesc { view, proj: Mat4::perspective_infinite_reverse_rh(fov, aspect, near), depth: DepthRange::Standard }.geometry().is_err());
     assert!(ViewDesc { view, proj: Mat4::perspective_rh(fov, aspect, near, far), depth: DepthRange::Reversed }.geometry().is_err());
+    // Left-handed and mirrored views are refused: the box tests would keep
+    // the back faces.
+    assert!(ViewDesc { view: Mat4::look_at_lh(eye, target, Vec3::Y), proj: Mat4::perspective_lh(fov, aspect, near, far), depth: DepthRange::Standard }.geometry().is_err());
+    assert!(ViewDesc { view: Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)) * view, proj: Mat4::perspective_rh(fov, aspect, near, far), depth: DepthRange::Standard }
+        .geometry()
+        .is_err());
     // Orthographic and non-finite matrices are refused, not mis-culled.
     assert!(ViewDesc { view, proj: Mat4::orthographic_rh(-1.0, 1.0, -1.0, 1.0, 0.1, 10.0), depth: DepthRange::Standard }.geometry().is_err());
     assert!(ViewDesc { view: Mat4::NAN, proj: Mat4::perspective_rh(fov, aspect, near, far), depth: DepthRange::Standard }.geometry().is_err());

@@ -1,5 +1,5 @@
 //! `hroc bench`: every method over the same camera path in one process,
-//! side by side per frame, checked against `noc` (DESIGN.md "Metrics").
+//! side by side per frame, checked against `noc`.
 
 pub mod plot;
 pub mod report;

@@ -63,7 +63,7 @@ pub struct App<'g> {
     /// The viewer's state as the panel shows it (method, view, play, time...).
     status: Status,
     fly: Fly,
-    /// Seconds since start, handed to methods as `Frame::path_time`: it
+    /// Seconds since start, handed to methods as `FrameInput::time`: it
     /// keeps running while the path is paused or loops (`soq` expires by it).
     clock: f32,
     /// Movement keys held.

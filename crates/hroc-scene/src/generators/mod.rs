@@ -1,4 +1,4 @@
-//! Built-in deterministic scene generators (DESIGN.md "Scenes").
+//! Built-in deterministic scene generators.
 //!
 //! Every generator takes an object count and a seed and returns exactly that
 //! many objects, instancing a few dozen shared meshes, plus a 10 s camera
@@ -36,7 +36,7 @@ pub struct Generator {
     pub description: &'static str,
     /// Object count used when none is given (sized for a CPU renderer).
     pub default_objects: usize,
-    /// Object count of the scene in the papers (DESIGN.md table).
+    /// Object count of the scene in the papers (HROC Table 1, thesis Table 1).
     pub paper_objects: usize,
 }
 

@@ -182,7 +182,7 @@ impl Bvh {
         max
     }
 
-    /// SAH cost as DESIGN.md defines it: the sum over all nodes of
+    /// SAH cost (thesis §3, MacDonald–Booth): the sum over all nodes of
     /// area(node) / area(root). 0 for an empty tree, and 0 when the root has
     /// no area (every node then has none either: 0/0 counts as 0).
     pub fn sah_cost(&self) -> f64 {

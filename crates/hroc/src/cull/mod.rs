@@ -287,8 +287,8 @@ impl Method {
     ];
 
     /// The name on the command line and in tables. `hroc` and `hroc-cr+of`
-    /// are the same method; [`Method::ALL`] lists both, and this returns
-    /// `hroc-cr+of` for both, so use [`Method::names`] for the listing.
+    /// are the same method; this returns `hroc` for it, and
+    /// [`Method::names`] lists both names.
     pub fn name(self) -> &'static str {
         match self {
             Method::Noc => "noc",

@@ -1,4 +1,4 @@
-//! The hardware-occlusion-query baselines (DESIGN.md "Methods"):
+//! The hardware-occlusion-query baselines:
 //! - [`oq`]: "simple OC" of paper 004, a front-to-back BVH traversal that
 //!   queries every node's box and waits for each result;
 //! - [`soq`]: 004's statistical algorithm, a node queue with RENDER / SKIP /
@@ -140,8 +140,8 @@ impl QueryStats {
     }
 }
 
-/// Command buffers of drawn lists, handed out once per frame: `Frame` keeps
-/// every list it drew for the benchmark's check after the frame, so no
+/// Command buffers of drawn lists, handed out once per frame: a host may
+/// keep every list it drew to check it after the frame (the benchmark does), so no
 /// region is written twice within a frame. Power-of-two size classes,
 /// reused from frame to frame.
 #[derive(Default)]
@@ -160,7 +160,7 @@ impl ListPool {
         if self.used[c] == self.classes[c].len() {
             use wgpu::BufferUsages as U;
             let size = (1u64 << c) * std::mem::size_of::<DrawCommand>() as u64;
-            self.classes[c].push(gpu.buffer("query method list", size, U::INDIRECT | U::COPY_DST | U::COPY_SRC));
+            self.classes[c].push(gpu.buffer("query method list", size, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC));
         }
         self.used[c] += 1;
         self.classes[c][self.used[c] - 1].clone()

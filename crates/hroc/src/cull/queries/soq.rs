@@ -14,7 +14,7 @@
 //!   collected, visible nodes are drawn or their children are put at the
 //!   front of the queue, and the walk starts again from the front.
 //!
-//! Time is camera-path time (`Frame::path_time`), not wall time, so the
+//! Time is the host's clock (`FrameInput::time`; the benchmark passes camera-path time), not wall time, so the
 //! statistics expire at the same places of the path on any machine. Skipping
 //! a query means treating the node as visible, never culling it untested.
 
