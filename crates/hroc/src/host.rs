@@ -110,6 +110,9 @@ impl SharedObjects {
 /// shared by every [`View`] of them.
 pub struct Culler {
     gpu: Gpu,
+    boxes: Vec<Aabb>,
+    /// Bumped by every [`Culler::set_bounds`].
+    moves: u64,
     bvh: Bvh,
     bvh_nodes: wgpu::Buffer,
     leaf_of_object: wgpu::Buffer,
@@ -168,10 +171,12 @@ impl Culler {
             always_deferred: gpu.buffer("hroc never-culled non-occluders", n * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST),
         };
         let mut culler = Culler {
-            bvh_nodes: gpu.buffer_init("hroc bvh nodes", bytemuck::cast_slice(&bvh.nodes), U::STORAGE),
+            bvh_nodes: gpu.buffer_init("hroc bvh nodes", bytemuck::cast_slice(&bvh.nodes), U::STORAGE | U::COPY_DST),
             leaf_of_object: gpu.buffer_init("hroc leaf of object", bytemuck::cast_slice(&bvh.leaf_of_object), U::STORAGE),
             bvh,
             gpu,
+            boxes,
+            moves: 0,
             objects: shared,
             marks_layout,
             options: desc.options.clone(),
@@ -179,6 +184,35 @@ impl Culler {
         };
         culler.update_always();
         Ok(culler)
+    }
+
+    /// Moves objects: `(object, new world box)` pairs, taking effect from
+    /// the next frame of every view. The BVH is refit on the CPU
+    /// ([`Bvh::refit`]) and the boxes and nodes are uploaded. Errors on an
+    /// object out of range or a box that is not finite; nothing changes then.
+    /// Views of methods that cannot follow motion ([`Method::takes_motion`])
+    /// refuse their next frame.
+    pub fn set_bounds(&mut self, moves: &[(u32, Aabb)]) -> Result<()> {
+        for &(i, b) in moves {
+            if i >= self.objects.count {
+                return Err(Error::InvalidObject(format!("object {i} out of range 0..{}", self.objects.count)));
+            }
+            if !b.min.is_finite() || !b.max.is_finite() || b.is_empty() {
+                return Err(Error::InvalidObject(format!("object {i}: bounds {b:?} are not a finite non-empty box")));
+            }
+        }
+        if moves.is_empty() {
+            return Ok(());
+        }
+        for &(i, b) in moves {
+            self.boxes[i as usize] = b;
+        }
+        self.bvh.refit(&self.boxes);
+        let bounds: Vec<ObjectBounds> = self.boxes.iter().zip(&self.objects.flags).map(|(b, f)| bounds_of(*b, *f)).collect();
+        self.gpu.queue.write_buffer(&self.objects.bounds, 0, bytemuck::cast_slice(&bounds));
+        self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
+        self.moves += 1;
+        Ok(())
     }
 
     /// Registered objects.
@@ -560,6 +594,9 @@ impl View {
             let frames = self.frames;
             *self = fresh;
             self.frames = frames;
+        }
+        if culler.moves > 0 && !self.method.takes_motion() {
+            return Err(Error::InvalidScene(format!("{} keeps its own copy of the BVH and takes static scenes only; objects have moved", self.method)));
         }
         if input.view.depth != self.targets.depth {
             return Err(Error::InvalidView(format!("view depth {:?} differs from the targets' {:?}", input.view.depth, self.targets.depth)));

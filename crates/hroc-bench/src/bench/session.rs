@@ -92,6 +92,25 @@ impl<'g> Session<'g> {
         Self::new(gpu, scene, path, frames, res, split)
     }
 
+    /// Moves objects to new transforms: the scene's objects and their tight
+    /// boxes, the renderer's transforms and the culler's boxes (its BVH is
+    /// refit), all before the next frame.
+    pub fn move_objects(&mut self, moves: &[(u32, glam::Mat4)]) -> Result<()> {
+        let mut boxes = Vec::with_capacity(moves.len());
+        for &(i, m) in moves {
+            let Some(o) = self.scene.objects.get_mut(i as usize) else {
+                return Err(crate::Error::Arg(format!("object {i} out of range")));
+            };
+            o.transform = m;
+            o.bounds = self.scene.meshes[o.mesh as usize].world_bounds(&m);
+            boxes.push((i, o.bounds));
+        }
+        self.culler.set_bounds(&boxes)?;
+        let colors: Vec<[f32; 3]> = self.scene.objects.iter().map(|o| o.color).collect();
+        self.renderer.set_transforms(self.gpu, moves, &colors);
+        Ok(())
+    }
+
     /// The object BVH the culler built.
     pub fn bvh(&self) -> &Bvh {
         self.culler.bvh()

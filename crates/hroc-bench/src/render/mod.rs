@@ -155,7 +155,7 @@ impl Renderer {
         use wgpu::BufferUsages as U;
         let n = scene.objects.len() as u32;
         let frame = gpu.buffer("frame", std::mem::size_of::<ViewUniform>() as u64, U::UNIFORM | U::COPY_DST);
-        let objects_buf = gpu.buffer_init("objects", bytemuck::cast_slice(&objects), U::STORAGE);
+        let objects_buf = gpu.buffer_init("objects", bytemuck::cast_slice(&objects), U::STORAGE | U::COPY_DST);
         let frame_layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame"),
             entries: &[hroc::cull::compact::uniform_entry(0), hroc::cull::compact::storage_entry(1, true)],
@@ -245,6 +245,15 @@ impl Renderer {
 
     pub fn aspect(&self) -> f32 {
         self.targets.width as f32 / self.targets.height as f32
+    }
+
+    /// New transforms for some objects (the renderer's side of motion).
+    pub fn set_transforms(&self, gpu: &Gpu, moves: &[(u32, Mat4)], colors: &[[f32; 3]]) {
+        for &(i, m) in moves {
+            let c = colors[i as usize];
+            let d = ObjectData { model: m.to_cols_array_2d(), color: [c[0], c[1], c[2], 1.0] };
+            gpu.queue.write_buffer(&self.objects, i as u64 * std::mem::size_of::<ObjectData>() as u64, bytemuck::bytes_of(&d));
+        }
     }
 
     /// Writes the view-projection this frame is drawn with.

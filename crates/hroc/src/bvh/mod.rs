@@ -125,6 +125,36 @@ impl Bvh {
         Bvh { nodes, leaf_of_object, build_ms: t.elapsed().as_secs_f64() * 1e3 }
     }
 
+    /// Refits every node's box to `boxes` (one per object, the new world
+    /// boxes) keeping the tree: leaves take their object's box, interior
+    /// nodes the union of their children. O(N), in post-order. A refit tree
+    /// stays valid but its SAH cost grows as objects move away from where
+    /// the tree was built ([`Bvh::sah_cost`]).
+    pub fn refit(&mut self, boxes: &[Aabb]) {
+        if self.nodes.is_empty() {
+            return;
+        }
+        // Post-order without recursion: a node is done once both children are.
+        let mut stack = vec![(0u32, false)];
+        while let Some((n, children_done)) = stack.pop() {
+            let node = self.nodes[n as usize];
+            if node.is_leaf() {
+                let b = boxes[(node.child & !LEAF_BIT) as usize];
+                let nd = &mut self.nodes[n as usize];
+                (nd.min, nd.max) = (b.min.to_array(), b.max.to_array());
+            } else if children_done {
+                let (l, r) = (self.nodes[node.child as usize], self.nodes[node.child as usize + 1]);
+                let b = l.aabb().union(r.aabb());
+                let nd = &mut self.nodes[n as usize];
+                (nd.min, nd.max) = (b.min.to_array(), b.max.to_array());
+            } else {
+                stack.push((n, true));
+                stack.push((node.child, false));
+                stack.push((node.child + 1, false));
+            }
+        }
+    }
+
     /// Number of nodes (2N - 1 for N objects).
     pub fn len(&self) -> usize {
         self.nodes.len()

@@ -354,6 +354,14 @@ impl Method {
         self == Method::Ref
     }
 
+    /// True when the method follows objects that move ([`crate::Culler::set_bounds`]):
+    /// every method that reads the culler's boxes and BVH on the GPU. The
+    /// query methods keep a CPU copy of the BVH (and CHC++ its tighter
+    /// bounds) from their creation, so they take static scenes only.
+    pub fn takes_motion(self) -> bool {
+        !matches!(self, Method::Oq | Method::Soq | Method::Chc)
+    }
+
     /// True when the method takes reversed depth (`woc`'s warp does not).
     pub fn supports_reversed_depth(self) -> bool {
         self != Method::Woc

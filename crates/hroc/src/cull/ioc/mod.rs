@@ -111,7 +111,7 @@ impl Ioc {
         let (order, ranges) = cpu::leaf_ranges(bvh);
         let leaf_objects = gpu.buffer_init("ioc leaf objects", bytemuck::cast_slice(&order), U::STORAGE);
         let leaf_range = gpu.buffer_init("ioc leaf ranges", bytemuck::cast_slice(&ranges), U::STORAGE);
-        let nodes = gpu.buffer_init("bvh nodes", bytemuck::cast_slice(&bvh.nodes), U::STORAGE);
+        let nodes = cx.bvh_nodes.clone();
 
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("ioc"),
