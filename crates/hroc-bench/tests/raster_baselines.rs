@@ -269,6 +269,7 @@ fn bench_rows_carry_stats_and_woc_reports() {
         split: Split::Sah,
         camera_path: None,
         progress: false,
+        moving: 0.0,
         method_options: Default::default(),
     };
     let report = bench::run(gpu(), &o).unwrap();

@@ -126,6 +126,10 @@ struct BenchArgs {
     /// Also prints GPU ms per stage and per-frame method statistics.
     #[arg(long)]
     breakdown: bool,
+    /// Fraction of the objects that move every frame, 0 to 1 (boxes and
+    /// BVH refit per frame; the query methods take static scenes only).
+    #[arg(long, default_value_t = 0.0)]
+    moving: f32,
 }
 
 #[derive(clap::Args)]
@@ -222,6 +226,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         method_options: a.s.m.options(),
         camera_path: a.s.camera_path,
         progress: true,
+        moving: a.moving,
     };
     let (scene, path) = bench::load_inputs(&opts)?;
     let gpu = Gpu::new()?;

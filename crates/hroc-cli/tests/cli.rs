@@ -204,3 +204,42 @@ fn ioc_range_parses_and_the_cli_takes_it() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert!(text.lines().any(|l| l.starts_with("ioc ")), "{text}");
 }
+
+#[test]
+fn bench_moves_objects_and_refuses_what_cannot_follow() {
+    let json = std::env::temp_dir().join(format!("hroc-moving-{}.json", std::process::id()));
+    let out = hroc_cli(&[
+        "bench",
+        "--scene",
+        "radial-city",
+        "--objects",
+        "600",
+        "--frames",
+        "6",
+        "--resolution",
+        "96x64",
+        "--methods",
+        "noc,vfc,roc,hzb,hroc",
+        "--moving",
+        "0.3",
+        "--json",
+        json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("moving 30%") && text.contains("BVH refit"), "{text}");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let _ = std::fs::remove_file(&json);
+    assert!(v["moved_objects"].as_u64().unwrap() > 100, "{v}");
+    for r in v["rows"].as_array().unwrap() {
+        assert_eq!((r["false_negatives"].as_u64(), r["missing_pixels"].as_u64()), (Some(0), Some(0)), "{r}");
+    }
+    for (bad, want) in [("--moving=1.5", "--moving 1.5"), ("--moving=-0.1", "--moving -0.1")] {
+        let out = hroc_cli(&["bench", "--frames", "1", bad]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(want) && !err.contains("panicked"), "{err}");
+    }
+    let out = hroc_cli(&["bench", "--frames", "1", "--methods", "noc,chc++", "--moving", "0.1"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("chc++") && err.contains("static scenes only"), "{err}");
+}

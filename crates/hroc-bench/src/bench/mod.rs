@@ -26,6 +26,8 @@ pub struct BenchOptions {
     pub split: Split,
     pub camera_path: Option<PathBuf>,
     pub progress: bool,
+    /// Fraction of the objects that move every frame (`--moving`), 0 to 1.
+    pub moving: f32,
     /// Parameters of the methods (`--soq-base-time`, `--chc-*`).
     pub method_options: crate::cull::MethodOptions,
 }
@@ -67,6 +69,17 @@ pub struct BenchReport {
     pub split: String,
     pub bvh_nodes: usize,
     pub bvh_build_ms: f64,
+    /// Fraction of the objects moved every frame.
+    pub moving: f64,
+    /// Objects moved every frame.
+    pub moved_objects: usize,
+    /// Mean per-frame update of the moved objects, ms: new boxes, BVH refit
+    /// on the CPU, upload (shared by every method of the run, untimed in
+    /// their rows).
+    pub update_ms_mean: f64,
+    /// BVH SAH cost after the last frame's refit over the cost as built
+    /// (1 for a static scene): how much the refit tree degraded.
+    pub sah_growth: f64,
     pub rows: Vec<MethodRow>,
 }
 
@@ -105,8 +118,34 @@ pub fn run(gpu: &Gpu, o: &BenchOptions) -> Result<BenchReport> {
     run_scene(gpu, o, scene, path)
 }
 
+/// The objects `--moving` moves: a deterministic spread of `fraction` of
+/// them (every object whose index hashes below the fraction).
+pub fn moving_objects(n: usize, fraction: f32) -> Vec<u32> {
+    (0..n as u32).filter(|&i| ((i.wrapping_mul(0x9E37_79B1) >> 8) as f32 / (1u32 << 24) as f32) < fraction).collect()
+}
+
+/// Frame `k`'s transform of moving object `i`: its own transform slid back
+/// and forth, up to 8 m along x and 6 m along z (traffic-sized steps at 60
+/// frames per path second, with a phase of its own).
+pub fn moved(base: &glam::Mat4, i: u32, k: usize, frames: usize) -> glam::Mat4 {
+    let t = k as f32 / frames.max(1) as f32 * std::f32::consts::TAU * 2.0 + i as f32 * 0.37;
+    glam::Mat4::from_translation(glam::Vec3::new(8.0 * t.sin(), 0.0, 6.0 * (0.7 * t).cos())) * *base
+}
+
 pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraPath>) -> Result<BenchReport> {
+    if !(0.0..=1.0).contains(&o.moving) {
+        return Err(crate::Error::Arg(format!("--moving {} is not a fraction from 0 to 1", o.moving)));
+    }
+    if o.moving > 0.0 {
+        if let Some(m) = o.methods.iter().find(|m| m.parse::<hroc::Method>().is_ok_and(|m| !m.takes_motion())) {
+            return Err(crate::Error::Arg(format!("{m} keeps its own copy of the BVH and takes static scenes only: drop it, or use --moving 0")));
+        }
+    }
+    let movers = moving_objects(scene.objects.len(), o.moving);
+    let base: Vec<glam::Mat4> = scene.objects.iter().map(|ob| ob.transform).collect();
     let mut s = Session::new(gpu, scene, path, o.frames, o.resolution, o.split)?;
+    let built_cost = s.bvh().sah_cost();
+    let mut update_ms = Vec::new();
     s.options = o.method_options.clone();
     let mut cullers = o.methods.iter().filter(|m| *m != "noc").map(|m| Ok((m.clone(), s.create(m)?))).collect::<Result<Vec<_>>>()?;
     let n = s.renderer.object_count as u64;
@@ -138,6 +177,12 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         a.stray += c.stray_pixels as u64;
     };
     for k in 0..frames {
+        if !movers.is_empty() {
+            let moves: Vec<(u32, glam::Mat4)> = movers.iter().map(|&i| (i, moved(&base[i as usize], i, k, frames))).collect();
+            let t = std::time::Instant::now();
+            s.move_objects(&moves)?;
+            update_ms.push(t.elapsed().as_secs_f64() * 1e3);
+        }
         let (r, truth) = s.truth(k)?;
         ref_culled += n - truth.visible.len() as u64;
         if o.methods.iter().any(|m| m == "noc") {
@@ -200,6 +245,10 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         split: o.split.to_string(),
         bvh_nodes: s.bvh().nodes.len(),
         bvh_build_ms: s.bvh().build_ms,
+        moving: o.moving as f64,
+        moved_objects: movers.len(),
+        update_ms_mean: mean(&update_ms),
+        sah_growth: if built_cost > 0.0 { s.bvh().sah_cost() / built_cost } else { 1.0 },
         rows,
     })
 }

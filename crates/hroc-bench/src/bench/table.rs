@@ -79,6 +79,17 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
         r.bvh_build_ms,
         r.adapter
     );
+    if r.moved_objects > 0 {
+        let _ = writeln!(
+            out,
+            "{}moving {:.0}% ({} objects) | update {:.2} ms/frame (boxes, BVH refit on the CPU, upload) | SAH cost after refits {:.2}x as built",
+            if markdown { "" } else { "# " },
+            r.moving * 100.0,
+            r.moved_objects,
+            r.update_ms_mean,
+            r.sah_growth
+        );
+    }
     let head = ["method", "ms/frame", "p95 ms", "GPU ms", "C/N", "C/R", "false neg", "missing px", "drawn/frame"];
     let noc = r.rows.iter().find(|x| x.method == "noc").map(|x| x.ms_mean);
     let mut rows: Vec<Vec<String>> = r

@@ -263,6 +263,7 @@ impl Runner<'_> {
             split,
             camera_path: None,
             progress: true,
+            moving: 0.0,
             method_options: MethodOptions::default(),
         }
     }
