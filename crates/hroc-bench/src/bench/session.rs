@@ -94,8 +94,9 @@ impl<'g> Session<'g> {
 
     /// Moves objects to new transforms: the scene's objects and their tight
     /// boxes, the renderer's transforms and the culler's boxes (its BVH is
-    /// refit), all before the next frame.
-    pub fn move_objects(&mut self, moves: &[(u32, glam::Mat4)]) -> Result<()> {
+    /// refit), all before the next frame. Returns the ms spent in the
+    /// culler ([`Culler::set_bounds`]: BVH refit and upload).
+    pub fn move_objects(&mut self, moves: &[(u32, glam::Mat4)]) -> Result<f64> {
         let mut boxes = Vec::with_capacity(moves.len());
         for &(i, m) in moves {
             let Some(o) = self.scene.objects.get_mut(i as usize) else {
@@ -105,10 +106,12 @@ impl<'g> Session<'g> {
             o.bounds = self.scene.meshes[o.mesh as usize].world_bounds(&m);
             boxes.push((i, o.bounds));
         }
+        let t = std::time::Instant::now();
         self.culler.set_bounds(&boxes)?;
+        let culler_ms = t.elapsed().as_secs_f64() * 1e3;
         let colors: Vec<[f32; 3]> = self.scene.objects.iter().map(|o| o.color).collect();
         self.renderer.set_transforms(self.gpu, moves, &colors);
-        Ok(())
+        Ok(culler_ms)
     }
 
     /// The object BVH the culler built.
