@@ -69,6 +69,9 @@ pub struct HostScene {
     pub instances: Vec<Instance>,
     /// Per object: world box, its draw in the index buffer, flags.
     pub objects: Vec<ObjectDesc>,
+    /// Per object: its mesh's box in object space (world boxes of moved
+    /// objects are this box transformed).
+    pub local_bounds: Vec<hroc::Aabb>,
 }
 
 impl HostScene {
@@ -87,13 +90,14 @@ impl HostScene {
         }
         let mut instances = Vec::new();
         let mut objects = Vec::new();
+        let local_bounds = scene.objects.iter().map(|o| scene.meshes[o.mesh as usize].bounds).collect();
         for (i, o) in scene.objects.iter().enumerate() {
             let glass = blended.contains(&i);
             instances.push(Instance { model: o.transform.to_cols_array_2d(), color: [o.color[0], o.color[1], o.color[2], if glass { 0.4 } else { 1.0 }] });
             let (first_index, base_vertex, index_count) = ranges[o.mesh as usize];
             objects.push(ObjectDesc { bounds: o.bounds, index_count, first_index, base_vertex, flags: if glass { ObjectFlags::NOT_OCCLUDER } else { ObjectFlags::NONE } });
         }
-        HostScene { vertices, indices, instances, objects }
+        HostScene { vertices, indices, instances, objects, local_bounds }
     }
 }
 
@@ -128,6 +132,9 @@ pub struct ForwardHost {
     ids: wgpu::Texture,
     color: wgpu::Texture,
     n: u32,
+    instances: wgpu::Buffer,
+    colors: Vec<[f32; 4]>,
+    local_bounds: Vec<hroc::Aabb>,
     blended: Vec<bool>,
     depth_range: DepthRange,
     /// The culler over the host's objects.
@@ -158,7 +165,7 @@ impl ForwardHost {
         let n = scene.instances.len() as u32;
         let vertices = init("vertices", bytemuck::cast_slice(&scene.vertices), U::VERTEX);
         let indices = init("indices", bytemuck::cast_slice(&scene.indices), U::INDEX);
-        let instances = init("instances", bytemuck::cast_slice(&scene.instances), U::STORAGE);
+        let instances = init("instances", bytemuck::cast_slice(&scene.instances), U::STORAGE | U::COPY_DST);
         let camera = device.create_buffer(&wgpu::BufferDescriptor { label: Some("camera"), size: 80, usage: U::UNIFORM | U::COPY_DST, mapped_at_creation: false });
         let seen = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("seen"),
@@ -252,6 +259,9 @@ impl ForwardHost {
             ids,
             color,
             n,
+            instances,
+            colors: scene.instances.iter().map(|i| i.color).collect(),
+            local_bounds: scene.local_bounds.clone(),
             blended: scene.objects.iter().map(|o| o.flags.contains(ObjectFlags::NOT_OCCLUDER)).collect(),
             depth_range,
             culler,
@@ -311,6 +321,19 @@ impl ForwardHost {
             depth: gpu.read_texture(&self.depth, wgpu::TextureAspect::DepthOnly)?,
             color: bytemuck::cast_slice::<u32, u8>(&gpu.read_texture::<u32>(&self.color, wgpu::TextureAspect::All)?).to_vec(),
         })
+    }
+
+    /// Moves objects to new transforms before the next frame: the host's
+    /// instance data, and hroc's boxes (the mesh box transformed, which holds
+    /// every vertex) through [`Culler::set_bounds`].
+    pub fn move_objects(&mut self, moves: &[(u32, Mat4)]) -> hroc::Result<()> {
+        let boxes: Vec<(u32, hroc::Aabb)> = moves.iter().map(|&(i, m)| (i, self.local_bounds[i as usize].transformed(&m))).collect();
+        self.culler.set_bounds(&boxes)?;
+        for &(i, m) in moves {
+            let inst = Instance { model: m.to_cols_array_2d(), color: self.colors[i as usize] };
+            self.queue.write_buffer(&self.instances, i as u64 * std::mem::size_of::<Instance>() as u64, bytemuck::bytes_of(&inst));
+        }
+        Ok(())
     }
 
     /// Width and height.
