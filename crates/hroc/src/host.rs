@@ -285,7 +285,7 @@ impl Culler {
 
     /// [`Culler::view`] with method parameters other than the culler's.
     pub fn view_with(&self, method: Method, targets: &ViewTargets, options: &MethodOptions) -> Result<View> {
-        let t = Targets::new(&self.gpu, targets)?;
+        let t = Targets::new(targets)?;
         if method.needs_ids() && t.ids.is_none() {
             return Err(Error::InvalidTargets(format!("{method} filters occluders by the object-ID target (OF, HROC §4.2): pass ViewTargets::ids, or use hroc-cr / hroc-na")));
         }
@@ -469,8 +469,7 @@ pub struct Targets {
 }
 
 impl Targets {
-    fn new(gpu: &Gpu, t: &ViewTargets) -> Result<Targets> {
-        let _ = gpu;
+    fn new(t: &ViewTargets) -> Result<Targets> {
         use wgpu::TextureUsages as U;
         let d = t.depth;
         let bad = |m: String| Err(Error::InvalidTargets(m));

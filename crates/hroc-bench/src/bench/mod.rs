@@ -260,28 +260,9 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     })
 }
 
-/// Parses `a,b,c` or `all` into method names (each checked against
-/// [`hroc::Method::names`], the one registry), keeping the spelling given.
+/// Parses `a,b,c` or `all` into method names ([`hroc::Method::parse_names`]).
 pub fn parse_methods(spec: &str) -> Result<Vec<String>> {
-    if spec.trim() == "all" {
-        return Ok(method_names().into_iter().map(String::from).collect());
-    }
-    let mut out: Vec<String> = Vec::new();
-    for m in spec.split(',').map(str::trim).filter(|m| !m.is_empty()) {
-        m.parse::<hroc::Method>()?;
-        if !out.iter().any(|o| o == m) {
-            out.push(m.to_string());
-        }
-    }
-    if out.is_empty() {
-        return Err(crate::Error::Arg("no methods given".into()));
-    }
-    Ok(out)
-}
-
-/// Every method name, in table order.
-pub fn method_names() -> Vec<&'static str> {
-    hroc::Method::names().into_iter().map(|n| n.0).collect()
+    Ok(hroc::Method::parse_names(spec)?.into_iter().map(String::from).collect())
 }
 
 /// Year, month, day of a day count since 1970-01-01 (H. Hinnant's `civil_from_days`).

@@ -19,7 +19,7 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 const OVERDRAW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
-/// Buffer sizes a scene needs, checked against the device before upload.
+/// Buffer sizes the renderer needs for a scene, checked against the device before upload.
 pub fn check_limits(scene: &Scene, limits: &wgpu::Limits) -> Result<()> {
     let verts: u64 = scene.meshes.iter().map(|m| m.vertices.len() as u64).sum();
     let idx: u64 = scene.meshes.iter().map(|m| m.indices.len() as u64).sum();
@@ -29,8 +29,6 @@ pub fn check_limits(scene: &Scene, limits: &wgpu::Limits) -> Result<()> {
         ("vertex pool", verts * std::mem::size_of::<crate::scene::Vertex>() as u64, limits.max_buffer_size),
         ("index pool", idx * 4, limits.max_buffer_size),
         ("object data", n * std::mem::size_of::<ObjectData>() as u64, storage),
-        ("draw commands", n * std::mem::size_of::<hroc::layout::DrawCommand>() as u64, storage),
-        ("BVH nodes", (2 * n).saturating_sub(1) * 32, storage),
     ];
     for (what, need, limit) in checks {
         if need > limit {
@@ -40,11 +38,7 @@ pub fn check_limits(scene: &Scene, limits: &wgpu::Limits) -> Result<()> {
     if idx > u32::MAX as u64 || verts > i32::MAX as u64 {
         return Err(Error::OverDeviceLimits(format!("{idx} indices / {verts} vertices exceed 32-bit draw offsets")));
     }
-    // Object ids share a u32 with the BVH's leaf bit, and the 2D dispatch grid
-    // covers at most 65535² workgroups.
-    if n >= (1 << 31) {
-        return Err(Error::OverDeviceLimits(format!("{n} objects exceed 2^31")));
-    }
+    // The culler checks its own buffers and the object count (`Culler::new`).
     Ok(())
 }
 

@@ -367,16 +367,20 @@ impl Method {
         self != Method::Woc
     }
 
-    /// Parses `a,b,c` or `all` into methods, in the order given, without repeats.
-    pub fn parse_list(spec: &str) -> Result<Vec<Method>> {
+    /// Parses `a,b,c` or `all` into registry names ([`Method::names`]), in
+    /// the order given, without repeats, keeping the spelling given
+    /// (`hroc-cr+of` and `hroc` are one method under two names).
+    pub fn parse_names(spec: &str) -> Result<Vec<&'static str>> {
+        let names = Method::names();
         if spec.trim() == "all" {
-            return Ok(Method::ALL[..15].to_vec());
+            return Ok(names.iter().map(|n| n.0).collect());
         }
         let mut out = Vec::new();
         for m in spec.split(',').map(str::trim).filter(|m| !m.is_empty()) {
-            let m: Method = m.parse()?;
-            if !out.contains(&m) {
-                out.push(m);
+            m.parse::<Method>()?;
+            let name = names.iter().find(|n| n.0 == m).map(|n| n.0).expect("a parsed name is a registry name");
+            if !out.contains(&name) {
+                out.push(name);
             }
         }
         if out.is_empty() {
@@ -546,8 +550,8 @@ mod tests {
         assert_eq!("hroc-cr+of".parse::<Method>().unwrap(), Method::HROC);
         let e = "hroc-xyz".parse::<Method>().unwrap_err().to_string();
         assert!(e.contains("unknown method 'hroc-xyz'") && e.contains("chc++"), "{e}");
-        assert_eq!(Method::parse_list("vfc, hroc,vfc").unwrap(), [Method::Vfc, Method::HROC]);
-        assert!(Method::parse_list(" ").is_err());
+        assert_eq!(Method::parse_names("vfc, hroc-cr+of,vfc").unwrap(), ["vfc", "hroc-cr+of"]);
+        assert!(Method::parse_names(" ").is_err());
     }
 
     #[test]
