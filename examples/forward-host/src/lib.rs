@@ -386,6 +386,10 @@ pub struct Demo {
     pub glass_front: usize,
     /// Near and far plane distances.
     pub near_far: (f32, f32),
+    /// The scene crate's hard path over the same objects (frame 0, cuts,
+    /// the eye inside boxes, boxes across the near plane), with its own
+    /// near and far.
+    pub hard: Vec<hroc_scene::Camera>,
 }
 
 impl Demo {
@@ -407,6 +411,9 @@ impl Demo {
         scene.push_object(mesh, basis(eye + f * 14.0, Vec3::new(3.0, 3.0, 0.1)), [0.2, 0.9, 0.3]);
         let glass_front = scene.objects.len();
         scene.push_object(mesh, basis(eye + f * 5.0 + r * 1.0, Vec3::new(2.0, 2.0, 0.1)), [0.9, 0.2, 0.2]);
+        let hard_path = hroc_scene::paths::hard_path(&scene);
+        let (hn, hf) = hroc_scene::camera::clip_planes(&scene.bounds(), &hard_path);
+        let hard = hard_path.frames(frames.max(2) * 2, hn, hf);
         let cut = frames / 2;
         let cameras = (0..frames)
             .map(|k| {
@@ -419,19 +426,28 @@ impl Demo {
                 }
             })
             .collect();
-        Ok(Demo { scene: HostScene::from_scene(&scene, &[glass_behind, glass_front]), cameras, cut, glass_behind, glass_front, near_far: (near, far) })
+        Ok(Demo { scene: HostScene::from_scene(&scene, &[glass_behind, glass_front]), cameras, cut, glass_behind, glass_front, near_far: (near, far), hard })
     }
 
     /// View and projection of frame `k`: finite standard depth, or infinite
     /// reversed depth.
     pub fn matrices(&self, k: usize, aspect: f32, depth: DepthRange) -> (Mat4, Mat4) {
         let (eye, target) = self.cameras[k];
-        let view = Mat4::look_at_rh(eye, target, Vec3::Y);
-        let fov = 60f32.to_radians();
-        let proj = match depth {
-            DepthRange::Standard => Mat4::perspective_rh(fov, aspect, self.near_far.0, self.near_far.1),
-            DepthRange::Reversed => Mat4::perspective_infinite_reverse_rh(fov, aspect, self.near_far.0),
-        };
-        (view, proj)
+        (Mat4::look_at_rh(eye, target, Vec3::Y), projection(60.0, aspect, self.near_far, depth))
+    }
+
+    /// View and projection of frame `k` of the hard path.
+    pub fn hard_matrices(&self, k: usize, aspect: f32, depth: DepthRange) -> (Mat4, Mat4) {
+        let c = &self.hard[k];
+        (c.view(), projection(c.fov_y_deg, aspect, (c.near, c.far), depth))
+    }
+}
+
+/// A right-handed perspective: finite standard depth, or infinite reversed depth.
+fn projection(fov_y_deg: f32, aspect: f32, (near, far): (f32, f32), depth: DepthRange) -> Mat4 {
+    let fov = fov_y_deg.to_radians();
+    match depth {
+        DepthRange::Standard => Mat4::perspective_rh(fov, aspect, near, far),
+        DepthRange::Reversed => Mat4::perspective_infinite_reverse_rh(fov, aspect, near),
     }
 }

@@ -147,3 +147,32 @@ fn animated_objects_stay_conservative() {
     // least a quarter of the frames of both runs.
     assert!(panel_seen >= demo.cut, "the blended panel was visible in only {panel_seen} frames");
 }
+
+/// The hard path (frame 0, cuts, the eye inside object and group boxes,
+/// boxes across the near plane) through the forward host, in both depth
+/// conventions, with no cut signal: 0 false negatives, 0 missing pixels.
+#[test]
+fn hard_path_in_both_depth_conventions() {
+    let (device, queue) = open_device().expect("a Vulkan adapter");
+    let demo = Demo::new(1500, 12).unwrap();
+    let aspect = SIZE.0 as f32 / SIZE.1 as f32;
+    for depth in [DepthRange::Reversed, DepthRange::Standard] {
+        let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth).unwrap();
+        let mut hosts: Vec<ForwardHost> = [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant { cr: false, of: false })]
+            .into_iter()
+            .map(|m| ForwardHost::new(&device, &queue, &demo.scene, SIZE, m, depth).unwrap())
+            .collect();
+        for k in 0..demo.hard.len() {
+            let (view, proj) = demo.hard_matrices(k, aspect, depth);
+            let t = truth.frame(view, proj, false).unwrap();
+            for host in hosts.iter_mut() {
+                let f = host.frame(view, proj, false).unwrap();
+                let label = format!("{} {depth:?} hard frame {k}", host.view.method());
+                let false_negatives: Vec<usize> = (0..t.visible.len()).filter(|&o| t.visible[o] && !f.drawn[o]).collect();
+                assert!(false_negatives.is_empty(), "{label}: visible objects not drawn: {false_negatives:?}");
+                let missing = t.depth.iter().zip(&f.depth).filter(|(a, b)| if depth == DepthRange::Standard { b > a } else { b < a }).count();
+                assert_eq!(missing, 0, "{label}: missing pixels");
+            }
+        }
+    }
+}
