@@ -13,8 +13,7 @@ fn main() -> hroc_bench::Result<()> {
             let r = s.run_frame(&mut v, k)?;
             let mut n = vec![0u32; s.renderer.object_count as usize];
             for l in &r.lists {
-                let c = s.gpu.read::<u32>(&l.count, 0, 1)?[0].min(l.max_count);
-                for cmd in s.gpu.read::<hroc::layout::DrawCommand>(&l.commands, 0, c as u64)? {
+                for cmd in s.gpu.read_list(&l.commands, &l.count, l.max_count)? {
                     if cmd.instance_count > 0 {
                         n[cmd.first_instance as usize] += 1;
                     }

@@ -27,8 +27,7 @@ fn session() -> Session<'static> {
 fn draws_of(s: &Session, r: &FrameResult) -> Vec<u32> {
     let mut n = vec![0u32; s.renderer.object_count as usize];
     for l in &r.lists {
-        let count = s.gpu.read::<u32>(&l.count, 0, 1).unwrap()[0].min(l.max_count);
-        for c in s.gpu.read::<hroc::layout::DrawCommand>(&l.commands, 0, count as u64).unwrap() {
+        for c in s.gpu.read_list(&l.commands, &l.count, l.max_count).unwrap() {
             if c.instance_count > 0 && c.index_count > 0 {
                 n[c.first_instance as usize] += 1;
             }

@@ -140,9 +140,7 @@ impl Culler {
         let objects = desc.objects;
         let n = objects.len() as u64;
         for (i, o) in objects.iter().enumerate() {
-            if !o.bounds.min.is_finite() || !o.bounds.max.is_finite() || o.bounds.is_empty() {
-                return Err(Error::InvalidObject(format!("object {i}: bounds {:?} are not a finite non-empty box", o.bounds)));
-            }
+            check_box(i as u32, &o.bounds)?;
         }
         let limits = device.limits();
         let storage = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
@@ -194,12 +192,8 @@ impl Culler {
     /// refuse their next frame.
     pub fn set_bounds(&mut self, moves: &[(u32, Aabb)]) -> Result<()> {
         for &(i, b) in moves {
-            if i >= self.objects.count {
-                return Err(Error::InvalidObject(format!("object {i} out of range 0..{}", self.objects.count)));
-            }
-            if !b.min.is_finite() || !b.max.is_finite() || b.is_empty() {
-                return Err(Error::InvalidObject(format!("object {i}: bounds {b:?} are not a finite non-empty box")));
-            }
+            self.check_object(i)?;
+            check_box(i, &b)?;
         }
         if moves.is_empty() {
             return Ok(());
@@ -237,18 +231,23 @@ impl Culler {
         &self.marks_layout
     }
 
-    /// The flags of object `i`.
-    pub fn flags(&self, i: u32) -> ObjectFlags {
-        self.objects.flags[i as usize]
+    /// The flags of object `i`; `None` out of range.
+    pub fn flags(&self, i: u32) -> Option<ObjectFlags> {
+        self.objects.flags.get(i as usize).copied()
+    }
+
+    fn check_object(&self, i: u32) -> Result<()> {
+        match i < self.objects.count {
+            true => Ok(()),
+            false => Err(Error::InvalidObject(format!("object {i} out of range 0..{}", self.objects.count))),
+        }
     }
 
     /// Sets the flags of object `i` (an object that turns transparent, a
     /// skybox): takes effect from the next frame of every view.
     pub fn set_flags(&mut self, i: u32, flags: ObjectFlags) -> Result<()> {
-        let Some(f) = self.objects.flags.get_mut(i as usize) else {
-            return Err(Error::InvalidObject(format!("object {i} out of range 0..{}", self.objects.count)));
-        };
-        *f = flags;
+        self.check_object(i)?;
+        self.objects.flags[i as usize] = flags;
         self.gpu.queue.write_buffer(&self.objects.bounds, i as u64 * 32 + 12, bytemuck::bytes_of(&flags.bits()));
         self.update_always();
         Ok(())
@@ -300,7 +299,7 @@ impl Culler {
         cx.options = options;
         let imp = method.create(&cx)?;
         let timer = self.timestamps.then(|| GpuTimer::new(&self.gpu, 64));
-        Ok(View { method, options: options.clone(), imp, frame, targets: t, sink, split: None, timer, last_stages: Vec::new(), frames: 0 })
+        Ok(View { method, options: options.clone(), imp, frame, targets: t, sink, split: None, timer, last_stages: Vec::new() })
     }
 
     fn context<'a>(&'a self, frame: &'a wgpu::Buffer, targets: &'a Targets) -> MethodContext<'a> {
@@ -323,6 +322,15 @@ impl Culler {
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
     }
+}
+
+/// An object's box must be finite and non-empty: every test and ray against
+/// it assumes so.
+fn check_box(i: u32, b: &Aabb) -> Result<()> {
+    if !b.min.is_finite() || !b.max.is_finite() || b.is_empty() {
+        return Err(Error::InvalidObject(format!("object {i}: bounds {b:?} are not a finite non-empty box")));
+    }
+    Ok(())
 }
 
 fn bounds_of(b: Aabb, flags: ObjectFlags) -> ObjectBounds {
@@ -553,7 +561,6 @@ pub struct View {
     split: Option<FlagSplit>,
     timer: Option<GpuTimer>,
     last_stages: Vec<(Stage, f64)>,
-    frames: u64,
 }
 
 impl View {
@@ -590,9 +597,7 @@ impl View {
     fn record(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: Option<FrameBody>) -> Result<()> {
         if !self.targets.same(&input.targets) {
             let fresh = culler.view_with(self.method, &input.targets, &self.options)?;
-            let frames = self.frames;
             *self = fresh;
-            self.frames = frames;
         }
         if culler.moves > 0 && !self.method.takes_motion() {
             return Err(Error::InvalidScene(format!("{} keeps its own copy of the BVH and takes static scenes only; objects have moved", self.method)));
@@ -627,7 +632,6 @@ impl View {
             host,
             timer: self.timer.as_mut(),
             split: self.split.as_mut(),
-            submits: 0,
             sink: &self.sink,
         };
         if let Some(always) = culler.objects.always.as_ref() {
@@ -648,7 +652,6 @@ impl View {
         if let Some(t) = f.timer.take() {
             t.end(f.encoder);
         }
-        self.frames += 1;
         Ok(())
     }
 
@@ -692,11 +695,6 @@ impl View {
     /// [`View::method_state`], mutable (debug switches of a method).
     pub fn method_state_mut<T: 'static>(&mut self) -> Option<&mut T> {
         (&mut *self.imp as &mut dyn std::any::Any).downcast_mut::<T>()
-    }
-
-    /// Frames culled so far.
-    pub fn frames(&self) -> u64 {
-        self.frames
     }
 }
 

@@ -29,7 +29,8 @@ fn run() -> Result<(), String> {
     let mut shown = None;
     for k in 0..demo.cameras.len() {
         let (view, proj) = demo.matrices(k, size.0 as f32 / size.1 as f32, DepthRange::Reversed);
-        let f = host.frame(view, proj, k == demo.cut).map_err(|e| e.to_string())?;
+        host.frame(view, proj, k == demo.cut).map_err(|e| e.to_string())?;
+        let f = host.output().map_err(|e| e.to_string())?;
         let drawn = f.drawn.iter().filter(|&&d| d).count();
         println!("frame {k:2}: {method} drew {drawn} of {} objects", f.drawn.len());
         if k + 1 == demo.cut {

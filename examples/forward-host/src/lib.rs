@@ -132,6 +132,8 @@ pub struct ForwardHost {
     ids: wgpu::Texture,
     color: wgpu::Texture,
     n: u32,
+    /// The lists the last frame drew: (commands, count, max count).
+    lists: Vec<(wgpu::Buffer, wgpu::Buffer, u32)>,
     instances: wgpu::Buffer,
     colors: Vec<[f32; 4]>,
     local_bounds: Vec<hroc::Aabb>,
@@ -259,6 +261,7 @@ impl ForwardHost {
             ids,
             color,
             n,
+            lists: Vec::new(),
             instances,
             colors: scene.instances.iter().map(|i| i.color).collect(),
             local_bounds: scene.local_bounds.clone(),
@@ -270,8 +273,9 @@ impl ForwardHost {
     }
 
     /// Renders one frame from `view`/`proj`, culled by the view's method;
-    /// `cut` signals a camera cut. Reads back what was drawn.
-    pub fn frame(&mut self, view: Mat4, proj: Mat4, cut: bool) -> hroc::Result<FrameOutput> {
+    /// `cut` signals a camera cut. Submits; [`ForwardHost::output`] reads
+    /// back what it drew.
+    pub fn frame(&mut self, view: Mat4, proj: Mat4, cut: bool) -> hroc::Result<()> {
         let cam = CameraUniform { view_proj: (proj * view).to_cols_array_2d(), light_dir: Vec3::new(0.4, 0.8, 0.45).normalize().extend(0.0).to_array() };
         self.queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&cam));
         let (depth_view, ids_view, color_view) =
@@ -280,7 +284,7 @@ impl ForwardHost {
         encoder.clear_buffer(&self.seen, 0, None);
         // Clear the targets (hroc does not touch them).
         drop(begin_pass(&mut encoder, &color_view, &ids_view, &depth_view, Some(self.depth_range)));
-        let mut drawn_lists = Vec::new();
+        let mut lists = Vec::new();
         let input = FrameInput {
             view: ViewDesc { view, proj, depth: self.depth_range },
             targets: ViewTargets { depth: &self.depth, depth_range: self.depth_range, ids: Some(&self.ids) },
@@ -295,14 +299,20 @@ impl ForwardHost {
             pass.set_vertex_buffer(0, self.vertices.slice(..));
             pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
             draw.record(&mut pass, 1);
-            drawn_lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count));
+            lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count));
         })?;
         self.queue.submit([encoder.finish()]);
+        self.lists = lists;
+        Ok(())
+    }
+
+    /// What the last frame drew (the host's instrumentation for tests and
+    /// the example's printout; it waits for the GPU).
+    pub fn output(&self) -> hroc::Result<FrameOutput> {
         let gpu = hroc::gpu::Gpu::from_device(&self.device, &self.queue);
         let mut drawn = vec![false; self.n as usize];
-        for (commands, count, max) in drawn_lists {
-            let c = gpu.read::<u32>(&count, 0, 1)?[0].min(max);
-            for cmd in gpu.read::<hroc::layout::DrawCommand>(&commands, 0, c as u64)? {
+        for (commands, count, max) in &self.lists {
+            for cmd in gpu.read_list(commands, count, *max)? {
                 if cmd.instance_count > 0 && cmd.index_count > 0 {
                     drawn[cmd.first_instance as usize] = true;
                 }

@@ -10,6 +10,12 @@ use hroc_forward_host::{open_device, Demo, ForwardHost};
 
 const SIZE: (u32, u32) = (192, 108);
 
+/// One frame of `host`, and what it drew.
+fn run(host: &mut ForwardHost, view: glam::Mat4, proj: glam::Mat4, cut: bool) -> hroc_forward_host::FrameOutput {
+    host.frame(view, proj, cut).unwrap();
+    host.output().unwrap()
+}
+
 #[test]
 fn forward_host_culls_conservatively() {
     let (device, queue) = open_device().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)");
@@ -22,8 +28,8 @@ fn forward_host_culls_conservatively() {
             let (mut culled_behind, mut drawn_total, mut all_total) = (0, 0, 0);
             for k in 0..demo.cameras.len() {
                 let (view, proj) = demo.matrices(k, aspect, depth);
-                let t = truth.frame(view, proj, k == demo.cut).unwrap();
-                let f = host.frame(view, proj, k == demo.cut).unwrap();
+                let t = run(&mut truth, view, proj, k == demo.cut);
+                let f = run(&mut host, view, proj, k == demo.cut);
                 let label = format!("{method} {depth:?} frame {k}");
                 let false_negatives: Vec<usize> = (0..t.visible.len()).filter(|&o| t.visible[o] && !f.drawn[o]).collect();
                 assert!(false_negatives.is_empty(), "{label}: visible objects not drawn: {false_negatives:?}");
@@ -135,8 +141,8 @@ fn animated_objects_stay_conservative() {
             truth.move_objects(&m).unwrap();
             host.move_objects(&m).unwrap();
             let (view, proj) = demo.matrices(k, aspect, DepthRange::Standard);
-            let t = truth.frame(view, proj, k == demo.cut).unwrap();
-            let f = host.frame(view, proj, k == demo.cut).unwrap();
+            let t = run(&mut truth, view, proj, k == demo.cut);
+            let f = run(&mut host, view, proj, k == demo.cut);
             let false_negatives: Vec<usize> = (0..t.visible.len()).filter(|&o| t.visible[o] && !f.drawn[o]).collect();
             assert!(false_negatives.is_empty(), "{method} frame {k}: visible moving scene objects not drawn: {false_negatives:?}");
             assert_eq!(t.depth.iter().zip(&f.depth).filter(|(a, b)| b > a).count(), 0, "{method} frame {k}: missing pixels");
@@ -164,9 +170,9 @@ fn hard_path_in_both_depth_conventions() {
             .collect();
         for k in 0..demo.hard.len() {
             let (view, proj) = demo.hard_matrices(k, aspect, depth);
-            let t = truth.frame(view, proj, false).unwrap();
+            let t = run(&mut truth, view, proj, false);
             for host in hosts.iter_mut() {
-                let f = host.frame(view, proj, false).unwrap();
+                let f = run(host, view, proj, false);
                 let label = format!("{} {depth:?} hard frame {k}", host.view.method());
                 let false_negatives: Vec<usize> = (0..t.visible.len()).filter(|&o| t.visible[o] && !f.drawn[o]).collect();
                 assert!(false_negatives.is_empty(), "{label}: visible objects not drawn: {false_negatives:?}");

@@ -9,7 +9,6 @@ use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::render::{DrawList, Recorder, Renderer};
 use crate::scene::{camera::clip_planes, Camera, CameraPath, Scene};
-use hroc::layout::DrawCommand;
 use hroc::{Culler, CullerDesc, FrameInput, View, ViewDesc};
 
 /// A scene on the GPU as a host would hold it: hroc's renderer, a
@@ -222,8 +221,7 @@ impl<'g> Session<'g> {
     pub fn drawn(&self, lists: &[DrawList]) -> Result<Vec<bool>> {
         let mut drawn = vec![false; self.renderer.object_count as usize];
         for l in lists {
-            let count = self.gpu.read::<u32>(&l.count, 0, 1)?[0].min(l.max_count);
-            for c in self.gpu.read::<DrawCommand>(&l.commands, 0, count as u64)? {
+            for c in self.gpu.read_list(&l.commands, &l.count, l.max_count)? {
                 if c.instance_count > 0 && c.index_count > 0 {
                     if let Some(d) = drawn.get_mut(c.first_instance as usize) {
                         *d = true;

@@ -61,7 +61,6 @@ pub struct Frame<'a> {
     pub(crate) host: &'a mut dyn DrawHost,
     pub(crate) timer: Option<&'a mut GpuTimer>,
     pub(crate) split: Option<&'a mut FlagSplit>,
-    pub(crate) submits: u32,
     pub(crate) sink: &'a wgpu::BindGroup,
 }
 
@@ -98,7 +97,6 @@ impl<'a> Frame<'a> {
     pub fn flush(&mut self) {
         let enc = std::mem::replace(self.encoder, self.gpu.encoder("hroc frame"));
         self.gpu.queue.submit([enc.finish()]);
-        self.submits += 1;
     }
 
     /// Reads `count` u32s of `buf` mid-frame: submits and waits (a stall,

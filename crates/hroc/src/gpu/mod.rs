@@ -120,6 +120,14 @@ impl Gpu {
         Ok(bytemuck::pod_collect_to_vec(&bytes[..(count * sz) as usize]))
     }
 
+    /// The commands of a draw list within its GPU count, in list order, as
+    /// the draw read them (a debug read-back: submits and waits). Commands
+    /// with `instance_count` 0 are emptied ones and draw nothing.
+    pub fn read_list(&self, commands: &wgpu::Buffer, count: &wgpu::Buffer, max_count: u32) -> Result<Vec<crate::layout::DrawCommand>> {
+        let n = self.read::<u32>(count, 0, 1)?[0].min(max_count);
+        self.read(commands, 0, n as u64)
+    }
+
     /// Reads a 2D texture of 4-byte texels (R32Uint, R32Float, Depth32Float, Rgba8) row by row.
     pub fn read_texture<T: bytemuck::Pod>(&self, tex: &wgpu::Texture, aspect: wgpu::TextureAspect) -> Result<Vec<T>> {
         let (w, h) = (tex.width(), tex.height());
