@@ -1,5 +1,7 @@
 // HROC compute passes (paper §3.2, §4.2; thesis III.3):
 // extract — one thread per effective occluder walks the BVH bottom-up;
+//           objects tested alone (§6's hybrid: DYNAMIC objects and those
+//           not in the tree) become occludee groups of their own;
 // collect — one thread per node gathers occludee groups (unknown nodes),
 //           frustum-culls them and splits those that cross the near plane;
 // merge   — next V = O ∪ D;  filter — next V = objects owning a pixel (OF).
@@ -20,13 +22,34 @@ const STACK: u32 = 64u; // >= BVH depth + 1, checked on the host
 @group(0) @binding(8) var<storage, read> drawn: array<u32>;           // D marks
 @group(0) @binding(9) var<storage, read_write> visible: array<u32>;   // next V
 @group(0) @binding(10) var ids: texture_2d<u32>;
+@group(0) @binding(11) var<storage, read> bounds: array<ObjectBounds>;
 
 
 
 @compute @workgroup_size(256)
 fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let i = flat_id(wid, nwg, lid, 256u);
-    if i >= frame.object_count || occluders[i] == 0u {
+    if i >= frame.object_count {
+        return;
+    }
+    let flags = bounds[i].flags;
+    if (flags & REMOVED) != 0u || (occluders[i] != 0u && (flags & ALONE) != 0u) {
+        return; // nothing to draw, or drawn and visible already
+    }
+    if (flags & ALONE) != 0u {
+        // The hybrid (§6): the object's own box is a group, marked without
+        // rays as ROC marks its boxes; near-plane boxes are visible untested.
+        let b = padded_box(BvhNode(bounds[i].min, 0u, bounds[i].max, 0u), frame.eye.xyz, pixel_angle(frame));
+        if box_in_frustum(frame.planes, b.min, b.max) {
+            if crosses_near(frame.planes, frame.near, b) {
+                occludees[i] = 1u;
+            } else {
+                emit_group(LEAF_BIT | i);
+            }
+        }
+        return;
+    }
+    if occluders[i] == 0u {
         return;
     }
     // Atomic max makes the result independent of thread order: a node

@@ -4,7 +4,8 @@
 // group casts a ray through its pixel into the group's subtree and marks
 // every leaf whose box the ray enters in front of the occlusion map — all
 // of them, never stopping at the first hit. Visited marks (both children
-// done → parent done) prune repeated traversal.
+// done → parent done) prune repeated traversal. A group with LEAF_BIT in
+// its id is an object tested alone (§6's hybrid): its own box, no rays.
 
 const STACK: u32 = 64u;
 const STAT_SLOTS: u32 = 64u;
@@ -16,6 +17,7 @@ const STAT_SLOTS: u32 = 64u;
 @group(0) @binding(4) var occlusion_map: texture_depth_2d;
 // Per slot: rays cast, nodes visited (spread over slots against contention).
 @group(0) @binding(5) var<storage, read_write> ray_stats: array<atomic<u32>>;
+@group(0) @binding(6) var<storage, read> bounds: array<ObjectBounds>;
 
 
 struct BoxOut {
@@ -25,7 +27,14 @@ struct BoxOut {
 
 @vertex
 fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) node: u32) -> BoxOut {
-    let b = padded_box(nodes[node], frame.eye.xyz, pixel_angle(frame));
+    var n = BvhNode(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
+    if (node & LEAF_BIT) != 0u {
+        let o = node & ~LEAF_BIT;
+        n = BvhNode(bounds[o].min, 0u, bounds[o].max, 0u);
+    } else {
+        n = nodes[node];
+    }
+    let b = padded_box(n, frame.eye.xyz, pixel_angle(frame));
     var out: BoxOut;
     out.clip = frame.view_proj * vec4<f32>(box_corner(b, v), 1.0);
     out.node = node;
@@ -49,6 +58,10 @@ fn safe_inv(d: f32) -> f32 {
 
 @fragment @early_depth_test(force)
 fn box_fs(in: BoxOut) {
+    if (in.node & LEAF_BIT) != 0u {
+        occludees[in.node & ~LEAF_BIT] = 1u;
+        return;
+    }
     let group = nodes[in.node];
     if (group.child & LEAF_BIT) != 0u {
         occludees[group.child & ~LEAF_BIT] = 1u;

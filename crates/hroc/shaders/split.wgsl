@@ -21,7 +21,7 @@ fn split(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: ve
     if (flags & NOT_OCCLUDER) != 0u && c.instance_count > 0u && c.index_count > 0u {
         deferred[c.first_instance] = 1u;
     }
-    if flags != 0u {
+    if (flags & SPLIT_FLAGS) != 0u {
         c.instance_count = 0u;
     }
     dst[i] = c;

@@ -1,7 +1,7 @@
 //! The host contract: what a renderer hands the culler, what it gets back.
 //! The crate docs state the preconditions once; this module implements them.
 
-use crate::bvh::{Bvh, Split};
+use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
 use crate::cull::{compact::Compactor, CullMethod, DrawList, Frame, FrameBody, Method, MethodContext, MethodOptions, Stage, Stat};
 use crate::error::{Error, Result};
 use crate::frustum::{DepthRange, ViewDesc};
@@ -23,8 +23,12 @@ impl ObjectFlags {
     /// depth or the ID target (alpha-blended glass, particles). Such objects
     /// are handed back in [`Phase::NonOccluders`], after the opaque phases.
     pub const NOT_OCCLUDER: ObjectFlags = ObjectFlags(2);
+    /// Moves most frames (a vehicle, a character): kept out of the BVH and
+    /// tested on its own box, so that moving it costs no refit (HROC §6's
+    /// hybrid). Static objects may move too; they are refit into the BVH.
+    pub const DYNAMIC: ObjectFlags = ObjectFlags(4);
 
-    /// The raw bits (`ObjectBounds::flags`, WGSL `NEVER_CULL`/`NOT_OCCLUDER`).
+    /// The raw bits (`ObjectBounds::flags`, WGSL `NEVER_CULL`/`NOT_OCCLUDER`/`DYNAMIC`).
     pub fn bits(self) -> u32 {
         self.0
     }
@@ -62,20 +66,72 @@ pub struct CullerDesc<'a> {
     /// The objects, indexed 0..N in this order: the object index of every
     /// draw command the culler hands back.
     pub objects: &'a [ObjectDesc],
+    /// Object slots to allocate (at least `objects.len()`): room for
+    /// [`Culler::add_objects`] without reallocation. Growing past it
+    /// doubles the slots and rebuilds every view (a camera cut for each).
+    pub capacity: u32,
     /// BVH split strategy (HROC, IOC and the query methods walk the BVH).
     pub split: Split,
     /// Method parameters.
     pub options: MethodOptions,
+    /// How the BVH follows moving, added and removed objects.
+    pub motion: MotionOptions,
     /// Time every stage with GPU timestamps. Needs `TIMESTAMP_QUERY` and
     /// `TIMESTAMP_QUERY_INSIDE_ENCODERS`.
     pub timestamps: bool,
 }
 
 impl<'a> CullerDesc<'a> {
-    /// SAH BVH, default parameters, no timestamps.
+    /// SAH BVH, no spare slots, default parameters, no timestamps.
     pub fn new(objects: &'a [ObjectDesc]) -> Self {
-        CullerDesc { objects, split: Split::Sah, options: MethodOptions::default(), timestamps: false }
+        CullerDesc { objects, capacity: 0, split: Split::Sah, options: MethodOptions::default(), motion: MotionOptions::default(), timestamps: false }
     }
+}
+
+/// Where the BVH is refit after objects move.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Refit {
+    /// On the CPU, then the boxes and nodes are uploaded (the default:
+    /// measured cheaper here, see BENCHMARKS.md).
+    #[default]
+    Cpu,
+    /// On the GPU: only the moved boxes are uploaded (`refit.wgsl`).
+    Gpu,
+}
+
+/// How the BVH follows motion (HROC §6 names the static hierarchy as the
+/// method's main limit). Static objects that move are refit into the tree;
+/// [`ObjectFlags::DYNAMIC`] objects and objects added since the last build
+/// are tested on their own (the paper's hybrid); a rebuild folds the
+/// latter back in when the tree has degraded.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MotionOptions {
+    /// Where refits run.
+    pub refit: Refit,
+    /// Rebuild when the refit tree's SAH cost exceeds this multiple of its
+    /// cost as built ([`Bvh::sah_cost`]); `f64::INFINITY` never does.
+    pub rebuild_sah_growth: f64,
+    /// Rebuild when more than this fraction of the live objects are static
+    /// but outside the tree (added since the last build, or turned static
+    /// without a leaf): each is a group of its own until then.
+    pub rebuild_outside: f64,
+}
+
+impl Default for MotionOptions {
+    fn default() -> Self {
+        MotionOptions { refit: Refit::Cpu, rebuild_sah_growth: 2.0, rebuild_outside: 0.05 }
+    }
+}
+
+/// What the last change of objects cost the culler ([`Culler::last_update`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct UpdateStats {
+    /// CPU ms in the culler: boxes, refit or rebuild, uploads queued.
+    pub cpu_ms: f64,
+    /// True when the change rebuilt the BVH.
+    pub rebuilt: bool,
+    /// SAH cost of the tree over its cost as last built (1 when fresh).
+    pub sah_growth: f64,
 }
 
 /// The device features every method needs.
@@ -85,8 +141,14 @@ pub const REQUIRED_FEATURES: wgpu::Features =
 /// The features [`CullerDesc::timestamps`] needs.
 pub const TIMESTAMP_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY.union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
 
+/// GPU-only bits of `ObjectBounds::flags` (`ALONE`, `REMOVED` in common.wgsl).
+const ALONE: u32 = 0x4000_0000;
+const REMOVED: u32 = 0x8000_0000;
+
 /// Object buffers shared by every view of a [`Culler`].
 pub(crate) struct SharedObjects {
+    /// Object slots (the culler's capacity): every per-object buffer and
+    /// pass covers them; empty slots draw nothing.
     pub count: u32,
     pub bounds: wgpu::Buffer,
     pub commands: wgpu::Buffer,
@@ -108,17 +170,34 @@ impl SharedObjects {
 
 /// The objects, their BVH and their GPU buffers, on the host's device;
 /// shared by every [`View`] of them.
+///
+/// Objects live in slots: an object's index is its slot, stable from
+/// [`Culler::add_objects`] (or creation) to [`Culler::remove_objects`],
+/// and a removed object's slot is reused by a later add.
 pub struct Culler {
     gpu: Gpu,
+    /// Every slot's box (empty slots: a point at the origin).
     boxes: Vec<Aabb>,
-    /// Bumped by every [`Culler::set_bounds`].
+    live: Vec<bool>,
+    free: std::collections::BTreeSet<u32>,
+    /// Bumped by every change of objects.
     moves: u64,
+    /// Bumped by every rebuild of the BVH or of the slots.
+    generation: u64,
     bvh: Bvh,
+    split: Split,
+    built_cost: f64,
+    /// The GPU holds the boxes: set by [`Culler::set_bounds_gpu`], when
+    /// `boxes` and the CPU tree's boxes are stale.
+    gpu_boxes: bool,
     bvh_nodes: wgpu::Buffer,
     leaf_of_object: wgpu::Buffer,
+    gpu_refit: Option<GpuRefit>,
     objects: SharedObjects,
     marks_layout: wgpu::BindGroupLayout,
     options: MethodOptions,
+    motion: MotionOptions,
+    last_update: UpdateStats,
     timestamps: bool,
 }
 
@@ -126,7 +205,8 @@ impl Culler {
     /// Creates a culler on the host's device. Errors, never panics, when the
     /// device lacks [`REQUIRED_FEATURES`] (or [`TIMESTAMP_FEATURES`] when
     /// asked for timestamps), when an object's box is not finite, or when the
-    /// objects exceed the device's buffer limits.
+    /// objects exceed the device's buffer limits. Objects flagged
+    /// [`ObjectFlags::DYNAMIC`] are left out of the BVH.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, desc: &CullerDesc) -> Result<Culler> {
         let mut needed = REQUIRED_FEATURES;
         if desc.timestamps {
@@ -138,85 +218,351 @@ impl Culler {
         }
         let gpu = Gpu::from_device(device, queue);
         let objects = desc.objects;
-        let n = objects.len() as u64;
         for (i, o) in objects.iter().enumerate() {
             check_box(i as u32, &o.bounds)?;
+            check_flags(i as u32, o.flags)?;
         }
-        let limits = device.limits();
-        let storage = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-        for (what, need) in [("object boxes", n * 32), ("draw commands", n * 20), ("BVH nodes", (2 * n).saturating_sub(1) * 32)] {
-            if need > storage {
-                return Err(Error::OverDeviceLimits(format!("{what} need {need} bytes, the device allows {storage}")));
-            }
+        let m = desc.motion;
+        check_motion(&m)?;
+        let capacity = (desc.capacity as u64).max(objects.len() as u64).max(1);
+        check_capacity(device, capacity)?;
+        let n = capacity as usize;
+        let mut boxes = vec![Aabb::new(glam::Vec3::ZERO, glam::Vec3::ZERO); n];
+        let mut live = vec![false; n];
+        let mut flags = vec![ObjectFlags::NONE; n];
+        let mut commands = vec![DrawCommand::default(); n];
+        for (i, o) in objects.iter().enumerate() {
+            (boxes[i], live[i], flags[i], commands[i]) = (o.bounds, true, o.flags, command(o, i as u32));
         }
-        if n >= 1 << 31 {
-            return Err(Error::OverDeviceLimits(format!("{n} objects exceed 2^31")));
-        }
-        let boxes: Vec<Aabb> = objects.iter().map(|o| o.bounds).collect();
-        let bvh = Bvh::build(&boxes, desc.split);
-        use wgpu::BufferUsages as U;
-        let bounds: Vec<ObjectBounds> = objects.iter().map(|o| bounds_of(o.bounds, o.flags)).collect();
-        let commands: Vec<DrawCommand> = objects.iter().enumerate().map(|(i, o)| command(o, i as u32)).collect();
         let marks_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc marks"), entries: &[marks_entry()] });
-        let shared = SharedObjects {
-            count: n as u32,
-            bounds: gpu.buffer_init("hroc object boxes", bytemuck::cast_slice(&bounds), U::STORAGE | U::COPY_DST),
-            commands: gpu.buffer_init("hroc commands", bytemuck::cast_slice(&commands), U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
-            all_count: gpu.buffer_init("hroc all count", bytemuck::bytes_of(&(n as u32)), U::STORAGE | U::INDIRECT | U::COPY_SRC),
-            flags: objects.iter().map(|o| o.flags).collect(),
-            cpu_commands: commands.clone(),
-            always: None,
-            always_deferred: gpu.buffer("hroc never-culled non-occluders", n * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST),
-        };
+        let (shared, bvh_nodes, leaf_of_object) = allocate(&gpu, capacity as u32, &commands, flags);
         let mut culler = Culler {
-            bvh_nodes: gpu.buffer_init("hroc bvh nodes", bytemuck::cast_slice(&bvh.nodes), U::STORAGE | U::COPY_DST),
-            leaf_of_object: gpu.buffer_init("hroc leaf of object", bytemuck::cast_slice(&bvh.leaf_of_object), U::STORAGE),
-            bvh,
+            bvh_nodes,
+            leaf_of_object,
+            bvh: Bvh::default(),
+            split: desc.split,
+            built_cost: 0.0,
+            gpu_boxes: false,
+            gpu_refit: None,
             gpu,
             boxes,
+            live,
+            free: (objects.len() as u32..capacity as u32).collect(),
             moves: 0,
+            generation: 0,
             objects: shared,
             marks_layout,
             options: desc.options.clone(),
+            motion: m,
+            last_update: UpdateStats { sah_growth: 1.0, ..Default::default() },
             timestamps: desc.timestamps,
         };
+        culler.rebuild_tree()?;
+        culler.upload_bounds();
         culler.update_always();
         Ok(culler)
     }
 
     /// Moves objects: `(object, new world box)` pairs, taking effect from
-    /// the next frame of every view. The BVH is refit on the CPU
-    /// ([`Bvh::refit`]) and the boxes and nodes are uploaded. Errors on an
-    /// object out of range or a box that is not finite; nothing changes then.
-    /// Views of methods that cannot follow motion ([`Method::takes_motion`])
-    /// refuse their next frame.
+    /// the next frame of every view. Static objects are refit into the BVH
+    /// ([`MotionOptions::refit`]), which is rebuilt when the policy says
+    /// so; [`ObjectFlags::DYNAMIC`] objects only change their own box.
+    /// Errors on an object that is not live or a box that is not finite;
+    /// nothing changes then. Views of methods that cannot follow motion
+    /// ([`Method::takes_motion`]) refuse their next frame.
     pub fn set_bounds(&mut self, moves: &[(u32, Aabb)]) -> Result<()> {
         for &(i, b) in moves {
-            self.check_object(i)?;
+            self.check_live(i)?;
             check_box(i, &b)?;
         }
         if moves.is_empty() {
             return Ok(());
         }
+        let t = std::time::Instant::now();
+        self.sync_boxes()?;
         for &(i, b) in moves {
             self.boxes[i as usize] = b;
         }
-        self.bvh.refit(&self.boxes);
-        let bounds: Vec<ObjectBounds> = self.boxes.iter().zip(&self.objects.flags).map(|(b, f)| bounds_of(*b, *f)).collect();
-        self.gpu.queue.write_buffer(&self.objects.bounds, 0, bytemuck::cast_slice(&bounds));
-        self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
         self.moves += 1;
+        self.changed(t)
+    }
+
+    /// Moves every object at once from a buffer the host fills on the GPU
+    /// (from its own transforms): two `vec4<f32>` per slot, `(min.xyz, _)`
+    /// then `(max.xyz, _)`, `32 * capacity` bytes at least, usage `STORAGE`.
+    /// Removed slots are ignored. A box that is not finite and ordered is
+    /// taken as one around everything (the object is then never culled).
+    /// Records the copy and a GPU refit of the static objects into
+    /// `encoder`, which the host submits after filling `boxes` and before
+    /// the next frame. The CPU's copy of the boxes goes stale: a later
+    /// rebuild, or [`Culler::set_bounds`], first reads the GPU's back.
+    pub fn set_bounds_gpu(&mut self, encoder: &mut wgpu::CommandEncoder, boxes: &wgpu::Buffer) -> Result<()> {
+        let need = self.objects.count as u64 * 32;
+        if boxes.size() < need || !boxes.usage().contains(wgpu::BufferUsages::STORAGE) {
+            return Err(Error::InvalidObject(format!("bounds buffer of {} bytes, usage {:?}: needs {need} bytes and STORAGE", boxes.size(), boxes.usage())));
+        }
+        let t = std::time::Instant::now();
+        self.refit_on_gpu(encoder, Some(boxes));
+        self.gpu_boxes = true;
+        self.moves += 1;
+        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, sah_growth: f64::NAN };
         Ok(())
     }
 
-    /// Registered objects.
+    /// Adds objects, taking effect from the next frame of every view, and
+    /// returns their indices (free slots, lowest first, then new ones). An
+    /// object that reuses the slot of a removed one enters the BVH by a
+    /// refit; others are tested on their own until the next rebuild.
+    /// `first_instance` of each object's command is its index. Errors on a
+    /// box that is not finite; nothing changes then.
+    pub fn add_objects(&mut self, objects: &[ObjectDesc]) -> Result<Vec<u32>> {
+        for (k, o) in objects.iter().enumerate() {
+            check_box(k as u32, &o.bounds)?;
+            check_flags(k as u32, o.flags)?;
+        }
+        if objects.is_empty() {
+            return Ok(Vec::new());
+        }
+        let t = std::time::Instant::now();
+        self.sync_boxes()?;
+        let live = self.live.iter().filter(|&&l| l).count() as u64;
+        if live + objects.len() as u64 > self.objects.count as u64 {
+            self.grow((live + objects.len() as u64).next_power_of_two())?;
+        }
+        let mut ids = Vec::with_capacity(objects.len());
+        for o in objects {
+            let i = self.free.pop_first().expect("grown to fit");
+            let s = i as usize;
+            (self.boxes[s], self.live[s], self.objects.flags[s]) = (o.bounds, true, o.flags);
+            self.objects.cpu_commands[s] = command(o, i);
+            ids.push(i);
+        }
+        self.upload_commands();
+        self.moves += 1;
+        self.update_always();
+        self.changed(t)?;
+        Ok(ids)
+    }
+
+    /// Removes objects, taking effect from the next frame of every view:
+    /// their commands draw nothing and their slots are free for
+    /// [`Culler::add_objects`]. Errors on an object that is not live, or
+    /// listed twice; nothing changes then.
+    pub fn remove_objects(&mut self, objects: &[u32]) -> Result<()> {
+        let mut seen = std::collections::HashSet::new();
+        for &i in objects {
+            self.check_live(i)?;
+            if !seen.insert(i) {
+                return Err(Error::InvalidObject(format!("object {i} listed twice")));
+            }
+        }
+        if objects.is_empty() {
+            return Ok(());
+        }
+        let t = std::time::Instant::now();
+        self.sync_boxes()?;
+        for &i in objects {
+            let s = i as usize;
+            (self.live[s], self.objects.flags[s]) = (false, ObjectFlags::NONE);
+            self.objects.cpu_commands[s] = DrawCommand::default();
+            self.free.insert(i);
+        }
+        self.upload_commands();
+        self.moves += 1;
+        self.update_always();
+        self.changed(t)
+    }
+
+    /// Rebuilds the BVH over the live static objects now (also done by the
+    /// [`MotionOptions`] policy after changes). Views of methods that keep
+    /// the tree's shape ([`Method::keeps_tree`]) start over on their next
+    /// frame.
+    pub fn rebuild(&mut self) -> Result<()> {
+        let t = std::time::Instant::now();
+        self.sync_boxes()?;
+        self.rebuild_tree()?;
+        self.upload_bounds();
+        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: true, sah_growth: 1.0 };
+        Ok(())
+    }
+
+    /// Changes how the BVH follows motion from the next change on.
+    pub fn set_motion(&mut self, motion: MotionOptions) -> Result<()> {
+        check_motion(&motion)?;
+        self.motion = motion;
+        Ok(())
+    }
+
+    /// The motion options in use.
+    pub fn motion(&self) -> MotionOptions {
+        self.motion
+    }
+
+    /// What the last change of objects cost ([`UpdateStats`]).
+    pub fn last_update(&self) -> UpdateStats {
+        self.last_update
+    }
+
+    /// After boxes, flags or slots changed: refit (or rebuild) and upload.
+    fn changed(&mut self, t: std::time::Instant) -> Result<()> {
+        let mut rebuilt = false;
+        let outside = (0..self.objects.count as usize).filter(|&i| self.live[i] && !self.is_dynamic(i) && self.bvh_leaf(i).is_none()).count();
+        let live = self.live.iter().filter(|&&l| l).count().max(1);
+        let mut growth = 1.0;
+        if outside as f64 > self.motion.rebuild_outside * live as f64 {
+            self.rebuild_tree()?;
+            rebuilt = true;
+        } else if self.motion.refit == Refit::Gpu {
+            // The GPU refits from the uploaded boxes; the CPU tree keeps its
+            // boxes for nothing but the policy, so it is refit too only when
+            // the policy needs it: never here (growth unknown).
+            self.upload_bounds();
+            let mut enc = self.gpu.device.create_command_encoder(&Default::default());
+            self.refit_on_gpu(&mut enc, None);
+            self.gpu.queue.submit([enc.finish()]);
+            self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, sah_growth: f64::NAN };
+            return Ok(());
+        } else {
+            self.refit_cpu();
+            growth = self.sah_growth();
+            if growth > self.motion.rebuild_sah_growth {
+                self.rebuild_tree()?;
+                (rebuilt, growth) = (true, 1.0);
+            }
+        }
+        self.upload_bounds();
+        if !rebuilt {
+            self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
+        }
+        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt, sah_growth: growth };
+        Ok(())
+    }
+
+    fn is_dynamic(&self, i: usize) -> bool {
+        self.objects.flags[i].contains(ObjectFlags::DYNAMIC)
+    }
+
+    fn bvh_leaf(&self, i: usize) -> Option<u32> {
+        self.bvh.leaf_of_object.get(i).copied().filter(|&l| l != NO_LEAF)
+    }
+
+    /// Refits the CPU tree: live static leaves take their boxes, the
+    /// others stay frozen.
+    fn refit_cpu(&mut self) {
+        let (boxes, live, flags) = (&self.boxes, &self.live, &self.objects.flags);
+        self.bvh.refit_with(|o| {
+            let o = o as usize;
+            (live[o] && !flags[o].contains(ObjectFlags::DYNAMIC)).then_some(boxes[o])
+        });
+    }
+
+    fn sah_growth(&self) -> f64 {
+        if self.built_cost > 0.0 {
+            self.bvh.sah_cost() / self.built_cost
+        } else {
+            1.0
+        }
+    }
+
+    /// Builds the tree over the live static objects and uploads it. A tree
+    /// deeper than HROC's stacks is built again with equal-count splits.
+    fn rebuild_tree(&mut self) -> Result<()> {
+        let members: Vec<u32> = (0..self.objects.count).filter(|&i| self.live[i as usize] && !self.is_dynamic(i as usize)).collect();
+        let mut bvh = Bvh::build_subset(&self.boxes, &members, self.split);
+        if bvh.depth() > crate::cull::hroc::MAX_DEPTH {
+            bvh = Bvh::build_subset(&self.boxes, &members, Split::Eq);
+        }
+        self.built_cost = bvh.sah_cost();
+        self.bvh = bvh;
+        self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
+        self.gpu.queue.write_buffer(&self.leaf_of_object, 0, bytemuck::cast_slice(&self.bvh.leaf_of_object));
+        self.generation += 1;
+        Ok(())
+    }
+
+    /// The GPU bits of slot `i`'s flags.
+    fn gpu_flags(&self, i: usize) -> u32 {
+        let f = self.objects.flags[i].bits();
+        if !self.live[i] {
+            REMOVED
+        } else if self.is_dynamic(i) || self.bvh_leaf(i).is_none() {
+            f | ALONE
+        } else {
+            f
+        }
+    }
+
+    fn upload_bounds(&mut self) {
+        let bounds: Vec<ObjectBounds> = (0..self.boxes.len()).map(|i| bounds_of(self.boxes[i], self.gpu_flags(i))).collect();
+        self.gpu.queue.write_buffer(&self.objects.bounds, 0, bytemuck::cast_slice(&bounds));
+    }
+
+    fn upload_commands(&mut self) {
+        self.gpu.queue.write_buffer(&self.objects.commands, 0, bytemuck::cast_slice(&self.objects.cpu_commands));
+    }
+
+    /// Reads the GPU's boxes and tree back after [`Culler::set_bounds_gpu`]
+    /// (one wait), so that the CPU can change them again.
+    fn sync_boxes(&mut self) -> Result<()> {
+        if !self.gpu_boxes {
+            return Ok(());
+        }
+        let bounds: Vec<ObjectBounds> = self.gpu.read(&self.objects.bounds, 0, self.objects.count as u64)?;
+        for (b, g) in self.boxes.iter_mut().zip(&bounds) {
+            *b = Aabb::new(g.min.into(), g.max.into());
+        }
+        let nodes: Vec<BvhNode> = self.gpu.read(&self.bvh_nodes, 0, self.bvh.nodes.len() as u64)?;
+        self.bvh.nodes = nodes;
+        self.gpu_boxes = false;
+        Ok(())
+    }
+
+    /// Records the GPU refit (`refit.wgsl`), from `host` boxes when given.
+    fn refit_on_gpu(&mut self, enc: &mut wgpu::CommandEncoder, host: Option<&wgpu::Buffer>) {
+        let nodes = self.bvh.nodes.len() as u32;
+        let r = self.gpu_refit.get_or_insert_with(|| GpuRefit::new(&self.gpu, self.objects.count));
+        r.record(&self.gpu, enc, [self.objects.count, nodes, host.is_some() as u32, 0], host, &self.objects.bounds, &self.bvh_nodes, &self.leaf_of_object);
+    }
+
+    /// Doubles the slots (or more): new buffers, every view rebuilt.
+    fn grow(&mut self, capacity: u64) -> Result<()> {
+        check_capacity(&self.gpu.device, capacity)?;
+        let (old, n) = (self.objects.count as usize, capacity as usize);
+        self.boxes.resize(n, Aabb::new(glam::Vec3::ZERO, glam::Vec3::ZERO));
+        self.live.resize(n, false);
+        self.objects.cpu_commands.resize(n, DrawCommand::default());
+        let mut flags = std::mem::take(&mut self.objects.flags);
+        flags.resize(n, ObjectFlags::NONE);
+        self.free.extend(old as u32..n as u32);
+        (self.objects, self.bvh_nodes, self.leaf_of_object) = allocate(&self.gpu, n as u32, &self.objects.cpu_commands, flags);
+        self.gpu_refit = None;
+        self.bvh.leaf_of_object.resize(n, NO_LEAF);
+        self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
+        self.gpu.queue.write_buffer(&self.leaf_of_object, 0, bytemuck::cast_slice(&self.bvh.leaf_of_object));
+        self.generation += 1;
+        Ok(())
+    }
+
+    /// Object slots (live objects plus free slots).
     pub fn object_count(&self) -> u32 {
         self.objects.count
     }
 
-    /// The object BVH.
+    /// True when object `i` is live (added and not removed).
+    pub fn is_live(&self, i: u32) -> bool {
+        self.live.get(i as usize).copied().unwrap_or(false)
+    }
+
+    /// The object BVH, as the CPU last built or refit it (after
+    /// [`Culler::set_bounds_gpu`], the GPU's boxes are newer).
     pub fn bvh(&self) -> &Bvh {
         &self.bvh
+    }
+
+    /// The BVH nodes the views read, read back from the GPU (one wait): for
+    /// tests of the GPU refit.
+    pub fn read_nodes(&self) -> Result<Vec<BvhNode>> {
+        self.gpu.read(&self.bvh_nodes, 0, self.bvh.nodes.len() as u64)
     }
 
     /// Every object's draw command in object order (what `noc` draws).
@@ -231,25 +577,37 @@ impl Culler {
         &self.marks_layout
     }
 
-    /// The flags of object `i`; `None` out of range.
+    /// The flags of object `i`; `None` when it is not live.
     pub fn flags(&self, i: u32) -> Option<ObjectFlags> {
-        self.objects.flags.get(i as usize).copied()
+        self.is_live(i).then(|| self.objects.flags[i as usize])
     }
 
-    fn check_object(&self, i: u32) -> Result<()> {
-        match i < self.objects.count {
+    fn check_live(&self, i: u32) -> Result<()> {
+        match self.is_live(i) {
             true => Ok(()),
+            false if i < self.objects.count => Err(Error::InvalidObject(format!("object {i} was removed (or never added)"))),
             false => Err(Error::InvalidObject(format!("object {i} out of range 0..{}", self.objects.count))),
         }
     }
 
     /// Sets the flags of object `i` (an object that turns transparent, a
-    /// skybox): takes effect from the next frame of every view.
+    /// door that starts to move): takes effect from the next frame of every
+    /// view. An object turned [`ObjectFlags::DYNAMIC`] leaves the tree's
+    /// boxes as they were; one turned static again is refit into its leaf,
+    /// or tested on its own until the next rebuild when it has none.
     pub fn set_flags(&mut self, i: u32, flags: ObjectFlags) -> Result<()> {
-        self.check_object(i)?;
+        self.check_live(i)?;
+        check_flags(i, flags)?;
+        let was = self.objects.flags[i as usize];
         self.objects.flags[i as usize] = flags;
-        self.gpu.queue.write_buffer(&self.objects.bounds, i as u64 * 32 + 12, bytemuck::bytes_of(&flags.bits()));
         self.update_always();
+        if was.contains(ObjectFlags::DYNAMIC) != flags.contains(ObjectFlags::DYNAMIC) {
+            let t = std::time::Instant::now();
+            self.sync_boxes()?;
+            self.moves += 1;
+            return self.changed(t);
+        }
+        self.gpu.queue.write_buffer(&self.objects.bounds, i as u64 * 32 + 12, bytemuck::bytes_of(&self.gpu_flags(i as usize)));
         Ok(())
     }
 
@@ -299,7 +657,19 @@ impl Culler {
         cx.options = options;
         let imp = method.create(&cx)?;
         let timer = self.timestamps.then(|| GpuTimer::new(&self.gpu, 64));
-        Ok(View { method, options: options.clone(), imp, frame, targets: t, sink, split: None, timer, last_stages: Vec::new() })
+        Ok(View {
+            method,
+            options: options.clone(),
+            imp,
+            frame,
+            targets: t,
+            sink,
+            split: None,
+            timer,
+            last_stages: Vec::new(),
+            generation: self.generation,
+            slots: self.objects.count,
+        })
     }
 
     fn context<'a>(&'a self, frame: &'a wgpu::Buffer, targets: &'a Targets) -> MethodContext<'a> {
@@ -311,6 +681,7 @@ impl Culler {
             bounds: &self.objects.bounds,
             commands: &self.objects.commands,
             object_count: self.objects.count,
+            node_capacity: node_capacity(self.objects.count),
             frame,
             targets,
             marks_layout: &self.marks_layout,
@@ -324,6 +695,107 @@ impl Culler {
     }
 }
 
+/// Nodes a tree over `slots` objects can have.
+fn node_capacity(slots: u32) -> u32 {
+    (2 * slots).saturating_sub(1).max(1)
+}
+
+/// The shared buffers of `slots` object slots.
+fn allocate(gpu: &Gpu, slots: u32, commands: &[DrawCommand], flags: Vec<ObjectFlags>) -> (SharedObjects, wgpu::Buffer, wgpu::Buffer) {
+    use wgpu::BufferUsages as U;
+    let n = slots as u64;
+    let shared = SharedObjects {
+        count: slots,
+        bounds: gpu.buffer("hroc object boxes", n * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC),
+        commands: gpu.buffer_init("hroc commands", bytemuck::cast_slice(commands), U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
+        all_count: gpu.buffer_init("hroc all count", bytemuck::bytes_of(&slots), U::STORAGE | U::INDIRECT | U::COPY_SRC),
+        flags,
+        cpu_commands: commands.to_vec(),
+        always: None,
+        always_deferred: gpu.buffer("hroc never-culled non-occluders", n * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST),
+    };
+    let nodes = gpu.buffer("hroc bvh nodes", node_capacity(slots) as u64 * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+    let leaves = gpu.buffer("hroc leaf of object", n * 4, U::STORAGE | U::COPY_DST);
+    (shared, nodes, leaves)
+}
+
+fn check_capacity(device: &wgpu::Device, n: u64) -> Result<()> {
+    let limits = device.limits();
+    let storage = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    for (what, need) in [("object boxes", n * 32), ("draw commands", n * 20), ("BVH nodes", (2 * n).saturating_sub(1) * 32), ("HROC groups", 3 * n * 16)] {
+        if need > storage {
+            return Err(Error::OverDeviceLimits(format!("{what} need {need} bytes, the device allows {storage}")));
+        }
+    }
+    if n >= 1 << 30 {
+        return Err(Error::OverDeviceLimits(format!("{n} object slots exceed 2^30")));
+    }
+    Ok(())
+}
+
+fn check_motion(m: &MotionOptions) -> Result<()> {
+    if m.rebuild_sah_growth.is_nan() || m.rebuild_sah_growth < 1.0 || !(0.0..=1.0).contains(&m.rebuild_outside) {
+        return Err(Error::InvalidScene(format!("motion options {m:?}: rebuild_sah_growth must be at least 1 and rebuild_outside a fraction")));
+    }
+    Ok(())
+}
+
+/// The host sets only the flags it knows.
+fn check_flags(i: u32, f: ObjectFlags) -> Result<()> {
+    let known = ObjectFlags::NEVER_CULL | ObjectFlags::NOT_OCCLUDER | ObjectFlags::DYNAMIC;
+    match f.bits() & !known.bits() {
+        0 => Ok(()),
+        bad => Err(Error::InvalidObject(format!("object {i}: unknown flag bits {bad:#x}"))),
+    }
+}
+
+/// The GPU refit's pipelines and scratch (`refit.wgsl`).
+struct GpuRefit {
+    layout: wgpu::BindGroupLayout,
+    clear: wgpu::ComputePipeline,
+    leaves: wgpu::ComputePipeline,
+    decode: wgpu::ComputePipeline,
+    params: wgpu::Buffer,
+    scratch: wgpu::Buffer,
+    no_host: wgpu::Buffer,
+}
+
+impl GpuRefit {
+    fn new(gpu: &Gpu, slots: u32) -> GpuRefit {
+        use crate::cull::compact::{storage_entry, uniform_entry};
+        use wgpu::BufferUsages as U;
+        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hroc refit"),
+            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false), storage_entry(3, false), storage_entry(4, true), storage_entry(5, false)],
+        });
+        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc refit"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let module = gpu.shader("refit.wgsl", &shaders::source("refit.wgsl"));
+        GpuRefit {
+            clear: gpu.compute_pipeline(&module, "clear", Some(&pl), &[]),
+            leaves: gpu.compute_pipeline(&module, "leaves", Some(&pl), &[]),
+            decode: gpu.compute_pipeline(&module, "decode", Some(&pl), &[]),
+            layout,
+            params: gpu.buffer("hroc refit params", 16, U::UNIFORM | U::COPY_DST),
+            scratch: gpu.buffer("hroc refit scratch", node_capacity(slots) as u64 * 24, U::STORAGE),
+            no_host: gpu.buffer("hroc refit no host boxes", 32, U::STORAGE),
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn record(&self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, params: [u32; 4], host: Option<&wgpu::Buffer>, bounds: &wgpu::Buffer, nodes: &wgpu::Buffer, leaves: &wgpu::Buffer) {
+        // Written before the submit that runs these passes.
+        gpu.queue.write_buffer(&self.params, 0, bytemuck::cast_slice(&params));
+        let bind = gpu.bind_buffers(&self.layout, &[&self.params, host.unwrap_or(&self.no_host), bounds, nodes, leaves, &self.scratch]);
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc refit"), timestamp_writes: None });
+        pass.set_bind_group(0, &bind, &[]);
+        for (p, items) in [(&self.clear, params[1]), (&self.leaves, params[0]), (&self.decode, params[1])] {
+            pass.set_pipeline(p);
+            let (x, y) = dispatch_size(items.max(1), 256);
+            pass.dispatch_workgroups(x, y, 1);
+        }
+    }
+}
+
 /// An object's box must be finite and non-empty: every test and ray against
 /// it assumes so.
 fn check_box(i: u32, b: &Aabb) -> Result<()> {
@@ -333,8 +805,8 @@ fn check_box(i: u32, b: &Aabb) -> Result<()> {
     Ok(())
 }
 
-fn bounds_of(b: Aabb, flags: ObjectFlags) -> ObjectBounds {
-    ObjectBounds { min: b.min.to_array(), flags: flags.bits(), max: b.max.to_array(), _pad: 0 }
+fn bounds_of(b: Aabb, flags: u32) -> ObjectBounds {
+    ObjectBounds { min: b.min.to_array(), flags, max: b.max.to_array(), _pad: 0 }
 }
 
 fn command(o: &ObjectDesc, i: u32) -> DrawCommand {
@@ -561,6 +1033,9 @@ pub struct View {
     split: Option<FlagSplit>,
     timer: Option<GpuTimer>,
     last_stages: Vec<(Stage, f64)>,
+    /// The culler's BVH generation and slots when this view was built.
+    generation: u64,
+    slots: u32,
 }
 
 impl View {
@@ -595,12 +1070,23 @@ impl View {
     }
 
     fn record(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: Option<FrameBody>) -> Result<()> {
-        if !self.targets.same(&input.targets) {
+        let regrown = self.slots != culler.objects.count;
+        let rebuilt = self.generation != culler.generation && self.method.keeps_tree();
+        if !self.targets.same(&input.targets) || regrown || rebuilt {
             let fresh = culler.view_with(self.method, &input.targets, &self.options)?;
             *self = fresh;
         }
         if culler.moves > 0 && !self.method.takes_motion() {
             return Err(Error::InvalidScene(format!("{} keeps its own copy of the BVH and takes static scenes only; objects have moved", self.method)));
+        }
+        if !self.method.takes_dynamic() {
+            let outside = (0..culler.objects.count as usize).find(|&i| culler.live[i] && (culler.is_dynamic(i) || culler.bvh_leaf(i).is_none()));
+            if let Some(i) = outside {
+                return Err(Error::InvalidScene(format!(
+                    "{} culls through the BVH alone, and object {i} is outside it (DYNAMIC, or added since the last build): call Culler::rebuild, or use hroc",
+                    self.method
+                )));
+            }
         }
         if input.view.depth != self.targets.depth {
             return Err(Error::InvalidView(format!("view depth {:?} differs from the targets' {:?}", input.view.depth, self.targets.depth)));
@@ -615,7 +1101,8 @@ impl View {
             t.begin_frame();
         }
         // Flags cost nothing until some object has one.
-        if self.split.is_none() && culler.objects.flags.iter().any(|f| *f != ObjectFlags::NONE) {
+        let split_flags = ObjectFlags::NEVER_CULL | ObjectFlags::NOT_OCCLUDER;
+        if self.split.is_none() && culler.objects.flags.iter().any(|f| f.bits() & split_flags.bits() != 0) {
             self.split = Some(FlagSplit::new(&culler.gpu, &culler.objects));
         }
         if let Some(s) = self.split.as_mut() {

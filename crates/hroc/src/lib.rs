@@ -117,4 +117,7 @@ pub use aabb::Aabb;
 pub use cull::{DrawList, Method, MethodOptions, Stage, Stat, Variant};
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc, ViewGeometry};
-pub use host::{marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, ObjectDesc, ObjectFlags, Phase, Targets, View, ViewTargets, REQUIRED_FEATURES, TIMESTAMP_FEATURES};
+pub use host::{
+    marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets, REQUIRED_FEATURES,
+    TIMESTAMP_FEATURES,
+};

@@ -9,6 +9,7 @@ use crate::gpu::Gpu;
 pub const SHADERS: &[(&str, &str)] = &[
     ("compact.wgsl", include_str!("../shaders/compact.wgsl")),
     ("split.wgsl", include_str!("../shaders/split.wgsl")),
+    ("refit.wgsl", include_str!("../shaders/refit.wgsl")),
     ("vfc.wgsl", include_str!("../shaders/vfc.wgsl")),
     ("hroc_groups.wgsl", include_str!("../shaders/hroc_groups.wgsl")),
     ("hroc_test.wgsl", include_str!("../shaders/hroc_test.wgsl")),

@@ -79,7 +79,7 @@ impl<'g> Session<'g> {
         // The renderer's pipelines take the culler's marks layout, and the
         // culler takes the renderer's draws: build the objects first.
         let descs = crate::render::object_descs(&scene);
-        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { objects: &descs, split, options: MethodOptions::default(), timestamps: true })?;
+        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps: true, ..CullerDesc::new(&descs) })?;
         let renderer = Renderer::new(gpu, &scene, w, h, culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
         Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc) })

@@ -28,6 +28,8 @@ use crate::Aabb;
 pub const LEAF_BIT: u32 = 0x8000_0000;
 /// The root's [`BvhNode::parent`].
 pub const NO_PARENT: u32 = u32::MAX;
+/// [`Bvh::leaf_of_object`] of an object outside the tree ([`Bvh::build_subset`]).
+pub const NO_LEAF: u32 = u32::MAX;
 
 /// One node, 32 bytes, `std430`-compatible: `vec3<f32> min; u32 child;
 /// vec3<f32> max; u32 parent`.
@@ -125,33 +127,49 @@ impl Bvh {
         Bvh { nodes, leaf_of_object, build_ms: t.elapsed().as_secs_f64() * 1e3 }
     }
 
+    /// Builds a BVH over the objects `objects` only (indices into `boxes`,
+    /// each at most once): leaves hold those indices, and every other
+    /// object's [`Bvh::leaf_of_object`] is [`NO_LEAF`]. The culler builds
+    /// its tree over the static objects this way (HROC §6's hybrid).
+    pub fn build_subset(boxes: &[Aabb], objects: &[u32], split: Split) -> Bvh {
+        let t = std::time::Instant::now();
+        let sub: Vec<Aabb> = objects.iter().map(|&o| boxes[o as usize]).collect();
+        let (mut nodes, sub_leaf) = build::build(&sub, split);
+        for n in nodes.iter_mut().filter(|n| n.is_leaf()) {
+            n.child = LEAF_BIT | objects[(n.child & !LEAF_BIT) as usize];
+        }
+        let mut leaf_of_object = vec![NO_LEAF; boxes.len()];
+        for (&o, &leaf) in objects.iter().zip(&sub_leaf) {
+            leaf_of_object[o as usize] = leaf;
+        }
+        Bvh { nodes, leaf_of_object, build_ms: t.elapsed().as_secs_f64() * 1e3 }
+    }
+
     /// Refits every node's box to `boxes` (one per object, the new world
     /// boxes) keeping the tree: leaves take their object's box, interior
-    /// nodes the union of their children. O(N), in post-order. A refit tree
-    /// stays valid but its SAH cost grows as objects move away from where
-    /// the tree was built ([`Bvh::sah_cost`]).
+    /// nodes the union of their children. O(N). A refit tree stays valid but
+    /// its SAH cost grows as objects move away from where the tree was built
+    /// ([`Bvh::sah_cost`]).
     pub fn refit(&mut self, boxes: &[Aabb]) {
-        if self.nodes.is_empty() {
-            return;
-        }
-        // Post-order without recursion: a node is done once both children are.
-        let mut stack = vec![(0u32, false)];
-        while let Some((n, children_done)) = stack.pop() {
-            let node = self.nodes[n as usize];
-            if node.is_leaf() {
-                let b = boxes[(node.child & !LEAF_BIT) as usize];
-                let nd = &mut self.nodes[n as usize];
-                (nd.min, nd.max) = (b.min.to_array(), b.max.to_array());
-            } else if children_done {
-                let (l, r) = (self.nodes[node.child as usize], self.nodes[node.child as usize + 1]);
-                let b = l.aabb().union(r.aabb());
-                let nd = &mut self.nodes[n as usize];
-                (nd.min, nd.max) = (b.min.to_array(), b.max.to_array());
+        self.refit_with(|o| Some(boxes[o as usize]));
+    }
+
+    /// [`Bvh::refit`] where `leaf_box(object)` gives each leaf's new box, or
+    /// `None` to keep the leaf's box as it is (a frozen leaf).
+    pub fn refit_with(&mut self, leaf_box: impl Fn(u32) -> Option<Aabb>) {
+        // Children follow their parents (module docs): one backward pass.
+        for n in (0..self.nodes.len()).rev() {
+            let node = self.nodes[n];
+            let b = if node.is_leaf() {
+                match leaf_box(node.child & !LEAF_BIT) {
+                    Some(b) => b,
+                    None => continue,
+                }
             } else {
-                stack.push((n, true));
-                stack.push((node.child, false));
-                stack.push((node.child + 1, false));
-            }
+                self.nodes[node.child as usize].aabb().union(self.nodes[node.child as usize + 1].aabb())
+            };
+            let nd = &mut self.nodes[n];
+            (nd.min, nd.max) = (b.min.to_array(), b.max.to_array());
         }
     }
 

@@ -142,8 +142,10 @@ pub struct MethodContext<'a> {
     pub bounds: &'a wgpu::Buffer,
     /// One command per object in object order, shared by every view.
     pub commands: &'a wgpu::Buffer,
-    /// Registered objects.
+    /// Object slots: every per-object buffer covers them.
     pub object_count: u32,
+    /// Nodes the BVH can grow to over the slots (rebuilds keep the buffers).
+    pub node_capacity: u32,
     /// This view's `Frame` uniform.
     pub frame: &'a wgpu::Buffer,
     /// This view's depth attachment (for box passes) and sampling views.
@@ -358,6 +360,21 @@ impl Method {
     /// bounds) from their creation, so they take static scenes only.
     pub fn takes_motion(self) -> bool {
         !matches!(self, Method::Oq | Method::Soq | Method::Chc)
+    }
+
+    /// True when the method culls objects outside the BVH too:
+    /// [`crate::ObjectFlags::DYNAMIC`] ones and those added since the last
+    /// build. HROC tests them on their own (its §6 hybrid); the per-object
+    /// methods never read the tree. IOC culls through the tree alone.
+    pub fn takes_dynamic(self) -> bool {
+        self.takes_motion() && self != Method::Ioc
+    }
+
+    /// True when the method's per-view state holds the BVH's shape (IOC's
+    /// level queues, the query methods' copies): its views start over when
+    /// the culler rebuilds the tree.
+    pub fn keeps_tree(self) -> bool {
+        matches!(self, Method::Ioc | Method::Oq | Method::Soq | Method::Chc)
     }
 
     /// True when the method takes reversed depth (`woc`'s warp does not).

@@ -31,7 +31,10 @@ pub use super::Variant;
 pub struct Hroc {
     variant: Variant,
     n: u32,
+    /// Node capacity (buffer sizes, dispatches).
     nodes: u32,
+    /// Nodes of the tree the last frame walked.
+    tree_nodes: u32,
     /// Per-object flags: next frame's occluders V.
     visible: wgpu::Buffer,
     occluders: wgpu::Buffer,
@@ -95,7 +98,8 @@ impl Hroc {
             return Err(Error::InvalidScene(format!("BVH depth {} exceeds {MAX_DEPTH}, which HROC's traversal stacks hold; try --split eq", bvh.depth())));
         }
         let n = cx.object_count;
-        let nodes = bvh.nodes.len() as u32;
+        // Rebuilds keep the buffers: size them for the largest tree.
+        let nodes = cx.node_capacity;
         use wgpu::BufferUsages as U;
         let flags = |label| gpu.buffer(label, n as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let (visible, occluders, occludees, drawn) = (flags("hroc V"), flags("hroc O"), flags("hroc U"), flags("hroc D"));
@@ -103,7 +107,8 @@ impl Hroc {
         let visited = gpu.buffer("hroc visited", nodes as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let group_count = gpu.buffer("hroc |G|", 4, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC);
         let ray_stats = gpu.buffer("hroc ray stats", STAT_SLOTS * 8, U::STORAGE | U::COPY_DST | U::COPY_SRC);
-        let groups = gpu.buffer("hroc groups", nodes as u64 * 16, U::STORAGE | U::INDIRECT | U::COPY_SRC);
+        // A group per node, or per object tested alone (§6's hybrid).
+        let groups = gpu.buffer("hroc groups", (nodes as u64 + n as u64) * 16, U::STORAGE | U::INDIRECT | U::COPY_SRC);
         let compactor = Compactor::new(gpu, n);
         let (v_list, v_job) = compactor.packed_list(gpu, "hroc V list", &visible, cx.commands);
         let (u_list, u_job) = compactor.packed_list(gpu, "hroc U list", &occludees, cx.commands);
@@ -125,6 +130,7 @@ impl Hroc {
                 storage_entry(8, true),
                 storage_entry(9, false),
                 texture_entry(10, wgpu::TextureSampleType::Uint),
+                storage_entry(11, true),
             ],
         });
         let bufs = [cx.frame, &nodes_buf, &leaf_of_object, &occluders, &state, &groups, &group_count, &occludees, &drawn, &visible];
@@ -150,6 +156,7 @@ impl Hroc {
             }
         };
         entries.push(wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::TextureView(ids) });
+        entries.push(wgpu::BindGroupEntry { binding: 11, resource: cx.bounds.as_entire_binding() });
         let group_bind = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("hroc groups"), layout: &group_layout, entries: &entries });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc groups"), bind_group_layouts: &[Some(&group_layout)], immediate_size: 0 });
         let module = gpu.shader("hroc_groups.wgsl", &shader_source("hroc_groups.wgsl"));
@@ -163,6 +170,7 @@ impl Hroc {
                 storage_entry(3, false),
                 texture_entry(4, wgpu::TextureSampleType::Depth),
                 storage_entry(5, false),
+                storage_entry(6, true),
             ],
         });
         let test_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -175,6 +183,7 @@ impl Hroc {
                 wgpu::BindGroupEntry { binding: 3, resource: visited.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&cx.targets.depth_sampled) },
                 wgpu::BindGroupEntry { binding: 5, resource: ray_stats.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 6, resource: cx.bounds.as_entire_binding() },
             ],
         });
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
@@ -184,6 +193,7 @@ impl Hroc {
             variant,
             n,
             nodes,
+            tree_nodes: bvh.nodes.len() as u32,
             marks_o: cx.marks_bind(&occluders),
             marks_d: cx.marks_bind(&drawn),
             extract: gpu.compute_pipeline(&module, "extract", Some(&pl), &[]),
@@ -252,7 +262,7 @@ impl Hroc {
         let mut groups: Vec<u32> = gpu.read::<DrawArgs>(&self.groups, 0, g as u64)?.iter().map(|d| d.first_instance).collect();
         groups.sort_unstable();
         Ok(DebugState {
-            state: gpu.read(&self.state, 0, self.nodes as u64)?,
+            state: gpu.read(&self.state, 0, self.nodes.min(self.tree_nodes) as u64)?,
             groups,
             occluders: gpu.read::<u32>(&self.occluders, 0, self.n as u64)?.iter().map(|&x| x != 0).collect(),
             occludees: gpu.read::<u32>(&self.occludees, 0, self.n as u64)?.iter().map(|&x| x != 0).collect(),
@@ -290,6 +300,7 @@ impl CullMethod for Hroc {
 
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         let (n, nodes) = (self.n, self.nodes);
+        self.tree_nodes = f.uniform.node_count;
         let (ox, oy) = dispatch_size(n, 256);
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);
@@ -308,7 +319,7 @@ impl CullMethod for Hroc {
         }
         self.dispatch(enc, &self.extract, (ox, oy));
         self.dispatch(enc, &self.collect, dispatch_size(nodes, 256));
-        let max_groups = self.max_count(f, &self.group_count, nodes, Stage::GroupExtraction)?;
+        let max_groups = self.max_count(f, &self.group_count, nodes + n, Stage::GroupExtraction)?;
         // 3. Batch occlusion test against the occlusion map (read-only depth).
         f.stage(Stage::OcclusionTest);
         if max_groups > 0 {

@@ -205,10 +205,22 @@ impl QueryRenderer {
         use wgpu::BufferUsages as U;
         let nodes = gpu.buffer_init("query bvh nodes", bytemuck::cast_slice(&bvh.nodes), U::STORAGE);
         let device = &gpu.device;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("query boxes"), entries: &[uniform_entry(0), storage_entry(1, true)] });
-        let bind = gpu.bind_buffers(&layout, &[cx.frame, &nodes]);
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("query boxes"),
+            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(6, true)],
+        });
+        // Binding 6 (object boxes) serves box_vs's objects tested alone, which the queries never draw.
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("query boxes"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: cx.frame.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 1, resource: nodes.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 6, resource: cx.bounds.as_entire_binding() },
+            ],
+        });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("query boxes"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
-        // HROC's box vertex stage (group 0: frame, nodes; node = instance).
+        // HROC's box vertex stage (group 0: frame, nodes, boxes; node = instance).
         let module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         // Depth-only: the occlusion query counts the samples that pass.
         let pipeline = crate::shaders::box_test_pipeline(gpu, "query boxes", &pl, &module, None, (cx.targets.depth_format, cx.targets.depth));
