@@ -113,6 +113,42 @@ impl<'g> Session<'g> {
         Ok(culler_ms)
     }
 
+    /// Removes scene objects from the culler (their slots draw nothing,
+    /// for every view and for `noc`).
+    pub fn remove_objects(&mut self, objects: &[u32]) -> Result<()> {
+        Ok(self.culler.remove_objects(objects)?)
+    }
+
+    /// Adds removed scene objects back at new transforms. The culler hands
+    /// free slots out lowest first, so objects added back in ascending
+    /// order after their removal get their own slots again, which is what
+    /// the renderer's per-object data needs; anything else is an error.
+    pub fn add_objects(&mut self, adds: &[(u32, glam::Mat4)]) -> Result<()> {
+        let mut descs = Vec::with_capacity(adds.len());
+        let all = crate::render::object_descs(&self.scene);
+        for &(i, m) in adds {
+            let Some(o) = self.scene.objects.get_mut(i as usize) else {
+                return Err(crate::Error::Arg(format!("object {i} out of range")));
+            };
+            o.transform = m;
+            o.bounds = self.scene.meshes[o.mesh as usize].world_bounds(&m);
+            descs.push(hroc::ObjectDesc { bounds: o.bounds, ..all[i as usize] });
+        }
+        let got = self.culler.add_objects(&descs)?;
+        let want: Vec<u32> = adds.iter().map(|a| a.0).collect();
+        if got != want {
+            return Err(crate::Error::Arg(format!("objects {want:?} came back in slots {got:?}: add them in ascending order after removing them")));
+        }
+        let colors: Vec<[f32; 3]> = self.scene.objects.iter().map(|o| o.color).collect();
+        self.renderer.set_transforms(self.gpu, adds, &colors);
+        Ok(())
+    }
+
+    /// Sets an object's flags ([`hroc::ObjectFlags::DYNAMIC`] and the others).
+    pub fn set_flags(&mut self, i: u32, flags: hroc::ObjectFlags) -> Result<()> {
+        Ok(self.culler.set_flags(i, flags)?)
+    }
+
     /// The object BVH the culler built.
     pub fn bvh(&self) -> &Bvh {
         self.culler.bvh()
