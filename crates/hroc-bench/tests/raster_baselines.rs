@@ -270,6 +270,8 @@ fn bench_rows_carry_stats_and_woc_reports() {
         camera_path: None,
         progress: false,
         moving: 0.0,
+        dynamic: false,
+        motion: hroc::MotionOptions::default(),
         method_options: Default::default(),
     };
     let report = bench::run(gpu(), &o).unwrap();

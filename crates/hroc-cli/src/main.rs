@@ -126,10 +126,30 @@ struct BenchArgs {
     /// Also prints GPU ms per stage and per-frame method statistics.
     #[arg(long)]
     breakdown: bool,
-    /// Fraction of the objects that move every frame, 0 to 1 (boxes and
-    /// BVH refit per frame; the query methods take static scenes only).
-    #[arg(long, default_value_t = 0.0)]
-    moving: f32,
+    /// Fractions of the objects that move every frame, 0 to 1, each run in
+    /// turn (e.g. `0,0.1,1`), with a motion table after them; the query
+    /// methods take static scenes only.
+    #[arg(long, default_value = "0", value_delimiter = ',')]
+    moving: Vec<f32>,
+    /// Flag the moving objects DYNAMIC (tested alone, HROC §6's hybrid)
+    /// instead of refitting them into the BVH.
+    #[arg(long)]
+    dynamic: bool,
+    /// Where the BVH is refit: cpu or gpu.
+    #[arg(long, default_value = "cpu", value_parser = parse_refit)]
+    refit: hroc::Refit,
+    /// Rebuild the BVH when refits raise its SAH cost past this multiple of
+    /// its cost as built (`inf`: never).
+    #[arg(long, default_value_t = hroc::MotionOptions::default().rebuild_sah_growth)]
+    rebuild_growth: f64,
+}
+
+fn parse_refit(s: &str) -> std::result::Result<hroc::Refit, String> {
+    match s {
+        "cpu" => Ok(hroc::Refit::Cpu),
+        "gpu" => Ok(hroc::Refit::Gpu),
+        _ => Err(format!("'{s}' is not cpu or gpu")),
+    }
 }
 
 #[derive(clap::Args)]
@@ -226,17 +246,39 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         method_options: a.s.m.options(),
         camera_path: a.s.camera_path,
         progress: true,
-        moving: a.moving,
+        moving: a.moving.first().copied().unwrap_or(0.0),
+        dynamic: a.dynamic,
+        motion: hroc::MotionOptions { refit: a.refit, rebuild_sah_growth: a.rebuild_growth, ..Default::default() },
     };
+    if let Some(bad) = a.moving.iter().find(|f| !(0.0..=1.0).contains(*f)) {
+        return Err(Error::Arg(format!("--moving {bad} is not a fraction from 0 to 1")));
+    }
     let (scene, path) = bench::load_inputs(&opts)?;
     let gpu = Gpu::new()?;
-    let report = bench::run_scene(&gpu, &opts, scene, path)?;
-    print!("{}", bench::table::render(&report, a.markdown));
-    if a.breakdown {
-        print!("\n{}", bench::table::breakdown(&report, a.markdown));
+    let mut reports = Vec::new();
+    for (k, &moving) in a.moving.iter().enumerate() {
+        let o = BenchOptions { moving, ..opts.clone() };
+        // Each fraction starts from the scene as generated.
+        let (scene, path) = if k + 1 == a.moving.len() { (scene.clone(), path.clone()) } else { bench::load_inputs(&o)? };
+        let report = bench::run_scene(&gpu, &o, scene, path)?;
+        if k > 0 {
+            println!();
+        }
+        print!("{}", bench::table::render(&report, a.markdown));
+        if a.breakdown {
+            print!("\n{}", bench::table::breakdown(&report, a.markdown));
+        }
+        reports.push(report);
+    }
+    if reports.len() > 1 {
+        print!("\n{}", bench::table::motion(&reports, a.markdown));
     }
     if let Some(path) = a.json {
-        let text = serde_json::to_string_pretty(&report).map_err(|e| Error::Arg(e.to_string()))?;
+        let text = match reports.as_slice() {
+            [one] => serde_json::to_string_pretty(one),
+            all => serde_json::to_string_pretty(all),
+        }
+        .map_err(|e| Error::Arg(e.to_string()))?;
         std::fs::write(&path, text).map_err(|e| Error::Io { path, source: e })?;
     }
     Ok(())

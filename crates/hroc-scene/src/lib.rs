@@ -8,6 +8,7 @@ pub mod camera;
 pub mod error;
 pub mod generators;
 pub mod gltf;
+pub mod motion;
 pub mod obj;
 pub mod paths;
 

@@ -26,8 +26,14 @@ pub struct BenchOptions {
     pub split: Split,
     pub camera_path: Option<PathBuf>,
     pub progress: bool,
-    /// Fraction of the objects that move every frame (`--moving`), 0 to 1.
+    /// Fraction of the objects that move every frame (`--moving`), 0 to 1,
+    /// each as its scene moves them ([`crate::scene::motion`]).
     pub moving: f32,
+    /// Flag the moving objects [`hroc::ObjectFlags::DYNAMIC`] (HROC §6's
+    /// hybrid) instead of refitting them into the BVH (`--dynamic`).
+    pub dynamic: bool,
+    /// Refit and rebuild policy (`--refit`, `--rebuild-growth`).
+    pub motion: hroc::MotionOptions,
     /// Parameters of the methods (`--soq-base-time`, `--chc-*`).
     pub method_options: crate::cull::MethodOptions,
 }
@@ -77,12 +83,18 @@ pub struct BenchReport {
     /// boxes and transforms, and the culler's part (shared by every method
     /// of the run, untimed in their rows).
     pub update_ms_mean: f64,
-    /// The culler's part of it (`Culler::set_bounds`: BVH refit on the CPU
-    /// and the uploads queued), ms per frame.
+    /// The culler's part of it (`Culler::set_bounds`: BVH refit or rebuild
+    /// and the uploads queued), CPU ms per frame.
     pub refit_ms_mean: f64,
-    /// BVH SAH cost after the last frame's refit over the cost as built
-    /// (1 for a static scene): how much the refit tree degraded.
+    /// BVH SAH cost after the last frame's refit over the cost as last
+    /// built (1 for a static scene): how much the refit tree degraded.
     pub sah_growth: f64,
+    /// Moving objects flagged DYNAMIC (tested alone, not refit).
+    pub dynamic: bool,
+    /// Where the BVH was refit (`cpu`, `gpu`).
+    pub refit: String,
+    /// Rebuilds of the BVH over the run.
+    pub rebuilds: usize,
     pub rows: Vec<MethodRow>,
 }
 
@@ -121,20 +133,6 @@ pub fn run(gpu: &Gpu, o: &BenchOptions) -> Result<BenchReport> {
     run_scene(gpu, o, scene, path)
 }
 
-/// The objects `--moving` moves: a deterministic spread of `fraction` of
-/// them (every object whose index hashes below the fraction).
-pub fn moving_objects(n: usize, fraction: f32) -> Vec<u32> {
-    (0..n as u32).filter(|&i| ((i.wrapping_mul(0x9E37_79B1) >> 8) as f32 / (1u32 << 24) as f32) < fraction).collect()
-}
-
-/// Frame `k`'s transform of moving object `i`: its own transform slid back
-/// and forth, up to 8 m along x and 6 m along z (traffic-sized steps at 60
-/// frames per path second, with a phase of its own).
-pub fn moved(base: &glam::Mat4, i: u32, k: usize, frames: usize) -> glam::Mat4 {
-    let t = k as f32 / frames.max(1) as f32 * std::f32::consts::TAU * 2.0 + i as f32 * 0.37;
-    glam::Mat4::from_translation(glam::Vec3::new(8.0 * t.sin(), 0.0, 6.0 * (0.7 * t).cos())) * *base
-}
-
 pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraPath>) -> Result<BenchReport> {
     if !(0.0..=1.0).contains(&o.moving) {
         return Err(crate::Error::Arg(format!("--moving {} is not a fraction from 0 to 1", o.moving)));
@@ -144,11 +142,17 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
             return Err(crate::Error::Arg(format!("{m} keeps its own copy of the BVH and takes static scenes only: drop it, or use --moving 0")));
         }
     }
-    let movers = moving_objects(scene.objects.len(), o.moving);
+    let movers = crate::scene::motion::moving_objects(scene.objects.len(), o.moving);
     let base: Vec<glam::Mat4> = scene.objects.iter().map(|ob| ob.transform).collect();
+    let centre = scene.bounds().center();
     let mut s = Session::new(gpu, scene, path, o.frames, o.resolution, o.split)?;
-    let built_cost = s.bvh().sah_cost();
-    let (mut update_ms, mut refit_ms) = (Vec::new(), Vec::new());
+    s.culler.set_motion(o.motion)?;
+    if o.dynamic {
+        for &i in &movers {
+            s.set_flags(i, hroc::ObjectFlags::DYNAMIC)?;
+        }
+    }
+    let (mut update_ms, mut refit_ms, mut rebuilds, mut growth) = (Vec::new(), Vec::new(), 0, 1.0);
     s.options = o.method_options.clone();
     let mut cullers = o.methods.iter().filter(|m| *m != "noc").map(|m| Ok((m.clone(), s.create(m)?))).collect::<Result<Vec<_>>>()?;
     let n = s.renderer.object_count as u64;
@@ -161,7 +165,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     bar.set_message(format!("bench {}", s.scene.name));
     let mut accs: BTreeMap<String, Acc> = BTreeMap::new();
     let mut ref_culled = 0u64;
-    let mut record = |name: &str, k: usize, r: &FrameResult, c: Check, stats: Vec<(hroc::Stat, f64)>| {
+    let mut record = |name: &str, k: usize, r: &FrameResult, c: Check, stats: Vec<(hroc::Stat, f64)>, update: Option<f64>| {
         let a = accs.entry(name.to_string()).or_default();
         for (st, v) in stats {
             *a.stats.entry(st.to_string()).or_default() += v;
@@ -172,6 +176,9 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
             for (st, ms) in &r.stages {
                 *a.stages.entry(st.to_string()).or_default() += ms;
             }
+            if let Some(ms) = update {
+                *a.stages.entry(hroc::Stage::ObjectUpdate.to_string()).or_default() += ms;
+            }
         }
         a.culled += n - c.drawn as u64;
         a.drawn += c.drawn as u64;
@@ -181,19 +188,24 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     };
     for k in 0..frames {
         if !movers.is_empty() {
-            let moves: Vec<(u32, glam::Mat4)> = movers.iter().map(|&i| (i, moved(&base[i as usize], i, k, frames))).collect();
+            let time = s.times[k];
+            let moves: Vec<(u32, glam::Mat4)> = movers.iter().map(|&i| (i, crate::scene::motion::moved(&s.scene.name, centre, &base[i as usize], i, time))).collect();
             let t = std::time::Instant::now();
             refit_ms.push(s.move_objects(&moves)?);
-            // The uploads land now, inside the update, not in the next timed frame.
+            // The uploads (and a GPU refit) land now, inside the update, not in the next timed frame.
             s.gpu.queue.submit([]);
             s.gpu.wait()?;
             update_ms.push(t.elapsed().as_secs_f64() * 1e3);
+            let u = s.culler.last_update();
+            rebuilds += u.rebuilt as usize;
+            growth = u.sah_growth;
         }
+        let update = update_ms.last().copied().filter(|_| !movers.is_empty());
         let (r, truth) = s.truth(k)?;
         ref_culled += n - truth.visible.len() as u64;
         if o.methods.iter().any(|m| m == "noc") {
             let c = s.check(&r, &truth)?;
-            record("noc", k, &r, c, Vec::new());
+            record("noc", k, &r, c, Vec::new(), update);
         }
         for (name, c) in cullers.iter_mut() {
             if c.wants_oracle() {
@@ -202,7 +214,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
             let r = s.run_frame(c, k)?;
             let chk = s.check(&r, &truth)?;
             let stats = c.stats(&s.culler)?;
-            record(name, k, &r, chk, stats);
+            record(name, k, &r, chk, stats, update);
         }
         bar.inc(1);
     }
@@ -255,7 +267,10 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         moved_objects: movers.len(),
         update_ms_mean: mean(&update_ms),
         refit_ms_mean: mean(&refit_ms),
-        sah_growth: if built_cost > 0.0 { s.bvh().sah_cost() / built_cost } else { 1.0 },
+        sah_growth: growth,
+        dynamic: o.dynamic,
+        refit: format!("{:?}", o.motion.refit).to_lowercase(),
+        rebuilds,
         rows,
     })
 }

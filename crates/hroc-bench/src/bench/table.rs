@@ -82,12 +82,15 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
     if r.moved_objects > 0 {
         let _ = writeln!(
             out,
-            "{}moving {:.0}% ({} objects) | update {:.2} ms/frame, of which the culler's {:.2} (BVH refit on the CPU, upload) | SAH cost after refits {:.2}x as built",
+            "{}moving {:.0}% ({} objects, {}) | object update {:.2} ms/frame, of which the culler's CPU {:.2} (BVH refit on the {}, {} rebuilds) | SAH cost {:.2}x as last built",
             if markdown { "" } else { "# " },
             r.moving * 100.0,
             r.moved_objects,
+            if r.dynamic { "DYNAMIC: tested alone" } else { "static: refit" },
             r.update_ms_mean,
             r.refit_ms_mean,
+            r.refit.to_uppercase(),
+            r.rebuilds,
             r.sah_growth
         );
     }
@@ -122,5 +125,68 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
     if !stray.is_empty() {
         let _ = writeln!(out, "\nnoc fragments in front of their own object's box (rasterizer strays, not culling misses), not reproduced: {}", stray.join(", "));
     }
+    out
+}
+
+/// The motion table: each method's ms/frame (and × noc) at every moving
+/// fraction of one `hroc bench --moving a,b,c` run, then the shared object
+/// update per frame, and each method's frame plus update over its static
+/// frame when the first fraction is 0.
+pub fn motion(reports: &[BenchReport], markdown: bool) -> String {
+    let mut head = vec!["method".to_string()];
+    for r in reports {
+        head.push(format!("{:.0}% ms", r.moving * 100.0));
+        head.push(format!("{:.0}% × noc", r.moving * 100.0));
+    }
+    let static_first = reports.first().is_some_and(|r| r.moving == 0.0);
+    if static_first {
+        for r in &reports[1..] {
+            head.push(format!("{:.0}% (+update) / 0%", r.moving * 100.0));
+        }
+    }
+    let Some(first) = reports.first() else { return String::new() };
+    let mut rows = Vec::new();
+    for m in first.rows.iter().map(|x| &x.method) {
+        let mut row = vec![m.clone()];
+        let ms: Vec<Option<f64>> = reports.iter().map(|r| r.rows.iter().find(|x| &x.method == m).map(|x| x.ms_mean)).collect();
+        for (r, v) in reports.iter().zip(&ms) {
+            let noc = r.rows.iter().find(|x| x.method == "noc").map(|x| x.ms_mean);
+            row.push(v.map_or("-".into(), |v| format!("{v:.2}")));
+            row.push(match (v, noc) {
+                (Some(v), Some(n)) if n > 0.0 => format!("{:.3}", v / n),
+                _ => "-".into(),
+            });
+        }
+        if static_first {
+            for (r, v) in reports.iter().zip(&ms).skip(1) {
+                row.push(match (v, ms[0]) {
+                    (Some(v), Some(s)) if s > 0.0 => format!("{:.3}", (v + r.update_ms_mean) / s),
+                    _ => "-".into(),
+                });
+            }
+        }
+        rows.push(row);
+    }
+    let mut upd = vec!["object update".to_string()];
+    for r in reports {
+        upd.push(format!("{:.2}", r.update_ms_mean));
+        upd.push(format!("{} rebuilds", r.rebuilds));
+    }
+    if static_first {
+        upd.extend(reports[1..].iter().map(|_| String::new()));
+    }
+    rows.push(upd);
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{}motion: scene {} | {} objects | {} | moving objects {} | refit on the {}",
+        if markdown { "" } else { "# " },
+        first.scene,
+        first.objects,
+        first.adapter,
+        if first.dynamic { "DYNAMIC (tested alone)" } else { "static (refit)" },
+        first.refit.to_uppercase()
+    );
+    out.push_str(&grid(&head, &rows, markdown));
     out
 }

@@ -490,6 +490,10 @@ named_enum!(
         Warp => "warp",
         /// Objects flagged never-culled or not-occluder, drawn by the culler.
         FlaggedObjects => "flagged objects",
+        /// The frame's change of objects, shared by every view: boxes
+        /// uploaded, the BVH refit or rebuilt (HROC §6). Timed by the host
+        /// around [`crate::Culler::set_bounds`] and the upload's completion.
+        ObjectUpdate => "object update",
     }
 );
 

@@ -264,6 +264,8 @@ impl Runner<'_> {
             camera_path: None,
             progress: true,
             moving: 0.0,
+            dynamic: false,
+            motion: hroc::MotionOptions::default(),
             method_options: MethodOptions::default(),
         }
     }
