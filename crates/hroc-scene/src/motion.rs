@@ -39,3 +39,35 @@ pub fn moved(scene: &str, centre: Vec3, base: &Mat4, i: u32, t: f32) -> Mat4 {
     };
     Mat4::from_translation(offset) * *base
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fractions_pick_deterministic_spreads() {
+        assert!(moving_objects(1000, 0.0).is_empty());
+        assert_eq!(moving_objects(1000, 1.0).len(), 1000);
+        let tenth = moving_objects(10_000, 0.1);
+        assert!((900..1100).contains(&tenth.len()), "{}", tenth.len());
+        assert_eq!(tenth, moving_objects(10_000, 0.1));
+    }
+
+    #[test]
+    fn each_scene_moves_its_own_way() {
+        let base = Mat4::from_translation(Vec3::new(40.0, 2.0, -30.0));
+        let centre = Vec3::new(0.0, 5.0, 0.0);
+        for scene in ["radial-city", "factory", "satellites", "rooms"] {
+            for i in [0u32, 1, 7] {
+                let a = moved(scene, centre, &base, i, 0.7).w_axis.truncate();
+                assert!(a.distance(base.w_axis.truncate()) > 0.01, "{scene} object {i} moves");
+                assert_eq!(a, moved(scene, centre, &base, i, 0.7).w_axis.truncate(), "deterministic");
+            }
+        }
+        // Traffic stays on its radial street; orbits keep their radius.
+        let r = moved("radial-city", centre, &base, 3, 1.1).w_axis.truncate();
+        assert!(Vec3::new(r.x, 0.0, r.z).normalize().abs_diff_eq(Vec3::new(40.0, 0.0, -30.0).normalize(), 1e-5));
+        let o = moved("satellites", centre, &base, 3, 5.0).w_axis.truncate();
+        assert!((Vec3::new(o.x, 0.0, o.z).length() - 50.0).abs() < 1e-3 && (o.y - 2.0).abs() < 1e-5);
+    }
+}

@@ -84,6 +84,21 @@
 //!   with depth test on, depth writes off, and no ID writes.
 //!   [`ObjectFlags::NEVER_CULL`] objects come back in [`Phase::Always`], first
 //!   (or, when also not occluders, in [`Phase::NonOccluders`]).
+//! - **Moving, added and removed objects.** An object's box must hold it
+//!   on every frame it is drawn: change boxes before the frame that draws
+//!   the new transforms, with [`Culler::set_bounds`] (from the CPU) or
+//!   [`Culler::set_bounds_gpu`] (from a buffer the host fills on the GPU,
+//!   recorded into the host's encoder). [`Culler::add_objects`] hands out
+//!   slots (lowest free first; reserve room with [`CullerDesc::capacity`]),
+//!   and [`Culler::remove_objects`] empties them; an object's index is its
+//!   slot for as long as it lives. Static objects that move are refit into
+//!   the BVH, which is rebuilt by the [`MotionOptions`] policy;
+//!   [`ObjectFlags::DYNAMIC`] objects stay out of the tree and are tested on
+//!   their own box (HROC §6's hybrid), so moving them costs only their box.
+//!   Set or clear the flag at any time ([`Culler::set_flags`]: a door that
+//!   starts to move). Views follow every change on their next frame; a
+//!   method that cannot says so ([`Method::takes_motion`],
+//!   [`Method::takes_dynamic`]) and refuses the frame.
 //!
 //! ## Methods
 //! [`Method`] is the one registry. Every method fits the contract except

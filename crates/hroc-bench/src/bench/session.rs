@@ -92,9 +92,10 @@ impl<'g> Session<'g> {
     }
 
     /// Moves objects to new transforms: the scene's objects and their tight
-    /// boxes, the renderer's transforms and the culler's boxes (its BVH is
-    /// refit), all before the next frame. Returns the ms spent in the
-    /// culler ([`Culler::set_bounds`]: BVH refit and upload).
+    /// boxes (the host's work), the culler's boxes and BVH
+    /// ([`hroc::Culler::set_bounds`]), then the renderer's transforms.
+    /// Returns the culler's part in ms: its CPU work plus the GPU's
+    /// completion of its uploads (and refit), waited for here.
     pub fn move_objects(&mut self, moves: &[(u32, glam::Mat4)]) -> Result<f64> {
         let mut boxes = Vec::with_capacity(moves.len());
         for &(i, m) in moves {
@@ -105,8 +106,12 @@ impl<'g> Session<'g> {
             o.bounds = self.scene.meshes[o.mesh as usize].world_bounds(&m);
             boxes.push((i, o.bounds));
         }
+        self.gpu.queue.submit([]);
+        self.gpu.wait()?;
         let t = std::time::Instant::now();
         self.culler.set_bounds(&boxes)?;
+        self.gpu.queue.submit([]);
+        self.gpu.wait()?;
         let culler_ms = t.elapsed().as_secs_f64() * 1e3;
         let colors: Vec<[f32; 3]> = self.scene.objects.iter().map(|o| o.color).collect();
         self.renderer.set_transforms(self.gpu, moves, &colors);
