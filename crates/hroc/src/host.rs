@@ -596,18 +596,32 @@ impl Culler {
     /// boxes as they were; one turned static again is refit into its leaf,
     /// or tested on its own until the next rebuild when it has none.
     pub fn set_flags(&mut self, i: u32, flags: ObjectFlags) -> Result<()> {
-        self.check_live(i)?;
-        check_flags(i, flags)?;
-        let was = self.objects.flags[i as usize];
-        self.objects.flags[i as usize] = flags;
+        self.set_many_flags(&[(i, flags)])
+    }
+
+    /// [`Culler::set_flags`] for many objects at once: one refit and one
+    /// upload for all of them. Errors on an object that is not live or an
+    /// unknown flag; nothing changes then.
+    pub fn set_many_flags(&mut self, changes: &[(u32, ObjectFlags)]) -> Result<()> {
+        for &(i, f) in changes {
+            self.check_live(i)?;
+            check_flags(i, f)?;
+        }
+        let mut motion = false;
+        for &(i, f) in changes {
+            let was = std::mem::replace(&mut self.objects.flags[i as usize], f);
+            motion |= was.contains(ObjectFlags::DYNAMIC) != f.contains(ObjectFlags::DYNAMIC);
+        }
         self.update_always();
-        if was.contains(ObjectFlags::DYNAMIC) != flags.contains(ObjectFlags::DYNAMIC) {
+        if motion {
             let t = std::time::Instant::now();
             self.sync_boxes()?;
             self.moves += 1;
             return self.changed(t);
         }
-        self.gpu.queue.write_buffer(&self.objects.bounds, i as u64 * 32 + 12, bytemuck::bytes_of(&self.gpu_flags(i as usize)));
+        for &(i, _) in changes {
+            self.gpu.queue.write_buffer(&self.objects.bounds, i as u64 * 32 + 12, bytemuck::bytes_of(&self.gpu_flags(i as usize)));
+        }
         Ok(())
     }
 

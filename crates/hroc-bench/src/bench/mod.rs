@@ -151,9 +151,8 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     let mut s = Session::new(gpu, scene, path, o.frames, o.resolution, o.split)?;
     s.culler.set_motion(o.motion)?;
     if o.dynamic {
-        for &i in &movers {
-            s.set_flags(i, hroc::ObjectFlags::DYNAMIC)?;
-        }
+        let flags: Vec<(u32, hroc::ObjectFlags)> = movers.iter().map(|&i| (i, hroc::ObjectFlags::DYNAMIC)).collect();
+        s.culler.set_many_flags(&flags)?;
     }
     let (mut update_ms, mut refit_ms, mut host_ms, mut rebuilds, mut growth) = (Vec::new(), Vec::new(), Vec::new(), 0, 1.0);
     s.options = o.method_options.clone();
