@@ -203,7 +203,7 @@ fn gpu_refit_matches_cpu_refit() {
 
     let small = g.device.create_buffer(&wgpu::BufferDescriptor { label: None, size: 64, usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: false });
     let mut enc = g.device.create_command_encoder(&Default::default());
-    let e = on_gpu.set_bounds_gpu(&mut enc, &small).err().expect("too small").to_string();
+    let e = on_gpu.set_bounds_gpu(&mut enc, &small).expect_err("too small").to_string();
     assert!(e.contains("needs 22400 bytes"), "{e}");
 }
 

@@ -27,7 +27,7 @@ pub fn moved(scene: &str, centre: Vec3, base: &Mat4, i: u32, t: f32) -> Mat4 {
             let radial = Vec3::new(at.x - centre.x, 0.0, at.z - centre.z).try_normalize().unwrap_or(Vec3::X);
             return Mat4::from_translation(radial * 12.0 * (1.3 * t + phase).sin()) * *base;
         }
-        "factory" if i % 2 == 0 => Vec3::new(6.0 * (0.9 * t + phase).sin(), 0.0, 0.0),
+        "factory" if i.is_multiple_of(2) => Vec3::new(6.0 * (0.9 * t + phase).sin(), 0.0, 0.0),
         "factory" => Vec3::new(0.0, 0.0, (2.0 * t + phase * 10.0).rem_euclid(24.0) - 12.0),
         "satellites" => {
             let r = Vec3::new(at.x - centre.x, 0.0, at.z - centre.z).length().max(1.0);
