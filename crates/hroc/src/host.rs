@@ -284,6 +284,13 @@ impl Culler {
             self.boxes[i as usize] = b;
         }
         self.moves += 1;
+        // Only objects outside the tree moved (HROC §6's hybrid): their
+        // boxes are all that changes, with no refit and no policy check.
+        if moves.iter().all(|&(i, _)| self.is_dynamic(i as usize) || self.bvh_leaf(i as usize).is_none()) {
+            self.upload_bounds();
+            self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, ..self.last_update };
+            return Ok(());
+        }
         self.changed(t)
     }
 
