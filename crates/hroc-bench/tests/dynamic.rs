@@ -210,7 +210,8 @@ fn gpu_refit_matches_cpu_refit() {
 /// Slots: removed ones are reused lowest first; adding past the capacity
 /// doubles it, and a view built before keeps working (rebuilt for the new
 /// slots). The
-/// policy rebuilds the tree when objects outside it exceed the fraction,
+/// policy rebuilds the tree when objects outside it, or frozen leaves in
+/// it, exceed the fraction,
 /// and when refits degrade it past the SAH growth.
 #[test]
 fn slots_capacity_and_rebuild_policy() {
@@ -236,7 +237,14 @@ fn slots_capacity_and_rebuild_policy() {
     let far: Vec<(u32, Aabb)> = (0..40).step_by(3).map(|i| (i as u32, Aabb::new(objs[i].bounds.min, objs[i].bounds.max + Vec3::splat(30.0)))).collect();
     c.set_bounds(&far).unwrap();
     let u = c.last_update();
-    assert!(u.rebuilt && u.sah_growth == 1.0, "{u:?}");
+    assert!(u.rebuilt && u.sah_growth == Some(1.0), "{u:?}");
+    // Frozen leaves count too: 4 objects of 45 turned DYNAMIC stay in the
+    // tree, frozen; a fifth rebuilds it without them.
+    let dynamic: Vec<(u32, ObjectFlags)> = (0..5).map(|i| (i, ObjectFlags::DYNAMIC)).collect();
+    c.set_many_flags(&dynamic[..4]).unwrap();
+    assert!(!c.last_update().rebuilt && c.bvh().leaf_of_object[0] != hroc::bvh::NO_LEAF);
+    c.set_many_flags(&dynamic[4..]).unwrap();
+    assert!(c.last_update().rebuilt && c.bvh().leaf_of_object[0] == hroc::bvh::NO_LEAF);
 
     // Past the capacity: 64 slots, and an old view still culls.
     let depth = g.device.create_texture(&wgpu::TextureDescriptor {

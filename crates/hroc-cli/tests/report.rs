@@ -41,6 +41,10 @@ fn small_report(out: &Path) -> Output {
         "noc,hroc",
         "--hires-frames",
         "2",
+        "--motion",
+        "0,0.5",
+        "--motion-methods",
+        "noc,vfc,roc,hzb,hroc",
     ])
 }
 
@@ -113,6 +117,7 @@ fn report_is_complete_and_renders_in_chromium() {
         "Scale sweep",
         "High resolution",
         "Scenes (thesis Table 1)",
+        "Moving objects",
     ] {
         assert!(md.contains(h), "report.md lacks '{h}'");
     }
@@ -126,7 +131,9 @@ fn report_is_complete_and_renders_in_chromium() {
     }
     reports.extend(data["sweep"].as_array().unwrap().iter().map(|p| &p["report"]));
     reports.push(&data["hires"]);
-    assert_eq!(reports.len(), 2 * 2 + 2 + 1);
+    reports.extend(data["motion"].as_array().unwrap());
+    assert_eq!(reports.len(), 2 * 2 + 2 + 1 + 2);
+    assert_eq!(data["motion"][1]["moving"], 0.5);
     for rep in reports {
         for row in rep["rows"].as_array().unwrap() {
             assert_eq!(row["false_negatives"], 0, "{} {}: false negatives", rep["scene"], row["method"]);
@@ -158,6 +165,8 @@ fn bad_report_arguments_are_clean_errors() {
         (vec!["--sweep", "100,lots"], "'lots' is not an object count"),
         (vec!["--splits", "sah,best"], "unknown split 'best'"),
         (vec!["--heat-frame", "99"], "past the last frame"),
+        (vec!["--motion", "0,1.5"], "'1.5' is not a fraction from 0 to 1"),
+        (vec!["--motion-methods", "noc,chc++"], "chc++ takes static scenes only"),
     ] {
         let mut a = vec!["report", "--out", o];
         a.extend(args);

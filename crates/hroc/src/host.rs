@@ -111,9 +111,11 @@ pub struct MotionOptions {
     /// Rebuild when the refit tree's SAH cost exceeds this multiple of its
     /// cost as built ([`Bvh::sah_cost`]); `f64::INFINITY` never does.
     pub rebuild_sah_growth: f64,
-    /// Rebuild when more than this fraction of the live objects are static
-    /// but outside the tree (added since the last build, or turned static
-    /// without a leaf): each is a group of its own until then.
+    /// Rebuild when more than this fraction of the live objects are out of
+    /// step with the tree: static objects outside it (added since the last
+    /// build, or turned static without a leaf), each a group of its own
+    /// until then, plus frozen leaves (objects turned DYNAMIC or removed),
+    /// which rays still walk into.
     pub rebuild_outside: f64,
 }
 
@@ -130,8 +132,9 @@ pub struct UpdateStats {
     pub cpu_ms: f64,
     /// True when the change rebuilt the BVH.
     pub rebuilt: bool,
-    /// SAH cost of the tree over its cost as last built (1 when fresh).
-    pub sah_growth: f64,
+    /// SAH cost of the tree over its cost as last built (1 when fresh);
+    /// `None` after a GPU refit, whose boxes the CPU does not see.
+    pub sah_growth: Option<f64>,
 }
 
 /// The device features every method needs.
@@ -254,7 +257,7 @@ impl Culler {
             marks_layout,
             options: desc.options.clone(),
             motion: m,
-            last_update: UpdateStats { sah_growth: 1.0, ..Default::default() },
+            last_update: UpdateStats { sah_growth: Some(1.0), ..Default::default() },
             timestamps: desc.timestamps,
         };
         culler.rebuild_tree()?;
@@ -312,7 +315,7 @@ impl Culler {
         self.refit_on_gpu(encoder, Some(boxes));
         self.gpu_boxes = true;
         self.moves += 1;
-        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, sah_growth: f64::NAN };
+        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, sah_growth: None };
         Ok(())
     }
 
@@ -389,7 +392,7 @@ impl Culler {
         self.sync_boxes()?;
         self.rebuild_tree()?;
         self.upload_bounds();
-        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: true, sah_growth: 1.0 };
+        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: true, sah_growth: Some(1.0) };
         Ok(())
     }
 
@@ -413,10 +416,15 @@ impl Culler {
     /// After boxes, flags or slots changed: refit (or rebuild) and upload.
     fn changed(&mut self, t: std::time::Instant) -> Result<()> {
         let mut rebuilt = false;
-        let outside = (0..self.objects.count as usize).filter(|&i| self.live[i] && !self.is_dynamic(i) && self.bvh_leaf(i).is_none()).count();
+        let out_of_step = (0..self.objects.count as usize)
+            .filter(|&i| {
+                let static_live = self.live[i] && !self.is_dynamic(i);
+                static_live != self.bvh_leaf(i).is_some()
+            })
+            .count();
         let live = self.live.iter().filter(|&&l| l).count().max(1);
         let mut growth = 1.0;
-        if outside as f64 > self.motion.rebuild_outside * live as f64 {
+        if out_of_step as f64 > self.motion.rebuild_outside * live as f64 {
             self.rebuild_tree()?;
             rebuilt = true;
         } else if self.motion.refit == Refit::Gpu {
@@ -427,7 +435,7 @@ impl Culler {
             let mut enc = self.gpu.device.create_command_encoder(&Default::default());
             self.refit_on_gpu(&mut enc, None);
             self.gpu.queue.submit([enc.finish()]);
-            self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, sah_growth: f64::NAN };
+            self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, sah_growth: None };
             return Ok(());
         } else {
             self.refit_cpu();
@@ -441,7 +449,7 @@ impl Culler {
         if !rebuilt {
             self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
         }
-        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt, sah_growth: growth };
+        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt, sah_growth: Some(growth) };
         Ok(())
     }
 

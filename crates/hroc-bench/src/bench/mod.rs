@@ -91,7 +91,8 @@ pub struct BenchReport {
     pub host_update_ms_mean: f64,
     /// BVH SAH cost after the last frame's refit over the cost as last
     /// built (1 for a static scene): how much the refit tree degraded.
-    pub sah_growth: f64,
+    /// `None` with the GPU refit, whose boxes the CPU does not see.
+    pub sah_growth: Option<f64>,
     /// Moving objects flagged DYNAMIC (tested alone, not refit).
     pub dynamic: bool,
     /// Where the BVH was refit (`cpu`, `gpu`).
@@ -154,7 +155,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         let flags: Vec<(u32, hroc::ObjectFlags)> = movers.iter().map(|&i| (i, hroc::ObjectFlags::DYNAMIC)).collect();
         s.culler.set_many_flags(&flags)?;
     }
-    let (mut update_ms, mut refit_ms, mut host_ms, mut rebuilds, mut growth) = (Vec::new(), Vec::new(), Vec::new(), 0, 1.0);
+    let (mut update_ms, mut refit_ms, mut host_ms, mut rebuilds, mut growth) = (Vec::new(), Vec::new(), Vec::new(), 0, Some(1.0));
     s.options = o.method_options.clone();
     let mut cullers = o.methods.iter().filter(|m| *m != "noc").map(|m| Ok((m.clone(), s.create(m)?))).collect::<Result<Vec<_>>>()?;
     let n = s.renderer.object_count as u64;

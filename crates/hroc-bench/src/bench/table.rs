@@ -1,6 +1,6 @@
 //! Plain-text and Markdown tables of a bench report.
 
-use super::BenchReport;
+use super::{BenchReport, MethodRow};
 use std::fmt::Write;
 
 /// Aligned rows, as Markdown or plain text; the first column left-aligned.
@@ -82,7 +82,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
     if r.moved_objects > 0 {
         let _ = writeln!(
             out,
-            "{}moving {:.0}% ({} objects, {}) | object update {:.2} ms/frame, of which CPU {:.2} (BVH refit on the {}, {} rebuilds) | SAH cost {:.2}x as last built | the bench host's boxes and transforms {:.2} ms/frame",
+            "{}moving {:.0}% ({} objects, {}) | object update {:.2} ms/frame, of which CPU {:.2} (BVH refit on the {}, {} rebuilds) | SAH cost {} | the bench host's boxes and transforms {:.2} ms/frame",
             if markdown { "" } else { "# " },
             r.moving * 100.0,
             r.moved_objects,
@@ -91,7 +91,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
             r.refit_ms_mean,
             r.refit.to_uppercase(),
             r.rebuilds,
-            r.sah_growth,
+            r.sah_growth.map_or("not tracked by the GPU refit".into(), |g| format!("{g:.2}x as last built")),
             r.host_update_ms_mean
         );
     }
@@ -134,6 +134,31 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
 /// update per frame, and each method's frame plus update over its static
 /// frame when the first fraction is 0.
 pub fn motion(reports: &[BenchReport], markdown: bool) -> String {
+    let Some(first) = reports.first() else { return String::new() };
+    let (head, rows) = motion_grid(reports);
+    let mut out = String::new();
+    let _ = writeln!(out, "{}motion: {}", if markdown { "" } else { "# " }, motion_caption(first));
+    out.push_str(&grid(&head, &rows, markdown));
+    out
+}
+
+/// What a motion run held fixed: scene, size, adapter, and how the moving
+/// objects were handled.
+pub fn motion_caption(first: &BenchReport) -> String {
+    format!(
+        "scene {} | {} objects | {} | moving objects {} | refit on the {}",
+        first.scene,
+        first.objects,
+        first.adapter,
+        if first.dynamic { "DYNAMIC (tested alone)" } else { "static (refit)" },
+        first.refit.to_uppercase()
+    )
+}
+
+/// The motion table's header and rows, shared by `hroc bench --moving` and
+/// the report. The last column sums each method's false negatives and
+/// missing pixels over every fraction.
+pub fn motion_grid(reports: &[BenchReport]) -> (Vec<String>, Vec<Vec<String>>) {
     let mut head = vec!["method".to_string()];
     for r in reports {
         head.push(format!("{:.0}% ms", r.moving * 100.0));
@@ -145,11 +170,13 @@ pub fn motion(reports: &[BenchReport], markdown: bool) -> String {
             head.push(format!("{:.0}% (+update) / 0%", r.moving * 100.0));
         }
     }
-    let Some(first) = reports.first() else { return String::new() };
+    head.push("false neg / missing px".to_string());
+    let Some(first) = reports.first() else { return (head, Vec::new()) };
     let mut rows = Vec::new();
     for m in first.rows.iter().map(|x| &x.method) {
         let mut row = vec![m.clone()];
-        let ms: Vec<Option<f64>> = reports.iter().map(|r| r.rows.iter().find(|x| &x.method == m).map(|x| x.ms_mean)).collect();
+        let found: Vec<Option<&MethodRow>> = reports.iter().map(|r| r.rows.iter().find(|x| &x.method == m)).collect();
+        let ms: Vec<Option<f64>> = found.iter().map(|x| x.map(|x| x.ms_mean)).collect();
         for (r, v) in reports.iter().zip(&ms) {
             let noc = r.rows.iter().find(|x| x.method == "noc").map(|x| x.ms_mean);
             row.push(v.map_or("-".into(), |v| format!("{v:.2}")));
@@ -166,6 +193,8 @@ pub fn motion(reports: &[BenchReport], markdown: bool) -> String {
                 });
             }
         }
+        let (fneg, miss) = found.iter().flatten().fold((0, 0), |(f, p), x| (f + x.false_negatives, p + x.missing_pixels));
+        row.push(format!("{fneg} / {miss}"));
         rows.push(row);
     }
     let mut upd = vec!["object update".to_string()];
@@ -173,21 +202,7 @@ pub fn motion(reports: &[BenchReport], markdown: bool) -> String {
         upd.push(format!("{:.2}", r.update_ms_mean));
         upd.push(format!("{} rebuilds", r.rebuilds));
     }
-    if static_first {
-        upd.extend(reports[1..].iter().map(|_| String::new()));
-    }
+    upd.resize(head.len(), String::new());
     rows.push(upd);
-    let mut out = String::new();
-    let _ = writeln!(
-        out,
-        "{}motion: scene {} | {} objects | {} | moving objects {} | refit on the {}",
-        if markdown { "" } else { "# " },
-        first.scene,
-        first.objects,
-        first.adapter,
-        if first.dynamic { "DYNAMIC (tested alone)" } else { "static (refit)" },
-        first.refit.to_uppercase()
-    );
-    out.push_str(&grid(&head, &rows, markdown));
-    out
+    (head, rows)
 }

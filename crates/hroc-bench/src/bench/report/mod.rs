@@ -74,6 +74,13 @@ pub struct ReportArgs {
     pub hires_methods: String,
     #[arg(long, default_value_t = 8)]
     pub hires_frames: usize,
+    /// Moving fractions of the motion table over the first generated
+    /// scene (each run in turn, like `hroc bench --moving`), or `none`.
+    #[arg(long, default_value = "0,0.1,1")]
+    pub motion: String,
+    /// Methods of the motion table: those that take moving objects.
+    #[arg(long, default_value = "noc,vfc,roc,hzb,hroc")]
+    pub motion_methods: String,
 }
 
 /// The validated plan of a report.
@@ -86,6 +93,8 @@ struct Plan {
     sweep_methods: Vec<String>,
     hires: Option<(u32, u32)>,
     hires_methods: Vec<String>,
+    motion: Vec<f64>,
+    motion_methods: Vec<String>,
 }
 
 fn list(s: &str) -> Vec<String> {
@@ -117,6 +126,18 @@ impl Plan {
                 .collect::<Result<Vec<_>>>()?
         };
         let hires = if a.hires.trim() == "none" { None } else { Some(parse_resolution(&a.hires).map_err(Error::Arg)?) };
+        let motion = if a.motion.trim() == "none" {
+            Vec::new()
+        } else {
+            list(&a.motion)
+                .iter()
+                .map(|s| s.parse::<f64>().ok().filter(|f| (0.0..=1.0).contains(f)).ok_or_else(|| Error::Arg(format!("--motion: '{s}' is not a fraction from 0 to 1"))))
+                .collect::<Result<Vec<_>>>()?
+        };
+        let motion_methods = with_noc(crate::bench::parse_methods(&a.motion_methods)?);
+        if let Some(m) = motion_methods.iter().find(|m| m.parse::<hroc::Method>().is_ok_and(|m| !m.takes_motion())) {
+            return Err(Error::Arg(format!("--motion-methods: {m} takes static scenes only")));
+        }
         Ok(Plan {
             scenes,
             methods: with_noc(crate::bench::parse_methods(&a.methods)?),
@@ -126,6 +147,8 @@ impl Plan {
             sweep_methods: with_noc(crate::bench::parse_methods(&a.sweep_methods)?),
             hires,
             hires_methods: with_noc(crate::bench::parse_methods(&a.hires_methods)?),
+            motion,
+            motion_methods,
         })
     }
 }
@@ -191,6 +214,8 @@ pub struct ReportData {
     pub sweep_stopped: Option<String>,
     pub hires: Option<BenchReport>,
     pub hires_skipped: Option<String>,
+    /// The motion table's runs, one per moving fraction.
+    pub motion: Vec<BenchReport>,
 }
 
 pub fn run(a: ReportArgs) -> Result<()> {
@@ -202,7 +227,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
     for dir in [a.out.clone(), a.out.join("plots"), a.out.join("images")] {
         std::fs::create_dir_all(&dir).map_err(|e| Error::Io { path: dir, source: e })?;
     }
-    let steps = scenes.len() * (1 + usize::from(plan.splits.iter().any(|&s| s != Split::Sah))) + 1 + plan.sweep.len() + usize::from(plan.hires.is_some());
+    let steps = scenes.len() * (1 + usize::from(plan.splits.iter().any(|&s| s != Split::Sah))) + 1 + plan.sweep.len() + usize::from(plan.hires.is_some()) + plan.motion.len();
     let mut r = Runner { gpu: &gpu, a: &a, plan: &plan, step: 0, steps };
 
     // The measurements, in the report's order.
@@ -211,6 +236,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
     let heat = heat::render(&gpu, &scenes[0], a.frames, a.resolution, plan.heat_frame, &a.out.join("images"))?;
     let (sweep, sweep_stopped) = r.sweep();
     let (hires, hires_skipped) = r.hires(&scenes[0])?;
+    let motion = r.motion()?;
 
     let info = &gpu.info;
     let data = ReportData {
@@ -232,6 +258,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
         sweep_stopped,
         hires,
         hires_skipped,
+        motion,
     };
     write(&a.out, &data)?;
     eprintln!("wrote {} in {:.1} min", a.out.join("index.html").display(), data.meta.minutes);
@@ -299,7 +326,7 @@ impl Runner<'_> {
     /// size). "As far as the machine allows": a size the device cannot
     /// hold ends the sweep, with the reason, not the report.
     fn sweep(&mut self) -> (Vec<SweepPoint>, Option<String>) {
-        let spec = self.plan.scenes.iter().find(|s| generators::find(s).is_some()).cloned().unwrap_or_else(|| "radial-city".into());
+        let spec = self.first_generated();
         let mut points = Vec::new();
         for &n in &self.plan.sweep {
             self.say(format!("scale sweep: {spec} with {n} objects"));
@@ -314,6 +341,26 @@ impl Runner<'_> {
             }
         }
         (points, None)
+    }
+
+    /// The first generated scene at each moving fraction (HROC §6: moving
+    /// objects), every method of the motion table side by side per run.
+    fn motion(&mut self) -> Result<Vec<BenchReport>> {
+        let spec = self.first_generated();
+        let mut runs = Vec::new();
+        for &f in &self.plan.motion {
+            self.say(format!("motion: {spec} with {:.0}% of the objects moving", f * 100.0));
+            let mut o = self.opts(&spec, &self.plan.motion_methods, self.a.frames, self.a.resolution, Split::Sah);
+            o.moving = f as f32;
+            runs.push(super::run(self.gpu, &o)?);
+        }
+        Ok(runs)
+    }
+
+    /// The first generated scene of the report (a file has no motion and
+    /// one size), or radial-city.
+    fn first_generated(&self) -> String {
+        self.plan.scenes.iter().find(|s| generators::find(s).is_some()).cloned().unwrap_or_else(|| "radial-city".into())
     }
 
     /// The first scene at the high resolution, when the device's textures reach it.
@@ -373,11 +420,21 @@ mod tests {
         assert_eq!(p.hires, Some((4096, 2160)));
         assert_eq!(p.splits, [Split::Sah, Split::Mid, Split::Eq]);
         assert_eq!(Plan::new(&args(&["--methods", "hroc"])).unwrap().methods, ["noc", "hroc"]);
-        let none = Plan::new(&args(&["--sweep", "none", "--hires", "none"])).unwrap();
-        assert!(none.sweep.is_empty() && none.hires.is_none());
-        for bad in
-            [&["--scenes", ","][..], &["--frames", "0"], &["--heat-frame", "60"], &["--splits", "sah,foo"], &["--sweep", "10,x"], &["--hires", "4096"], &["--methods", "nope"]]
-        {
+        assert_eq!(p.motion, [0.0, 0.1, 1.0]);
+        assert_eq!(p.motion_methods, ["noc", "vfc", "roc", "hzb", "hroc"]);
+        let none = Plan::new(&args(&["--sweep", "none", "--hires", "none", "--motion", "none"])).unwrap();
+        assert!(none.sweep.is_empty() && none.hires.is_none() && none.motion.is_empty());
+        for bad in [
+            &["--scenes", ","][..],
+            &["--frames", "0"],
+            &["--heat-frame", "60"],
+            &["--splits", "sah,foo"],
+            &["--sweep", "10,x"],
+            &["--hires", "4096"],
+            &["--methods", "nope"],
+            &["--motion", "2"],
+            &["--motion-methods", "oq"],
+        ] {
             assert!(Plan::new(&args(bad)).is_err(), "{bad:?}");
         }
     }

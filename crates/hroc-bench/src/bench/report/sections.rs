@@ -52,6 +52,7 @@ pub fn build(d: &ReportData, plots: &Path) -> Result<Doc> {
     overdraw(&mut doc, d);
     sweep(&mut doc, d, plots)?;
     hires(&mut doc, d);
+    motion(&mut doc, d);
     Ok(doc)
 }
 
@@ -311,6 +312,18 @@ fn hires(doc: &mut Doc, d: &ReportData) {
         ]);
     }
     doc.table(t);
+}
+
+fn motion(doc: &mut Doc, d: &ReportData) {
+    let Some(first) = d.motion.first() else { return };
+    doc.heading("Moving objects (HROC paper §6)");
+    doc.para(format!(
+        "{}, {} frames per fraction. The moving objects are refit into the BVH every frame; the object update (boxes, refit or rebuild, uploads landed) is shared by every method of a run and is not in their frame times, so the last columns add it back: a method's frame plus the update over its static frame.",
+        crate::bench::table::motion_caption(first),
+        first.frames
+    ));
+    let (head, rows) = crate::bench::table::motion_grid(&d.motion);
+    doc.table(Table { head, rows });
 }
 
 /// A file-name-safe form of a scene spec (a key, or a path).
