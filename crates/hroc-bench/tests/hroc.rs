@@ -148,3 +148,83 @@ fn box_winding_faces_outward() {
         assert!(normal.dot(outward) > 0.0, "triangle {t:?} winds inward");
     }
 }
+
+/// The incoherent paths (`paths::cut_path`: a cut every second, 720°/s
+/// turns, random eye heights) sampled at 2 frames per path second, where
+/// every frame is detected as a cut: every variant stays conservative with
+/// the ray-grid seed on cuts (the default), on every frame, and never.
+#[test]
+fn conservative_on_cut_paths_with_every_seed() {
+    for key in ["radial-city", "factory", "satellites"] {
+        let scene = hroc_bench::scene::load(key, Some(1500), 7).unwrap();
+        let path = paths::cut_path(&scene, 3);
+        let mut s = Session::new(gpu(), scene, Some(path), 21, RES, Split::Sah).unwrap();
+        for seed in [hroc::Seed::Cuts, hroc::Seed::Always, hroc::Seed::Never] {
+            s.options = hroc::MethodOptions { hroc_seed: seed, ..Default::default() };
+            let ratio = assert_variants_conservative(&mut s, &format!("{key} seed {seed:?}"));
+            assert!(ratio.is_finite());
+        }
+    }
+}
+
+/// The seed pass against its CPU reference: after a signalled cut, V is
+/// exactly the objects whose boxes the grid's rays enter first.
+#[test]
+fn gpu_seed_matches_cpu_reference() {
+    for (key, n) in [("radial-city", 1500), ("factory", 1500), ("satellites", 1200)] {
+        let scene = hroc_bench::scene::load(key, Some(n), 2).unwrap();
+        let path = paths::cut_path(&scene, 5);
+        let mut s = Session::new(gpu(), scene, Some(path), 12, RES, Split::Sah).unwrap();
+        let mut h = s.create("hroc-na").unwrap();
+        let aspect = s.renderer.aspect();
+        let mut seeded = 0;
+        for k in 0..s.cameras.len() {
+            s.run_frame_cut(&mut h, k, true).unwrap();
+            let list = h.method_state::<Hroc>().unwrap().occluder_list().clone();
+            let mut gpu_v: Vec<u32> = s.gpu.read_list(&list.commands, &list.count, list.max_count).unwrap().iter().map(|c| c.first_instance).collect();
+            gpu_v.sort_unstable();
+            let cam = s.cameras[k];
+            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
+            let cpu_v = cpu::seed(s.bvh(), &g.ray_dirs, g.eye, hroc::cull::hroc::SEED_GRID);
+            // Ties between boxes entered at the same distance may round either way.
+            let differ = gpu_v.iter().filter(|o| cpu_v.binary_search(o).is_err()).count() + cpu_v.iter().filter(|o| gpu_v.binary_search(o).is_err()).count();
+            assert!(differ * 50 <= cpu_v.len().max(1), "{key} frame {k}: GPU seed {} objects, CPU {}, {differ} differ", gpu_v.len(), cpu_v.len());
+            seeded += gpu_v.len();
+        }
+        assert!(seeded > 0, "{key}: the seed found nothing");
+    }
+}
+
+/// Cut detection: a frame that turns past `cut_turn_deg` or moves past
+/// `cut_move` of the scene is culled as after a cut (the `cut` statistic),
+/// one that does not is not, and infinite thresholds turn it off.
+#[test]
+fn cuts_are_detected_from_the_view() {
+    let scene = hroc_bench::scene::load("radial-city", Some(1200), 1).unwrap();
+    let path = paths::cut_path(&scene, 9);
+    let mut s = Session::new(gpu(), scene, Some(path), 81, RES, Split::Sah).unwrap();
+    let cut_of = |s: &mut Session, v: &mut hroc::View, k: usize| -> f64 {
+        s.run_frame(v, k).unwrap();
+        v.stats(&s.culler).unwrap().iter().find(|x| x.0 == hroc::Stat::Cut).unwrap().1
+    };
+    let mut h = s.create("hroc").unwrap();
+    // 8 frames per path second: 90° turns within the even seconds, small
+    // steps within the odd ones, a new eye at every second.
+    let diagonal = s.bvh().aabb(0).extent().length();
+    let (mut cuts, mut steps) = (0, 0);
+    for k in 0..s.cameras.len() {
+        let expect = k > 0 && {
+            let (a, b) = (s.cameras[k - 1], s.cameras[k]);
+            let turn = (a.target - a.eye).normalize().dot((b.target - b.eye).normalize()).clamp(-1.0, 1.0).acos().to_degrees();
+            turn > 45.0 || a.eye.distance(b.eye) > 0.1 * diagonal
+        };
+        assert_eq!(cut_of(&mut s, &mut h, k), if expect { 1.0 } else { 0.0 }, "frame {k}");
+        (cuts, steps) = (cuts + expect as usize, steps + !expect as usize);
+    }
+    assert!(cuts >= 40 && steps >= 30, "{cuts} cuts, {steps} steps");
+    s.options = hroc::MethodOptions { cut_turn_deg: f32::INFINITY, cut_move: f32::INFINITY, ..Default::default() };
+    let mut off = s.create("hroc").unwrap();
+    for k in 0..20 {
+        assert_eq!(cut_of(&mut s, &mut off, k), 0.0, "frame {k} with detection off");
+    }
+}

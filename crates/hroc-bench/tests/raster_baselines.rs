@@ -265,6 +265,7 @@ fn bench_rows_carry_stats_and_woc_reports() {
         objects: Some(1200),
         methods: ["noc", "roc", "roc-all", "ioc", "hzb", "woc"].map(String::from).to_vec(),
         frames: 8,
+        fps: None,
         resolution: RES,
         split: Split::Sah,
         camera_path: None,

@@ -55,11 +55,18 @@ struct SceneArgs {
     /// Frames sampled uniformly over the camera path.
     #[arg(long, default_value_t = 60)]
     frames: usize,
+    /// Frames per second of camera path instead of --frames (bench):
+    /// fps × duration + 1 frames, 1/fps s apart.
+    #[arg(long)]
+    fps: Option<f32>,
     #[arg(long, default_value = "640x360", value_parser = parse_resolution)]
     resolution: (u32, u32),
     #[arg(long, default_value_t = Split::Sah)]
     split: Split,
-    /// JSON camera path file (keys of t, eye, target, up, fov_y_deg).
+    /// JSON camera path file (keys of t, eye, target, up, fov_y_deg), or a
+    /// built-in path of the scene: `hard` (cuts, the eye inside boxes,
+    /// boxes across the near plane) or `cuts` (a cut every second to a
+    /// random eye and height, 720°/s turns).
     #[arg(long)]
     camera_path: Option<PathBuf>,
     #[command(flatten)]
@@ -88,6 +95,17 @@ struct MethodArgs {
     /// default: the middle of the BVH, depth/2-1:depth/2+1).
     #[arg(long, value_parser = cull::ioc::parse_range)]
     ioc_range: Option<(u32, u32)>,
+    /// hroc: when a coarse ray grid seeds the occluders: cuts, always, never.
+    #[arg(long, default_value = "cuts")]
+    hroc_seed: cull::Seed,
+    /// Degrees the view may turn between frames before the frame is culled
+    /// as after a camera cut (`inf`: never).
+    #[arg(long, default_value_t = 45.0)]
+    cut_turn: f32,
+    /// Fraction of the scene's diagonal the eye may move between frames
+    /// before the frame is culled as after a camera cut (`inf`: never).
+    #[arg(long, default_value_t = 0.1)]
+    cut_move: f32,
 }
 
 impl MethodArgs {
@@ -99,6 +117,9 @@ impl MethodArgs {
             chc_dmax: self.chc_dmax,
             chc_smax: self.chc_smax,
             ioc_range: self.ioc_range,
+            hroc_seed: self.hroc_seed,
+            cut_turn_deg: self.cut_turn,
+            cut_move: self.cut_move,
         }
     }
 }
@@ -241,6 +262,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         objects: a.s.objects,
         methods,
         frames: a.s.frames,
+        fps: a.s.fps,
         resolution: a.s.resolution,
         split: a.s.split,
         method_options: a.s.m.options(),
@@ -295,7 +317,7 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     }
     let s = &a.s;
     let scene = hroc_bench::scene::load(&s.scene, s.objects, 0)?;
-    let path = s.camera_path.as_deref().map(hroc_bench::scene::CameraPath::from_file).transpose()?;
+    let path = s.camera_path.as_deref().map(|p| bench::load_path(&scene, p)).transpose()?;
     let gpu = Gpu::new()?;
     let mut session = Session::new(&gpu, scene, path, s.frames, s.resolution, s.split)?;
     session.options = s.m.options();

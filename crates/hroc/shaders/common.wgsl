@@ -58,6 +58,11 @@ fn sibling(n: u32) -> u32 {
     return select(n - 1u, n + 1u, (n & 1u) == 1u);
 }
 
+// 1/d for a ray slab test, with d = 0 nudged to a tiny value of its sign.
+fn safe_inv(d: f32) -> f32 {
+    return 1.0 / select(d, select(-1e-30, 1e-30, d >= 0.0), abs(d) < 1e-30);
+}
+
 // VkDrawIndexedIndirectCommand; first_instance carries the object id.
 struct DrawCommand {
     index_count: u32,

@@ -4,7 +4,8 @@
 //           not in the tree) become occludee groups of their own;
 // collect — one thread per node gathers occludee groups (unknown nodes),
 //           frustum-culls them and splits those that cross the near plane;
-// merge   — next V = O ∪ D;  filter — next V = objects owning a pixel (OF).
+// merge   — next V = O ∪ D;  filter — next V = objects owning a pixel (OF);
+// seed    — after a camera cut, V = the objects a coarse grid of rays meets first.
 
 const NIL: u32 = 0u;
 const UNKNOWN: u32 = 1u;
@@ -126,3 +127,53 @@ fn filter_occluders(@builtin(global_invocation_id) gid: vec3<u32>) {
         visible[id - 1u] = 1u;
     }
 }
+
+// Occluder seed (HROC §6 names incoherent frames as a limit: after a cut,
+// last frame's V occludes nothing here). One ray per cell of a coarse
+// screen grid walks the BVH and marks the object whose box it enters first;
+// those objects are V. For speed only: V may be any set of objects, and no
+// culling decision rests on it.
+override SEED_COLS: u32 = 64u;
+override SEED_ROWS: u32 = 36u;
+
+@compute @workgroup_size(64)
+fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let cell = gid.x;
+    if cell >= SEED_COLS * SEED_ROWS || frame.node_count == 0u {
+        return;
+    }
+    let ndc = vec2<f32>((f32(cell % SEED_COLS) + 0.5) / f32(SEED_COLS) * 2.0 - 1.0, 1.0 - (f32(cell / SEED_COLS) + 0.5) / f32(SEED_ROWS) * 2.0);
+    let eye = frame.eye.xyz;
+    let dir = (frame.ray_dirs * vec4<f32>(ndc, 1.0, 0.0)).xyz;
+    let inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
+    var best = 3.0e38;
+    var hit = NO_HIT;
+    var stack: array<u32, STACK>;
+    stack[0] = 0u;
+    var sp = 1u;
+    while sp > 0u {
+        sp -= 1u;
+        let node = nodes[stack[sp]];
+        let t0 = (node.min - eye) * inv;
+        let t1 = (node.max - eye) * inv;
+        let t_enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z));
+        let t_exit = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
+        let t = max(t_enter, 1.0); // t = 1 on the near plane
+        if t_exit < t || t >= best {
+            continue;
+        }
+        if (node.child & LEAF_BIT) != 0u {
+            best = t;
+            hit = node.child & ~LEAF_BIT;
+        } else if sp + 2u <= STACK {
+            stack[sp] = node.child;
+            stack[sp + 1u] = node.child + 1u;
+            sp += 2u;
+        }
+    }
+    if hit != NO_HIT {
+        visible[hit] = 1u;
+    }
+}
+
+const NO_HIT: u32 = 0xffffffffu;

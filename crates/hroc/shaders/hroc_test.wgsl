@@ -52,10 +52,6 @@ fn mark_leaf(leaf: u32, group: u32) {
     }
 }
 
-fn safe_inv(d: f32) -> f32 {
-    return 1.0 / select(d, select(-1e-30, 1e-30, d >= 0.0), abs(d) < 1e-30);
-}
-
 @fragment @early_depth_test(force)
 fn box_fs(in: BoxOut) {
     if (in.node & LEAF_BIT) != 0u {

@@ -698,6 +698,8 @@ impl Culler {
             last_stages: Vec::new(),
             generation: self.generation,
             slots: self.objects.count,
+            last_pose: None,
+            last_cut: false,
         })
     }
 
@@ -1065,6 +1067,10 @@ pub struct View {
     /// The culler's BVH generation and slots when this view was built.
     generation: u64,
     slots: u32,
+    /// Last frame's eye and view direction, for cut detection.
+    last_pose: Option<(glam::Vec3, glam::Vec3)>,
+    /// The last frame was culled as after a cut.
+    last_cut: bool,
 }
 
 impl View {
@@ -1123,9 +1129,11 @@ impl View {
         let g = input.view.geometry()?;
         let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32, self.targets.depth);
         culler.gpu.queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniform));
-        if input.cut {
+        let cut = self.detect_cut(culler, &input.view) || input.cut;
+        if cut {
             self.imp.reset(encoder);
         }
+        self.last_cut = cut;
         if let Some(t) = self.timer.as_mut() {
             t.begin_frame();
         }
@@ -1171,6 +1179,18 @@ impl View {
         Ok(())
     }
 
+    /// True when the view turned or moved past the options' cut thresholds
+    /// ([`MethodOptions::cut_turn_deg`], [`MethodOptions::cut_move`]) since
+    /// the last frame: last frame's visibility says little about this one.
+    fn detect_cut(&mut self, culler: &Culler, view: &ViewDesc) -> bool {
+        let inv = view.view.inverse();
+        let pose = (inv.w_axis.truncate(), -inv.z_axis.truncate().normalize_or_zero());
+        let Some((eye, dir)) = self.last_pose.replace(pose) else { return false };
+        let turn = dir.dot(pose.1).clamp(-1.0, 1.0).acos().to_degrees();
+        let diagonal = if culler.bvh.nodes.is_empty() { f32::INFINITY } else { culler.bvh.aabb(0).extent().length() };
+        turn > self.options.cut_turn_deg || eye.distance(pose.0) > self.options.cut_move * diagonal
+    }
+
     /// Per-stage GPU ms of the last frame, in stage order; empty without
     /// timestamps. Reads back: call after the frame's work was submitted.
     pub fn stage_ms(&mut self, culler: &Culler) -> Result<&[(Stage, f64)]> {
@@ -1184,7 +1204,9 @@ impl View {
     /// The method's statistics of the last frame (set sizes, rays, ...).
     /// Reads back: call after the frame's work was submitted.
     pub fn stats(&mut self, culler: &Culler) -> Result<Vec<(Stat, f64)>> {
-        self.imp.stats(&culler.gpu)
+        let mut s = self.imp.stats(&culler.gpu)?;
+        s.push((Stat::Cut, self.last_cut as u32 as f64));
+        Ok(s)
     }
 
     /// BVH nodes whose boxes the method tested last frame, if it tests boxes.

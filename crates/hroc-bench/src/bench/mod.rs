@@ -22,8 +22,14 @@ pub struct BenchOptions {
     pub objects: Option<usize>,
     pub methods: Vec<String>,
     pub frames: usize,
+    /// Frames per second of camera path (`--fps`): replaces `frames` with
+    /// `fps × duration + 1`, so runs at 5, 30 and 60 sample the same path
+    /// at a known rate.
+    pub fps: Option<f32>,
     pub resolution: (u32, u32),
     pub split: Split,
+    /// A camera path file, or a built-in path of the scene by name
+    /// (`hard`, `cuts`: [`crate::scene::paths::builtin`]).
     pub camera_path: Option<PathBuf>,
     pub progress: bool,
     /// Fraction of the objects that move every frame (`--moving`), 0 to 1,
@@ -70,6 +76,11 @@ pub struct BenchReport {
     pub resolution: String,
     pub adapter: String,
     pub frames: usize,
+    /// Frames per second of camera path: how far apart in time the frames
+    /// are (the coherence a method can rely on).
+    pub frames_per_second: f64,
+    /// The camera path: `own` (the scene's), `hard`, `cuts`, or a file.
+    pub path: String,
     /// Frames at the start left out of the timing statistics (not of the checks).
     pub warmup_frames: usize,
     pub split: String,
@@ -128,8 +139,26 @@ pub fn warmup_frames(frames: usize) -> usize {
 /// Loads the scene and camera path the options name (no GPU needed).
 pub fn load_inputs(o: &BenchOptions) -> Result<(Scene, Option<CameraPath>)> {
     let scene = crate::scene::load(&o.scene, o.objects, 0)?;
-    let path = o.camera_path.as_deref().map(CameraPath::from_file).transpose()?;
+    let path = o.camera_path.as_deref().map(|p| load_path(&scene, p)).transpose()?;
     Ok((scene, path))
+}
+
+/// A built-in path of `scene` by name (`hard`, `cuts`), else a path file.
+pub fn load_path(scene: &Scene, spec: &std::path::Path) -> Result<CameraPath> {
+    match spec.to_str().and_then(|name| crate::scene::paths::builtin(scene, name)) {
+        Some(builtin) => Ok(builtin),
+        None => CameraPath::from_file(spec),
+    }
+}
+
+/// Frames of a run: `o.frames`, or `fps × duration + 1` over `path`.
+pub fn frame_count(o: &BenchOptions, path: &CameraPath) -> Result<usize> {
+    let Some(fps) = o.fps else { return Ok(o.frames) };
+    if !(fps > 0.0 && fps <= 1000.0) {
+        return Err(crate::Error::Arg(format!("--fps {fps} is not a rate from 0 to 1000 frames per path second")));
+    }
+    let dur = path.duration() - path.keys.first().map_or(0.0, |k| k.t);
+    Ok((fps * dur).round() as usize + 1)
 }
 
 pub fn run(gpu: &Gpu, o: &BenchOptions) -> Result<BenchReport> {
@@ -149,7 +178,8 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     let movers = crate::scene::motion::moving_objects(scene.objects.len(), o.moving);
     let base: Vec<glam::Mat4> = scene.objects.iter().map(|ob| ob.transform).collect();
     let centre = scene.bounds().center();
-    let mut s = Session::new(gpu, scene, path, o.frames, o.resolution, o.split)?;
+    let frames = frame_count(o, path.as_ref().unwrap_or(&scene.path))?;
+    let mut s = Session::new(gpu, scene, path, frames, o.resolution, o.split)?;
     s.culler.set_motion(o.motion)?;
     if o.dynamic {
         let flags: Vec<(u32, hroc::ObjectFlags)> = movers.iter().map(|&i| (i, hroc::ObjectFlags::DYNAMIC)).collect();
@@ -264,6 +294,15 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         resolution: format!("{}x{}", o.resolution.0, o.resolution.1),
         adapter: gpu.adapter_name(),
         frames,
+        frames_per_second: {
+            let dur = s.times.last().copied().unwrap_or(0.0) - s.times.first().copied().unwrap_or(0.0);
+            if dur > 0.0 {
+                (frames.max(1) - 1) as f64 / dur as f64
+            } else {
+                0.0
+            }
+        },
+        path: o.camera_path.as_ref().map_or("own".into(), |p| p.display().to_string()),
         warmup_frames: warm,
         split: o.split.to_string(),
         bvh_nodes: s.bvh().nodes.len(),

@@ -66,13 +66,15 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{}scene {} | {} objects | {} triangles | {} | {} frames ({} warm-up untimed) | BVH {} ({} nodes, {:.1} ms) | {}",
+        "{}scene {} | {} objects | {} triangles | {} | path {}: {} frames, {:.1} per path second ({} warm-up untimed) | BVH {} ({} nodes, {:.1} ms) | {}",
         if markdown { "" } else { "# " },
         r.scene,
         r.objects,
         r.triangles,
         r.resolution,
+        r.path,
         r.frames,
+        r.frames_per_second,
         r.warmup_frames,
         r.split,
         r.bvh_nodes,

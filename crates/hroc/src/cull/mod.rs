@@ -213,11 +213,57 @@ pub struct MethodOptions {
     /// `ioc`: BVH depths [start, bottom] (root = 0); `None` picks
     /// [depth/2 - 1, depth/2 + 1] of the BVH (`ioc::cpu::default_range`).
     pub ioc_range: Option<(u32, u32)>,
+    /// `hroc`: when a coarse grid of rays seeds the occluders V.
+    pub hroc_seed: Seed,
+    /// A frame whose view direction turned more than this many degrees
+    /// since the last frame is culled as after a camera cut (the host need
+    /// not say so): 45° is an eighth of a turn, past which most of last
+    /// frame's visible set is off screen. `f32::INFINITY` turns it off.
+    pub cut_turn_deg: f32,
+    /// ... or whose eye moved more than this fraction of the scene's
+    /// diagonal (the BVH root's box): a tenth of a city is a new street.
+    pub cut_move: f32,
+}
+
+/// When HROC seeds its occluders V with the objects a coarse grid of rays
+/// meets first (`seed` in `hroc_groups.wgsl`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Seed {
+    /// On the first frame and after every camera cut, signalled or detected
+    /// (the default): last frame's V is stale then.
+    Cuts,
+    /// Every frame, added to last frame's V.
+    Always,
+    /// Never: after a cut V is empty and the root is the one group (the
+    /// paper's first frame).
+    Never,
+}
+
+impl FromStr for Seed {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Seed> {
+        match s {
+            "cuts" => Ok(Seed::Cuts),
+            "always" => Ok(Seed::Always),
+            "never" => Ok(Seed::Never),
+            _ => Err(Error::Arg(format!("unknown seed '{s}': expected cuts, always or never"))),
+        }
+    }
 }
 
 impl Default for MethodOptions {
     fn default() -> Self {
-        MethodOptions { soq_base_time: queries::soq::DEFAULT_BASE_TIME, chc_batch: 1000, chc_nav: 10, chc_dmax: 4, chc_smax: 1.4, ioc_range: None }
+        MethodOptions {
+            soq_base_time: queries::soq::DEFAULT_BASE_TIME,
+            chc_batch: 1000,
+            chc_nav: 10,
+            chc_dmax: 4,
+            chc_smax: 1.4,
+            ioc_range: None,
+            hroc_seed: Seed::Cuts,
+            cut_turn_deg: 45.0,
+            cut_move: 0.1,
+        }
     }
 }
 
@@ -468,6 +514,8 @@ named_enum!(
         FrustumCull => "frustum cull",
         /// `vfc`'s list compaction.
         Compact => "compact",
+        /// HROC's ray-grid seed of V after a camera cut.
+        Seed => "occluder seed",
         /// Drawing last frame's visible set (HROC §3.1).
         OcclusionMap => "occlusion map",
         /// HROC's bottom-up group extraction (§3.2).
@@ -544,6 +592,10 @@ named_enum!(
         Requeried => "requeried",
         /// Nodes rendered without a query.
         RenderedUnqueried => "rendered_unqueried",
+        /// 1 when the frame was culled as after a camera cut (signalled or detected).
+        Cut => "cut",
+        /// 1 when HROC seeded V with its ray grid this frame.
+        Seeded => "seeded",
     }
 );
 

@@ -286,6 +286,7 @@ impl Runner<'_> {
             objects: Some(self.a.objects),
             methods: methods.to_vec(),
             frames,
+            fps: None,
             resolution,
             split,
             camera_path: None,

@@ -12,7 +12,7 @@ use crate::error::Result;
 const PLOT: (u32, u32) = (900, 500);
 
 /// HROC's stages in frame order (the others sort after them).
-const FRAME_ORDER: [&str; 8] = ["clear", "occlusion map", "filtering", "group extraction", "frustum cull", "occlusion test", "occludee rendering", "read-back"];
+const FRAME_ORDER: [&str; 9] = ["clear", "occluder seed", "occlusion map", "filtering", "group extraction", "frustum cull", "occlusion test", "occludee rendering", "read-back"];
 
 /// Stages that draw scene geometry; the others are the cost of culling.
 const DRAWING_STAGES: [&str; 4] = ["clear", "draw", "occlusion map", "occludee rendering"];

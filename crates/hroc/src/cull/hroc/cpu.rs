@@ -149,3 +149,37 @@ pub fn ray_marked(
     }
     marked
 }
+
+/// `seed` in hroc_groups.wgsl: for each cell centre of a `cols` × `rows`
+/// screen grid, the object whose (unpadded) box the ray from the eye enters
+/// first at or past the near plane (t = 1). Sorted, without repeats.
+pub fn seed(bvh: &Bvh, ray_dirs: &Mat4, eye: Vec3, (cols, rows): (u32, u32)) -> Vec<u32> {
+    let mut hits = Vec::new();
+    if bvh.nodes.is_empty() {
+        return hits;
+    }
+    for cell in 0..cols * rows {
+        let ndc = Vec2::new(((cell % cols) as f32 + 0.5) / cols as f32 * 2.0 - 1.0, 1.0 - ((cell / cols) as f32 + 0.5) / rows as f32 * 2.0);
+        let dir = (*ray_dirs * Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
+        let (mut best, mut hit) = (f32::MAX, None);
+        let mut stack = vec![0u32];
+        while let Some(n) = stack.pop() {
+            let b = bvh.aabb(n);
+            let (t0, t1) = ((b.min - eye) / dir, (b.max - eye) / dir);
+            let enter = t0.min(t1).max_element().max(1.0);
+            let exit = t0.max(t1).min_element();
+            if exit < enter || enter >= best || exit.is_nan() {
+                continue;
+            }
+            match (bvh.object(n), bvh.children(n)) {
+                (Some(o), _) => (best, hit) = (enter, Some(o)),
+                (_, Some([l, r])) => stack.extend([l, r]),
+                _ => {}
+            }
+        }
+        hits.extend(hit);
+    }
+    hits.sort_unstable();
+    hits.dedup();
+    hits
+}

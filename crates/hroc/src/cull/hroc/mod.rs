@@ -12,7 +12,7 @@
 
 pub mod cpu;
 
-use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
+use super::{CullMethod, Frame, Method, MethodContext, Seed, Stage, Stat};
 use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
@@ -58,9 +58,21 @@ pub struct Hroc {
     collect: wgpu::ComputePipeline,
     merge: wgpu::ComputePipeline,
     filter: wgpu::ComputePipeline,
+    seed: wgpu::ComputePipeline,
     boxes: wgpu::RenderPipeline,
     last: FrameCounts,
+    seed_mode: Seed,
+    /// Seed V this frame (the first one, or after a cut).
+    seed_next: bool,
+    /// V was seeded in the last frame.
+    seeded: bool,
 }
+
+/// Cells of the occluder seed's ray grid (`seed` in `hroc_groups.wgsl`):
+/// 64 × 36 rays, one per 10 × 10 pixels at 640 × 360, each a BVH walk
+/// that prunes behind its nearest hit: about as much work as the
+/// occlusion test's rays over a few group boxes.
+pub const SEED_GRID: (u32, u32) = (64, 36);
 
 /// Per-frame sizes of the paper's sets, read after the frame (untimed).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -200,6 +212,7 @@ impl Hroc {
             collect: gpu.compute_pipeline(&module, "collect", Some(&pl), &[]),
             merge: gpu.compute_pipeline(&module, "merge", Some(&pl), &[]),
             filter: gpu.compute_pipeline(&module, "filter_occluders", Some(&pl), &[]),
+            seed: gpu.compute_pipeline(&module, "seed", Some(&pl), &[("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)]),
             visible,
             occluders,
             occludees,
@@ -218,6 +231,9 @@ impl Hroc {
             test_bind,
             boxes,
             last: FrameCounts::default(),
+            seed_mode: cx.options.hroc_seed,
+            seed_next: true,
+            seeded: false,
         })
     }
 
@@ -296,12 +312,24 @@ impl CullMethod for Hroc {
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
         enc.clear_buffer(&self.visible, 0, None);
+        self.seed_next = true;
     }
 
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         let (n, nodes) = (self.n, self.nodes);
         self.tree_nodes = f.uniform.node_count;
         let (ox, oy) = dispatch_size(n, 256);
+        // 0. After a cut V is stale or empty: seed it from a ray grid.
+        self.seeded = match self.seed_mode {
+            Seed::Cuts => std::mem::take(&mut self.seed_next),
+            Seed::Always => true,
+            Seed::Never => false,
+        };
+        if self.seeded {
+            f.stage(Stage::Seed);
+            let enc = f.encoder();
+            self.dispatch(enc, &self.seed, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
+        }
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);
         let enc = f.encoder();
@@ -375,6 +403,7 @@ impl CullMethod for Hroc {
             (Stat::D, c.d as f64),
             (Stat::Rays, c.rays as f64),
             (Stat::NodesPerRay, if c.rays > 0 { c.nodes_visited as f64 / c.rays as f64 } else { 0.0 }),
+            (Stat::Seeded, self.seeded as u32 as f64),
         ])
     }
 }
