@@ -10,7 +10,7 @@ use hroc_bench::scene::paths;
 use std::sync::OnceLock;
 
 const RES: (u32, u32) = (160, 96);
-const VARIANTS: [&str; 5] = ["hroc-na", "hroc-cr", "hroc-of", "hroc-cr+of", "hroc"];
+const VARIANTS: [&str; 7] = ["hroc-na", "hroc-cr", "hroc-of", "hroc-cr+of", "hroc", "hroc-sf", "hroc-sf+of"];
 
 fn gpu() -> &'static Gpu {
     static GPU: OnceLock<Gpu> = OnceLock::new();
@@ -227,4 +227,30 @@ fn cuts_are_detected_from_the_view() {
     for k in 0..20 {
         assert_eq!(cut_of(&mut s, &mut off, k), 0.0, "frame {k} with detection off");
     }
+}
+
+/// Stall-free counters: on a cut path the counts outgrow the estimates
+/// taken from earlier frames; the overflow draws take the rest, so hroc-sf
+/// draws exactly what hroc-na draws, with 0 false negatives.
+#[test]
+fn stall_free_overflow_draws_what_the_estimate_misses() {
+    let scene = hroc_bench::scene::load("radial-city", Some(2000), 4).unwrap();
+    let path = paths::cut_path(&scene, 2);
+    let mut s = Session::new(gpu(), scene, Some(path), 31, RES, Split::Sah).unwrap();
+    let mut sf = s.create("hroc-sf").unwrap();
+    let mut na = s.create("hroc-na").unwrap();
+    let mut overflowed = 0;
+    for k in 0..s.cameras.len() {
+        let (_, truth) = s.truth(k).unwrap();
+        let r = s.run_frame(&mut sf, k).unwrap();
+        let c_sf = s.check(&r, &truth).unwrap();
+        assert_eq!((c_sf.false_negatives, c_sf.missing_pixels), (0, 0), "frame {k}");
+        let h = sf.method_state::<Hroc>().unwrap();
+        let (est, c) = (h.estimates().unwrap(), h.counts(s.gpu).unwrap());
+        overflowed += (c.v > est[0]) as usize + (c.g > est[1]) as usize + (c.u > est[2]) as usize;
+        let r = s.run_frame(&mut na, k).unwrap();
+        let c_na = s.check(&r, &truth).unwrap();
+        assert_eq!(c_sf.drawn, c_na.drawn, "frame {k}: hroc-sf and hroc-na differ");
+    }
+    assert!(overflowed > 0, "no count passed its estimate: the overflow draw was never exercised");
 }

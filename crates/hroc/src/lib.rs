@@ -129,7 +129,7 @@ pub mod rng;
 pub mod shaders;
 
 pub use aabb::Aabb;
-pub use cull::{DrawList, Method, MethodOptions, Seed, Stage, Stat, Variant};
+pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Variant};
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc, ViewGeometry};
 pub use host::{

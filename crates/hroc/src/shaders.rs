@@ -13,6 +13,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("vfc.wgsl", include_str!("../shaders/vfc.wgsl")),
     ("hroc_groups.wgsl", include_str!("../shaders/hroc_groups.wgsl")),
     ("hroc_test.wgsl", include_str!("../shaders/hroc_test.wgsl")),
+    ("overflow.wgsl", include_str!("../shaders/overflow.wgsl")),
     ("roc_boxes.wgsl", include_str!("../shaders/roc_boxes.wgsl")),
     ("roc.wgsl", include_str!("../shaders/roc.wgsl")),
     ("ioc.wgsl", include_str!("../shaders/ioc.wgsl")),

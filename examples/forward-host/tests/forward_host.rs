@@ -23,7 +23,7 @@ fn forward_host_culls_conservatively() {
     let aspect = SIZE.0 as f32 / SIZE.1 as f32;
     for depth in [DepthRange::Standard, DepthRange::Reversed] {
         let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth).unwrap();
-        for method in [Method::HROC, Method::Hzb, Method::Hroc(hroc::Variant { cr: false, of: false })] {
+        for method in [Method::HROC, Method::Hzb, Method::Hroc(hroc::Variant::NA)] {
             let mut host = ForwardHost::new(&device, &queue, &demo.scene, SIZE, method, depth).unwrap();
             let (mut culled_behind, mut drawn_total, mut all_total) = (0, 0, 0);
             for k in 0..demo.cameras.len() {
@@ -89,7 +89,7 @@ fn host_mistakes_are_clear_errors() {
     let no_ids = ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None };
     let e = culler.view(Method::HROC, &no_ids).err().expect("OF needs IDs").to_string();
     assert!(e.contains("object-ID target"), "{e}");
-    assert!(culler.view(Method::Hroc(hroc::Variant { cr: true, of: false }), &no_ids).is_ok());
+    assert!(culler.view(Method::Hroc(hroc::Variant::CR), &no_ids).is_ok());
     // A depth target the culler cannot sample.
     let unsampled = tex(wgpu::TextureFormat::Depth32Float, U::RENDER_ATTACHMENT);
     let e = culler.view(Method::Hzb, &ViewTargets { depth: &unsampled, depth_range: DepthRange::Standard, ids: None }).err().expect("unsampled depth").to_string();
@@ -164,7 +164,7 @@ fn hard_path_in_both_depth_conventions() {
     let aspect = SIZE.0 as f32 / SIZE.1 as f32;
     for depth in [DepthRange::Reversed, DepthRange::Standard] {
         let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth).unwrap();
-        let mut hosts: Vec<ForwardHost> = [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant { cr: false, of: false })]
+        let mut hosts: Vec<ForwardHost> = [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant::NA)]
             .into_iter()
             .map(|m| ForwardHost::new(&device, &queue, &demo.scene, SIZE, m, depth).unwrap())
             .collect();

@@ -267,14 +267,44 @@ impl Default for MethodOptions {
     }
 }
 
-/// HROC's accelerations (§4): counter read-back, occluder filtering.
+/// How HROC bounds its indirect draws' `max_count` (HROC §4.1, §6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Counters {
+    /// The list's capacity, N (no acceleration, `na`).
+    Capacity,
+    /// Counter read-back (§4.1, `cr`): each count is read back mid-frame,
+    /// a submit and a wait per list.
+    ReadBack,
+    /// Stall-free (`sf`, what §6 asks for): last frames' counts, read
+    /// without waiting, plus a margin; a second indirect-count draw takes
+    /// whatever overflows the estimate, its count (count − estimate, at
+    /// least 0) computed on the GPU, so nothing is dropped.
+    StallFree,
+}
+
+/// HROC's accelerations (§4): how draw counts are bounded, and occluder filtering.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Variant {
-    /// Counter read-back: draw counts read back mid-frame bound each draw.
-    pub cr: bool,
+    /// How `max_count` of each indirect draw is bounded.
+    pub counters: Counters,
     /// Occluder filtering: next frame's occluders are the objects owning a
     /// pixel of the object-ID target.
     pub of: bool,
+}
+
+impl Variant {
+    /// `hroc-na`: no accelerations.
+    pub const NA: Variant = Variant { counters: Counters::Capacity, of: false };
+    /// `hroc-cr`: counter read-back.
+    pub const CR: Variant = Variant { counters: Counters::ReadBack, of: false };
+    /// `hroc-of`: occluder filtering.
+    pub const OF: Variant = Variant { counters: Counters::Capacity, of: true };
+    /// `hroc-cr+of` (= `hroc`): both of the paper's accelerations.
+    pub const CR_OF: Variant = Variant { counters: Counters::ReadBack, of: true };
+    /// `hroc-sf`: stall-free counters.
+    pub const SF: Variant = Variant { counters: Counters::StallFree, of: false };
+    /// `hroc-sf+of`: stall-free counters and occluder filtering.
+    pub const SF_OF: Variant = Variant { counters: Counters::StallFree, of: true };
 }
 
 /// Every implemented method: one registry, in table order.
@@ -310,10 +340,10 @@ pub enum Method {
 
 impl Method {
     /// HROC's default variant (CR + OF).
-    pub const HROC: Method = Method::Hroc(Variant { cr: true, of: true });
+    pub const HROC: Method = Method::Hroc(Variant::CR_OF);
 
     /// Every method, in table order (`hroc` last, after its variants).
-    pub const ALL: [Method; 16] = [
+    pub const ALL: [Method; 18] = [
         Method::Noc,
         Method::Vfc,
         Method::Ref,
@@ -325,10 +355,12 @@ impl Method {
         Method::Ioc,
         Method::Hzb,
         Method::Woc,
-        Method::Hroc(Variant { cr: false, of: false }),
-        Method::Hroc(Variant { cr: true, of: false }),
-        Method::Hroc(Variant { cr: false, of: true }),
-        Method::Hroc(Variant { cr: true, of: true }),
+        Method::Hroc(Variant::NA),
+        Method::Hroc(Variant::CR),
+        Method::Hroc(Variant::OF),
+        Method::Hroc(Variant::CR_OF),
+        Method::Hroc(Variant::SF),
+        Method::Hroc(Variant::SF_OF),
         Method::HROC,
     ];
 
@@ -348,18 +380,22 @@ impl Method {
             Method::Ioc => "ioc",
             Method::Hzb => "hzb",
             Method::Woc => "woc",
-            Method::Hroc(Variant { cr: false, of: false }) => "hroc-na",
-            Method::Hroc(Variant { cr: true, of: false }) => "hroc-cr",
-            Method::Hroc(Variant { cr: false, of: true }) => "hroc-of",
-            Method::Hroc(Variant { cr: true, of: true }) => "hroc",
+            Method::Hroc(Variant { counters: Counters::Capacity, of: false }) => "hroc-na",
+            Method::Hroc(Variant { counters: Counters::ReadBack, of: false }) => "hroc-cr",
+            Method::Hroc(Variant { counters: Counters::Capacity, of: true }) => "hroc-of",
+            Method::Hroc(Variant { counters: Counters::ReadBack, of: true }) => "hroc",
+            Method::Hroc(Variant { counters: Counters::StallFree, of: false }) => "hroc-sf",
+            Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "hroc-sf+of",
         }
     }
 
     /// Every (name, method, one-line description), in table order; both
     /// `hroc-cr+of` and `hroc` are listed.
     pub fn names() -> Vec<(&'static str, Method, &'static str)> {
-        let mut out: Vec<_> = Method::ALL[..15].iter().map(|&m| (m.name(), m, m.description())).collect();
-        out[14].0 = "hroc-cr+of";
+        let mut out: Vec<_> = Method::ALL[..Method::ALL.len() - 1].iter().map(|&m| (m.name(), m, m.description())).collect();
+        if let Some(cr_of) = out.iter_mut().find(|n| n.1 == Method::HROC) {
+            cr_of.0 = "hroc-cr+of";
+        }
         out.push(("hroc", Method::HROC, "HROC, the default variant (cr+of)"));
         out
     }
@@ -378,10 +414,12 @@ impl Method {
             Method::Ioc => "ROC over BVH levels [start, bottom] with a queue read-back per level (HPG 2020 poster)",
             Method::Hzb => "two-phase Hi-Z culling (Nanite, niagara, Bevy)",
             Method::Woc => "warping-based: last frame's depth reprojected, Hi-Z test before drawing (not conservative)",
-            Method::Hroc(Variant { cr: false, of: false }) => "HROC without accelerations",
-            Method::Hroc(Variant { cr: true, of: false }) => "HROC with counter read-back",
-            Method::Hroc(Variant { cr: false, of: true }) => "HROC with occluder filtering",
-            Method::Hroc(Variant { cr: true, of: true }) => "HROC with counter read-back and occluder filtering",
+            Method::Hroc(Variant { counters: Counters::Capacity, of: false }) => "HROC without accelerations",
+            Method::Hroc(Variant { counters: Counters::ReadBack, of: false }) => "HROC with counter read-back",
+            Method::Hroc(Variant { counters: Counters::Capacity, of: true }) => "HROC with occluder filtering",
+            Method::Hroc(Variant { counters: Counters::ReadBack, of: true }) => "HROC with counter read-back and occluder filtering",
+            Method::Hroc(Variant { counters: Counters::StallFree, of: false }) => "HROC with stall-free counters (earlier frames' counts, GPU overflow draw)",
+            Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "HROC with stall-free counters and occluder filtering",
         }
     }
 

@@ -11,8 +11,9 @@
 //! CR reads back |V|, |G|, |U| for `max_count` instead of N.
 
 pub mod cpu;
+pub mod stall_free;
 
-use super::{CullMethod, Frame, Method, MethodContext, Seed, Stage, Stat};
+use super::{Counters, CullMethod, Frame, Method, MethodContext, Seed, Stage, Stat};
 use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
@@ -20,6 +21,7 @@ use crate::gpu::{dispatch_size, Gpu};
 use crate::host::Phase;
 use crate::layout::DrawArgs;
 use crate::shaders::source as shader_source;
+use stall_free::{Counted, StallFree};
 
 /// The stacks in both shaders hold at most this many entries.
 pub const MAX_DEPTH: u32 = 62;
@@ -66,6 +68,8 @@ pub struct Hroc {
     seed_next: bool,
     /// V was seeded in the last frame.
     seeded: bool,
+    /// The stall-free variant's estimates and overflow passes.
+    sf: Option<StallFree>,
 }
 
 /// Cells of the occluder seed's ray grid (`seed` in `hroc_groups.wgsl`):
@@ -201,6 +205,17 @@ impl Hroc {
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         let test_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc test"), bind_group_layouts: &[Some(&test_layout)], immediate_size: 0 });
         let boxes = crate::shaders::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), (cx.targets.depth_format, cx.targets.depth));
+        let words = |bytes: usize| (bytes / 4) as u32;
+        let sf = (variant.counters == Counters::StallFree).then(|| {
+            StallFree::new(
+                gpu,
+                [
+                    (&v_list.commands, &v_list.count, n, words(std::mem::size_of::<crate::layout::DrawCommand>())),
+                    (&groups, &group_count, nodes + n, 0),
+                    (&u_list.commands, &u_list.count, n, words(std::mem::size_of::<crate::layout::DrawCommand>())),
+                ],
+            )
+        });
         Ok(Hroc {
             variant,
             n,
@@ -234,6 +249,7 @@ impl Hroc {
             seed_mode: cx.options.hroc_seed,
             seed_next: true,
             seeded: false,
+            sf,
         })
     }
 
@@ -244,15 +260,29 @@ impl Hroc {
         pass.dispatch_workgroups(x, y, 1);
     }
 
-    /// `max_count` of a list: the read-back count with CR, else the capacity.
-    fn max_count(&self, f: &mut Frame, count: &wgpu::Buffer, capacity: u32, resume: Stage) -> Result<u32> {
-        if !self.variant.cr {
-            return Ok(capacity);
+    /// `max_count` of a list: the read-back count with CR, the estimate
+    /// with SF, else the capacity.
+    fn max_count(&self, f: &mut Frame, which: Counted, count: &wgpu::Buffer, capacity: u32, resume: Stage) -> Result<u32> {
+        match (self.variant.counters, &self.sf) {
+            (Counters::ReadBack, _) => {
+                f.stage(Stage::ReadBack);
+                let c = f.read_u32(count, 1)?[0].min(capacity);
+                f.stage(resume);
+                Ok(c)
+            }
+            (Counters::StallFree, Some(sf)) => Ok(sf.estimates[which as usize]),
+            _ => Ok(capacity),
         }
-        f.stage(Stage::ReadBack);
-        let c = f.read_u32(count, 1)?[0].min(capacity);
-        f.stage(resume);
-        Ok(c)
+    }
+
+    /// Hands `list` to the host, and with SF its overflow list after it.
+    fn draw_list(&self, f: &mut Frame, phase: Phase, which: Counted, list: &DrawList, marks: &wgpu::BindGroup) {
+        if list.max_count > 0 {
+            f.draw(phase, list, Some(marks));
+        }
+        if let Some(over) = self.sf.as_ref().and_then(|sf| sf.overflow(f.gpu, f.encoder, which)) {
+            f.draw(phase, &over, Some(marks));
+        }
     }
 
     /// Sizes of V, O, G, U, D and ray statistics of the last frame (reads
@@ -287,6 +317,12 @@ impl Hroc {
 }
 
 impl Hroc {
+    /// The stall-free variant's `max_count` estimates of V, G and U in the
+    /// last frame; `None` for the other variants.
+    pub fn estimates(&self) -> Option<[u32; 3]> {
+        self.sf.as_ref().map(|sf| sf.estimates)
+    }
+
     /// This frame's packed occluder list V (drawing it alone rebuilds the occlusion map).
     pub fn occluder_list(&self) -> &DrawList {
         &self.v_list
@@ -335,10 +371,11 @@ impl CullMethod for Hroc {
         let enc = f.encoder();
         enc.clear_buffer(&self.occluders, 0, None);
         self.compactor.record(enc, &self.v_job);
-        self.v_list.max_count = self.max_count(f, &self.v_list.count, n, Stage::OcclusionMap)?;
-        if self.v_list.max_count > 0 {
-            f.draw(Phase::Occluders, &self.v_list, Some(&self.marks_o));
+        if let Some(sf) = self.sf.as_mut() {
+            sf.begin(f.gpu);
         }
+        self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
+        self.draw_list(f, Phase::Occluders, Counted::V, &self.v_list, &self.marks_o);
         // 2. Occludee groups.
         f.stage(Stage::GroupExtraction);
         let enc = f.encoder();
@@ -347,10 +384,11 @@ impl CullMethod for Hroc {
         }
         self.dispatch(enc, &self.extract, (ox, oy));
         self.dispatch(enc, &self.collect, dispatch_size(nodes, 256));
-        let max_groups = self.max_count(f, &self.group_count, nodes + n, Stage::GroupExtraction)?;
+        let max_groups = self.max_count(f, Counted::G, &self.group_count, nodes + n, Stage::GroupExtraction)?;
+        let over = self.sf.as_ref().and_then(|sf| sf.overflow(f.gpu, f.encoder, Counted::G));
         // 3. Batch occlusion test against the occlusion map (read-only depth).
         f.stage(Stage::OcclusionTest);
-        if max_groups > 0 {
+        if max_groups > 0 || over.is_some() {
             let targets = f.targets;
             let depth_view = &targets.depth_attachment;
             let mut pass = f.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
@@ -364,16 +402,18 @@ impl CullMethod for Hroc {
             pass.set_pipeline(&self.boxes);
             pass.set_bind_group(0, &self.test_bind, &[]);
             pass.multi_draw_indirect_count(&self.groups, 0, &self.group_count, 0, max_groups);
+            if let Some(over) = over {
+                // The groups past the estimate, from where the first draw stopped.
+                pass.multi_draw_indirect_count(&self.groups, max_groups as u64 * 16, &over.count, 0, over.max_count);
+            }
         }
         // 4. Occludee rendering.
         f.stage(Stage::OccludeeRendering);
         let enc = f.encoder();
         enc.clear_buffer(&self.drawn, 0, None);
         self.compactor.record(enc, &self.u_job);
-        self.u_list.max_count = self.max_count(f, &self.u_list.count, n, Stage::OccludeeRendering)?;
-        if self.u_list.max_count > 0 {
-            f.draw(Phase::Occludees, &self.u_list, Some(&self.marks_d));
-        }
+        self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
+        self.draw_list(f, Phase::Occludees, Counted::U, &self.u_list, &self.marks_d);
         // 5. Next frame's occluders.
         f.stage(Stage::Filtering);
         if self.variant.of {
@@ -384,6 +424,9 @@ impl CullMethod for Hroc {
         } else {
             let enc = f.encoder();
             self.dispatch(enc, &self.merge, (ox, oy));
+        }
+        if let Some(sf) = self.sf.as_mut() {
+            sf.end(f.encoder, [&self.v_list.count, &self.group_count, &self.u_list.count]);
         }
         Ok(())
     }

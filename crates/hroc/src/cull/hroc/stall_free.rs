@@ -1,0 +1,153 @@
+//! Stall-free counters (HROC §6: "counter read-back stalls the pipeline").
+//! CR reads each count back mid-frame to bound `max_count`; here the
+//! bound is an estimate from earlier frames' counts, copied to a staging
+//! ring and mapped without waiting, plus a margin. Whatever the estimate
+//! misses goes to a second indirect-count draw whose count, count −
+//! estimate (at least 0), the GPU computes (`overflow.wgsl`): nothing is
+//! dropped, so culling stays exactly as conservative as NA.
+
+use std::sync::atomic::{AtomicU8, Ordering};
+use std::sync::Arc;
+
+use crate::cull::compact::{storage_entry, uniform_entry};
+use crate::cull::DrawList;
+use crate::gpu::{dispatch_size, Gpu};
+
+/// The three counted lists of an HROC frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Counted {
+    /// The occluder list V (§3.1).
+    V = 0,
+    /// The occludee groups G (§3.2).
+    G = 1,
+    /// The occludee list U (§3.4).
+    U = 2,
+}
+
+/// Estimate = last known count × `MARGIN` + `SLACK`: a quarter more absorbs
+/// the frame-to-frame growth of a walk; the slack covers small sets.
+const MARGIN: f64 = 1.25;
+const SLACK: u32 = 16;
+/// Staging buffers in flight: a count arrives one to three frames late.
+const RING: usize = 3;
+
+enum Slot {
+    Free,
+    /// Holds the counts of a frame whose encoder the host has not
+    /// necessarily submitted yet: mapped at the next frame.
+    Copied,
+    /// Map requested: 0 pending, 1 mapped, 2 failed.
+    Mapping(Arc<AtomicU8>),
+}
+
+struct Job {
+    params: wgpu::Buffer,
+    bind: wgpu::BindGroup,
+    /// The overflow list: commands [estimate, count) at offset 0.
+    list: DrawList,
+    stride: u32,
+    capacity: u32,
+}
+
+/// Per-view state of the stall-free variant.
+pub struct StallFree {
+    pipeline: wgpu::ComputePipeline,
+    jobs: [Job; 3],
+    ring: Vec<(wgpu::Buffer, Slot)>,
+    /// Last counts read back without waiting (V, G, U).
+    known: Option<[u32; 3]>,
+    /// This frame's estimates.
+    pub estimates: [u32; 3],
+}
+
+impl StallFree {
+    /// `lists`: (commands, count, capacity, u32 words per command) of V, G, U.
+    pub fn new(gpu: &Gpu, lists: [(&wgpu::Buffer, &wgpu::Buffer, u32, u32); 3]) -> Self {
+        let device = &gpu.device;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hroc overflow"),
+            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), storage_entry(3, false), storage_entry(4, false)],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc overflow"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let module = gpu.shader("overflow.wgsl", &crate::shaders::source("overflow.wgsl"));
+        use wgpu::BufferUsages as U;
+        let jobs = lists.map(|(commands, count, capacity, stride)| {
+            let params = gpu.buffer("hroc overflow params", 16, U::UNIFORM | U::COPY_DST);
+            let list = DrawList {
+                // The groups' overflow is drawn from the groups buffer at an offset: no copy.
+                commands: gpu.buffer("hroc overflow list", (capacity.max(1) as u64) * 4 * stride.max(1) as u64, U::STORAGE | U::INDIRECT | U::COPY_SRC),
+                count: gpu.buffer("hroc overflow count", 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
+                max_count: 0,
+            };
+            let bind = gpu.bind_buffers(&layout, &[&params, commands, count, &list.commands, &list.count]);
+            Job { params, bind, list, stride, capacity }
+        });
+        let ring = (0..RING).map(|_| (gpu.buffer("hroc counts staging", 16, U::MAP_READ | U::COPY_DST), Slot::Free)).collect();
+        StallFree { pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]), jobs, ring, known: None, estimates: lists.map(|l| l.2) }
+    }
+
+    /// Starts a frame: maps the counts copied last frame, takes any that
+    /// arrived (polling, never waiting), and sets this frame's estimates.
+    pub fn begin(&mut self, gpu: &Gpu) {
+        for (buf, slot) in self.ring.iter_mut() {
+            if matches!(slot, Slot::Copied) {
+                let done = Arc::new(AtomicU8::new(0));
+                let flag = done.clone();
+                buf.slice(..).map_async(wgpu::MapMode::Read, move |r| flag.store(if r.is_ok() { 1 } else { 2 }, Ordering::Release));
+                *slot = Slot::Mapping(done);
+            }
+        }
+        let _ = gpu.device.poll(wgpu::PollType::Poll);
+        for (buf, slot) in self.ring.iter_mut() {
+            if let Slot::Mapping(done) = slot {
+                let state = done.load(Ordering::Acquire);
+                if state == 2 {
+                    *slot = Slot::Free;
+                } else if state == 1 {
+                    let counts = buf.slice(..).get_mapped_range().ok().map(|v| bytemuck::pod_read_unaligned::<[u32; 4]>(&v[..16]));
+                    buf.unmap();
+                    *slot = Slot::Free;
+                    if let Some(c) = counts {
+                        self.known = Some([c[0], c[1], c[2]]);
+                    }
+                }
+            }
+        }
+        for (k, job) in self.jobs.iter().enumerate() {
+            self.estimates[k] = match self.known {
+                Some(c) => ((c[k] as f64 * MARGIN).ceil() as u32).saturating_add(SLACK).min(job.capacity),
+                None => job.capacity,
+            };
+        }
+    }
+
+    /// Records the overflow pass of `which` and returns the overflow list
+    /// (commands [estimate, count) at offset 0, or for G only the count),
+    /// `None` when the estimate is the capacity and nothing can overflow.
+    pub fn overflow(&self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, which: Counted) -> Option<DrawList> {
+        let (k, job) = (which as usize, &self.jobs[which as usize]);
+        let est = self.estimates[k];
+        if est >= job.capacity {
+            return None;
+        }
+        gpu.queue.write_buffer(&job.params, 0, bytemuck::cast_slice(&[est, job.stride, job.capacity, 0]));
+        let threads = if job.stride > 0 { job.capacity - est } else { 1 };
+        let (x, y) = dispatch_size(threads, 256);
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc overflow"), timestamp_writes: None });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &job.bind, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+        Some(DrawList { max_count: job.capacity - est, ..job.list.clone() })
+    }
+
+    /// Ends a frame: copies the three counts to a free staging buffer, to
+    /// be mapped at the next frame (skipped when all are in flight).
+    pub fn end(&mut self, enc: &mut wgpu::CommandEncoder, counts: [&wgpu::Buffer; 3]) {
+        if let Some((buf, slot)) = self.ring.iter_mut().find(|(_, s)| matches!(s, Slot::Free)) {
+            for (k, c) in counts.iter().enumerate() {
+                enc.copy_buffer_to_buffer(c, 0, buf, k as u64 * 4, Some(4));
+            }
+            *slot = Slot::Copied;
+        }
+    }
+}
