@@ -139,6 +139,8 @@ fn ioc_level_queues_match_cpu_reference() {
         let path = paths::hard_path(&scene);
         let mut s = Session::new(gpu(), scene, Some(path), 10, RES, Split::Sah).unwrap();
         s.options.ioc_range = range;
+        // V is read before each frame: a detected cut would clear it inside the frame.
+        (s.options.cut_turn_deg, s.options.cut_move) = (f32::INFINITY, f32::INFINITY);
         let mut view = s.create("ioc").unwrap();
         view.method_state_mut::<Ioc>().unwrap().set_debug(true);
         let (start, bottom) = ioc(&view).range();
