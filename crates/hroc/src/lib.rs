@@ -68,14 +68,22 @@
 //!   middle of [`View::cull`], wait for the GPU, and continue in a new
 //!   encoder left in the host's `&mut CommandEncoder`. Record nothing before
 //!   the cull that must not be submitted yet, and keep no debug group open
-//!   across it.
+//!   across it. The stall-free variants (`hroc-sf`, `hroc-sf+of`, HROC §6)
+//!   never submit or wait: they read earlier frames' counts from a staging
+//!   buffer mapped at the next cull, so submit each frame's encoder before
+//!   culling the next frame of that view. They may hand the host two lists
+//!   in one phase (the estimate, then the overflow): draw both.
 //! - **Views.** Right-handed perspective projections (HROC casts rays from
 //!   the eye, and the box tests rasterize the faces a right-handed view sees
 //!   in front): symmetric or off-centre, finite or infinite far plane,
 //!   standard or reversed depth ([`ViewDesc::geometry`] checks, and refuses
 //!   orthographic, left-handed and mirrored views).
 //!   Each [`View`] keeps its own temporal state; all views share the
-//!   culler's BVH and object buffers. Set [`FrameInput::cut`] on a camera cut.
+//!   culler's BVH and object buffers. Set [`FrameInput::cut`] on a camera
+//!   cut; a view also treats a frame as a cut when the view turned or moved
+//!   past [`MethodOptions::cut_turn_deg`] or [`MethodOptions::cut_move`],
+//!   and HROC then seeds its occluders from a coarse ray grid
+//!   ([`MethodOptions::hroc_seed`]).
 //!   A view draws into one depth texture (layer 0, mip 0); handing it
 //!   another one rebuilds the view, as after a cut.
 //! - **Non-occluders.** [`ObjectFlags::NOT_OCCLUDER`] objects (blended

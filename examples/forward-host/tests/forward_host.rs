@@ -23,7 +23,7 @@ fn forward_host_culls_conservatively() {
     let aspect = SIZE.0 as f32 / SIZE.1 as f32;
     for depth in [DepthRange::Standard, DepthRange::Reversed] {
         let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth).unwrap();
-        for method in [Method::HROC, Method::Hzb, Method::Hroc(hroc::Variant::NA)] {
+        for method in [Method::HROC, Method::Hzb, Method::Hroc(hroc::Variant::NA), Method::Hroc(hroc::Variant::SF_OF)] {
             let mut host = ForwardHost::new(&device, &queue, &demo.scene, SIZE, method, depth).unwrap();
             let (mut culled_behind, mut drawn_total, mut all_total) = (0, 0, 0);
             for k in 0..demo.cameras.len() {
