@@ -2,7 +2,7 @@
 //! The crate docs state the preconditions once; this module implements them.
 
 use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
-use crate::cull::{compact::Compactor, CullMethod, DrawList, Frame, FrameBody, Method, MethodContext, MethodOptions, Stage, Stat};
+use crate::cull::{compact::Compactor, CullMethod, DrawList, Frame, FrameBody, Method, MethodContext, MethodOptions, Stage, Stat, WorkCounts};
 use crate::error::{Error, Result};
 use crate::frustum::{DepthRange, ViewDesc};
 use crate::gpu::{dispatch_size, Gpu, GpuTimer};
@@ -700,6 +700,7 @@ impl Culler {
             slots: self.objects.count,
             last_pose: None,
             last_cut: false,
+            work: WorkCounts::default(),
         })
     }
 
@@ -1071,6 +1072,8 @@ pub struct View {
     last_pose: Option<(glam::Vec3, glam::Vec3)>,
     /// The last frame was culled as after a cut.
     last_cut: bool,
+    /// The last frame's submits, waits and bytes read back.
+    work: WorkCounts,
 }
 
 impl View {
@@ -1145,7 +1148,9 @@ impl View {
         if let Some(s) = self.split.as_mut() {
             s.begin(encoder, &culler.objects);
         }
+        self.work = WorkCounts::default();
         let mut f = Frame {
+            work: &mut self.work,
             gpu: &culler.gpu,
             geometry: g,
             uniform,
@@ -1206,6 +1211,8 @@ impl View {
     pub fn stats(&mut self, culler: &Culler) -> Result<Vec<(Stat, f64)>> {
         let mut s = self.imp.stats(&culler.gpu)?;
         s.push((Stat::Cut, self.last_cut as u32 as f64));
+        let w = self.work;
+        s.extend([(Stat::Submits, w.submits as f64), (Stat::Waits, w.waits as f64), (Stat::BytesRead, w.bytes_read as f64)]);
         Ok(s)
     }
 

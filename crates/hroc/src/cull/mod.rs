@@ -62,6 +62,19 @@ pub struct Frame<'a> {
     pub(crate) timer: Option<&'a mut GpuTimer>,
     pub(crate) split: Option<&'a mut FlagSplit>,
     pub(crate) sink: &'a wgpu::BindGroup,
+    pub(crate) work: &'a mut WorkCounts,
+}
+
+/// Work of one frame that does not depend on how busy the machine is:
+/// mid-frame submits, waits for the GPU, and bytes read back to the CPU.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WorkCounts {
+    /// Mid-frame submits ([`Frame::flush`]).
+    pub submits: u64,
+    /// Mid-frame waits for the GPU (read-backs that block).
+    pub waits: u64,
+    /// Bytes read back to the CPU, waited for or not.
+    pub bytes_read: u64,
 }
 
 impl<'a> Frame<'a> {
@@ -97,13 +110,31 @@ impl<'a> Frame<'a> {
     pub fn flush(&mut self) {
         let enc = std::mem::replace(self.encoder, self.gpu.encoder("hroc frame"));
         self.gpu.queue.submit([enc.finish()]);
+        self.work.submits += 1;
     }
 
     /// Reads `count` u32s of `buf` mid-frame: submits and waits (a stall,
     /// which is what CR-style methods pay for).
     pub fn read_u32(&mut self, buf: &wgpu::Buffer, count: u64) -> Result<Vec<u32>> {
         self.flush();
+        self.work.waits += 1;
+        self.work.bytes_read += count * 4;
         self.gpu.read(buf, 0, count)
+    }
+
+    /// Submits, then maps and reads the first `bytes` of the `MAP_READ`
+    /// buffer `staging` (a stall, as [`Frame::read_u32`]).
+    pub fn map_read(&mut self, staging: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>> {
+        self.flush();
+        self.work.waits += 1;
+        self.work.bytes_read += bytes;
+        self.gpu.map_read(staging, bytes)
+    }
+
+    /// Counts `bytes` read back without waiting (a staging buffer that
+    /// arrived mapped).
+    pub fn count_async_read(&mut self, bytes: u64) {
+        self.work.bytes_read += bytes;
     }
 
     /// The host's depth attachment, for the method's own box passes.
@@ -634,6 +665,12 @@ named_enum!(
         Cut => "cut",
         /// 1 when HROC seeded V with its ray grid this frame.
         Seeded => "seeded",
+        /// Mid-frame submits.
+        Submits => "submits",
+        /// Mid-frame waits for the GPU.
+        Waits => "waits",
+        /// Bytes read back to the CPU during the frame.
+        BytesRead => "bytes_read",
     }
 );
 

@@ -372,7 +372,8 @@ impl CullMethod for Hroc {
         enc.clear_buffer(&self.occluders, 0, None);
         self.compactor.record(enc, &self.v_job);
         if let Some(sf) = self.sf.as_mut() {
-            sf.begin(f.gpu);
+            let bytes = sf.begin(f.gpu);
+            f.count_async_read(bytes);
         }
         self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
         self.draw_list(f, Phase::Occluders, Counted::V, &self.v_list, &self.marks_o);

@@ -88,7 +88,9 @@ impl StallFree {
 
     /// Starts a frame: maps the counts copied last frame, takes any that
     /// arrived (polling, never waiting), and sets this frame's estimates.
-    pub fn begin(&mut self, gpu: &Gpu) {
+    /// Returns the bytes read back.
+    pub fn begin(&mut self, gpu: &Gpu) -> u64 {
+        let mut bytes = 0;
         for (buf, slot) in self.ring.iter_mut() {
             if matches!(slot, Slot::Copied) {
                 let done = Arc::new(AtomicU8::new(0));
@@ -109,6 +111,7 @@ impl StallFree {
                     *slot = Slot::Free;
                     if let Some(c) = counts {
                         self.known = Some([c[0], c[1], c[2]]);
+                        bytes += 12;
                     }
                 }
             }
@@ -119,6 +122,7 @@ impl StallFree {
                 None => job.capacity,
             };
         }
+        bytes
     }
 
     /// Records the overflow pass of `which` and returns the overflow list

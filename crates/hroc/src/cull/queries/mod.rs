@@ -376,8 +376,7 @@ impl QueryRenderer {
         let bytes = n as u64 * wgpu::QUERY_SIZE as u64;
         enc.copy_buffer_to_buffer(&self.resolve, 0, &self.staging, 0, bytes);
         let t = Instant::now();
-        f.flush();
-        let data = f.gpu.map_read(&self.staging, bytes)?;
+        let data = f.map_read(&self.staging, bytes)?;
         self.stats.wait_ms += t.elapsed().as_secs_f64() * 1e3;
         self.stats.batches += 1;
         self.recorded = 0;
