@@ -63,6 +63,14 @@ fn safe_inv(d: f32) -> f32 {
     return 1.0 / select(d, select(-1e-30, 1e-30, d >= 0.0), abs(d) < 1e-30);
 }
 
+// Slab test of the ray eye + t * dir (inv = 1 / dir) against a box: the
+// parameters where the ray enters and leaves it (enter > leave: a miss).
+fn ray_box(eye: vec3<f32>, inv: vec3<f32>, bmin: vec3<f32>, bmax: vec3<f32>) -> vec2<f32> {
+    let t0 = (bmin - eye) * inv;
+    let t1 = (bmax - eye) * inv;
+    return vec2<f32>(max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z)), min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z)));
+}
+
 // VkDrawIndexedIndirectCommand; first_instance carries the object id.
 struct DrawCommand {
     index_count: u32,

@@ -154,12 +154,9 @@ fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
     while sp > 0u {
         sp -= 1u;
         let node = nodes[stack[sp]];
-        let t0 = (node.min - eye) * inv;
-        let t1 = (node.max - eye) * inv;
-        let t_enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z));
-        let t_exit = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
-        let t = max(t_enter, 1.0); // t = 1 on the near plane
-        if t_exit < t || t >= best {
+        let span = ray_box(eye, inv, node.min, node.max);
+        let t = max(span.x, 1.0); // t = 1 on the near plane
+        if span.y < t || t >= best {
             continue;
         }
         if (node.child & LEAF_BIT) != 0u {

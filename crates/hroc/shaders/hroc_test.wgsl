@@ -93,12 +93,9 @@ fn box_fs(in: BoxOut) {
         steps += 1u;
         let node = nodes[n];
         let b = padded_box(node, eye, pixel);
-        let t0 = (b.min - eye) * inv;
-        let t1 = (b.max - eye) * inv;
-        let t_enter = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), min(t0.z, t1.z));
-        let t_exit = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), max(t0.z, t1.z));
-        let t = max(t_enter, 1.0); // nothing before the near plane is drawn
-        if t_exit < t {
+        let span = ray_box(eye, inv, b.min, b.max);
+        let t = max(span.x, 1.0); // nothing before the near plane is drawn
+        if span.y < t {
             continue;
         }
         let depth = std_depth(frame, (c0.z + t * c1.z) / (c0.w + t * c1.w));
