@@ -132,8 +132,9 @@ fn gpu_compaction_keeps_order_and_counts() {
     use hroc::{cull::compact::Compactor, layout::DrawCommand};
     use wgpu::BufferUsages as U;
     let gpu = gpu();
-    // Sizes around the 256-wide blocks and the scan's chunking.
-    for n in [1u32, 255, 256, 257, 1000, 70_000] {
+    // Sizes around a thread's run of 8, the 2048-item blocks and the
+    // block scan's chunks of 256 blocks.
+    for n in [1u32, 7, 8, 9, 255, 256, 257, 1000, 2047, 2048, 2049, 70_000, 600_000] {
         let flags: Vec<u32> = (0..n).map(|i| ((i.wrapping_mul(2654435761) >> 7) % 3 == 0) as u32).collect();
         let src: Vec<DrawCommand> = (0..n).map(|i| DrawCommand { index_count: 3, instance_count: 1, first_index: i * 3, base_vertex: 0, first_instance: i }).collect();
         let fb = gpu.buffer_init("flags", bytemuck::cast_slice(&flags), U::STORAGE);

@@ -79,7 +79,7 @@ pub struct DrawArgs {
 pub struct CompactParams {
     /// Items in the list.
     pub n: u32,
-    /// Workgroups of 256 items.
+    /// Blocks of 2048 items, one workgroup each.
     pub blocks: u32,
     /// Unused.
     pub _pad: [u32; 2],

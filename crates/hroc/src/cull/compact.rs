@@ -7,6 +7,8 @@ use crate::gpu::{dispatch_size, Gpu};
 use crate::layout::{CompactParams, DrawCommand};
 
 const WG: u32 = 256;
+/// Items per thread (`ITEMS` in `compact.wgsl`): a workgroup packs a block of `WG * ITEMS`.
+const ITEMS: u32 = 8;
 
 /// Ordered stream compaction of `n` flagged draw commands: block sums, one scan, scatter.
 pub struct Compactor {
@@ -49,7 +51,7 @@ pub struct CompactJob {
 impl Compactor {
     /// A compactor for lists of `n` items.
     pub fn new(gpu: &Gpu, n: u32) -> Self {
-        let blocks = n.div_ceil(WG).max(1);
+        let blocks = n.div_ceil(WG * ITEMS).max(1);
         let params = gpu.buffer_init("compact params", bytemuck::bytes_of(&CompactParams { n, blocks, _pad: [0; 2] }), wgpu::BufferUsages::UNIFORM);
         let block_sums = gpu.buffer("block sums", blocks as u64 * 4, wgpu::BufferUsages::STORAGE);
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -102,13 +104,12 @@ impl Compactor {
     pub fn record(&self, enc: &mut wgpu::CommandEncoder, job: &CompactJob) {
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compact"), timestamp_writes: None });
         pass.set_bind_group(0, &job.bind, &[]);
-        let (x, y) = dispatch_size(self.n, WG);
+        let (x, y) = dispatch_size(self.blocks, 1);
         pass.set_pipeline(&self.block_sum);
         pass.dispatch_workgroups(x, y, 1);
         pass.set_pipeline(&self.scan_blocks);
         pass.dispatch_workgroups(1, 1, 1);
         pass.set_pipeline(&self.scatter);
         pass.dispatch_workgroups(x, y, 1);
-        let _ = self.blocks;
     }
 }
