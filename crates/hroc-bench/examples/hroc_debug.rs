@@ -39,7 +39,8 @@ fn main() -> hroc_bench::Result<()> {
             &planes,
             cam.near,
             cam.eye,
-            cpu::pixel_angle(&cam.ray_dirs(s.renderer.aspect()), cam.near, s.renderer.targets.height),
+            cpu::pixel_angle_xy(&cam.ray_dirs(s.renderer.aspect()), cam.near, (s.renderer.targets.width, s.renderer.targets.height)),
+            h.method_state::<Hroc>().unwrap().test_scale(),
         );
         println!("  groups gpu {} cpu {} equal {}; forced {}", dbg.groups.len(), cg.len(), cg == dbg.groups, forced.len());
         for &o in truth.visible.iter().filter(|&&o| !drawn[o as usize]) {

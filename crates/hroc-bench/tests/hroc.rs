@@ -96,11 +96,15 @@ fn frame_with_occlusion_map(s: &mut Session, h: &mut hroc::View, k: usize) -> Ve
 
 #[test]
 fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
-    for (key, n) in [("radial-city", 1500), ("satellites", 1200), ("factory", 1500)] {
+    // Test scales: the paper's per-pixel test, the default blocks of 2 × 2,
+    // and 4 × 4 (which 160 × 96 is divided by).
+    for ((key, n), test_scale) in [("radial-city", 1500), ("satellites", 1200), ("factory", 1500)].into_iter().zip([1, 2, 4]) {
         let scene = hroc_bench::scene::load(key, Some(n), 11).unwrap();
         let path = paths::hard_path(&scene);
         let mut s = Session::new(gpu(), scene, Some(path), 16, RES, Split::Sah).unwrap();
+        s.options = hroc::MethodOptions { hroc_test_scale: test_scale, ..Default::default() };
         let mut h = s.create("hroc-na").unwrap();
+        assert_eq!(h.method_state::<Hroc>().unwrap().test_scale(), test_scale);
         let aspect = s.renderer.aspect();
         for k in 0..s.cameras.len() {
             let depth = frame_with_occlusion_map(&mut s, &mut h, k);
@@ -112,13 +116,15 @@ fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
             // The CPU references take the view as the culler derives it.
             let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
             let (vp, rays) = (g.view_proj, g.ray_dirs);
-            let pixel = cpu::pixel_angle(&rays, g.near, RES.1);
-            let (groups, forced) = cpu::groups(s.bvh(), &state, &g.planes, g.near, g.eye, pixel);
+            let pixel = cpu::pixel_angle_xy(&rays, g.near, RES);
+            let scale = h.method_state::<Hroc>().unwrap().test_scale();
+            let (groups, forced) = cpu::groups(s.bvh(), &state, &g.planes, g.near, g.eye, pixel, scale);
             assert_eq!(groups, dbg.groups, "{key} frame {k}: groups differ");
-            // Ray marking: everything a slightly shrunk box test finds must be
-            // marked; nothing outside a generous one may be.
-            let strict = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, None, -1e-3, -1e-6);
-            let loose = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, Some(pixel), 0.01, 1e-5);
+            // Ray marking: everything a slightly shrunk box test per pixel
+            // finds must be marked, whatever the test's blocks; nothing
+            // outside a generous test of the GPU's blocks may be.
+            let strict = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, 1, None, -1e-3, -1e-6);
+            let loose = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5);
             for o in 0..dbg.occludees.len() {
                 let forced_o = forced.binary_search(&(o as u32)).is_ok();
                 if strict[o] || forced_o {

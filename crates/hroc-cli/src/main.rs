@@ -98,6 +98,10 @@ struct MethodArgs {
     /// hroc: when a coarse ray grid seeds the occluders: cuts, always, never.
     #[arg(long, default_value = "cuts")]
     hroc_seed: cull::Seed,
+    /// hroc: pixels per side of the occlusion test's blocks, 1 to 8 (one
+    /// ray per block; the largest size up to this that divides the resolution).
+    #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=8))]
+    hroc_test_scale: u32,
     /// Degrees the view may turn between frames before the frame is culled
     /// as after a camera cut (`inf`: never).
     #[arg(long, default_value_t = 45.0)]
@@ -118,6 +122,7 @@ impl MethodArgs {
             chc_smax: self.chc_smax,
             ioc_range: self.ioc_range,
             hroc_seed: self.hroc_seed,
+            hroc_test_scale: self.hroc_test_scale,
             cut_turn_deg: self.cut_turn,
             cut_move: self.cut_move,
         }

@@ -126,10 +126,32 @@ fn pixel_angle(f: Frame) -> f32 {
 // a face lying on the surface it bounds can lose an edge pixel), plus a
 // little for float rounding.
 fn padded_box(n: BvhNode, eye: vec3<f32>, pixel: f32) -> Box {
+    return padded_box_px(n, eye, pixel, PIXEL_PAD);
+}
+
+// padded_box with `px` pixels of padding at the farthest corner.
+fn padded_box_px(n: BvhNode, eye: vec3<f32>, pixel: f32, px: f32) -> Box {
     let far = length(max(abs(n.min - eye), abs(n.max - eye)));
     let scale = max(max(abs(n.min.x), abs(n.min.y)), max(max(abs(n.min.z), abs(n.max.x)), max(abs(n.max.y), abs(n.max.z))));
-    let pad = PIXEL_PAD * pixel * far + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
+    let pad = px * pixel * far + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
     return Box(n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
+}
+
+// HROC's occlusion test at a coarser resolution: one box fragment and one
+// ray per block of scale × scale pixels, through the block's centre, against
+// the farthest depth of the block. Any ray through a pixel centre of the
+// block passes within (scale - 1) / √2 pixels of the block's ray, so a box
+// padded by that much at its farthest corner (the box grown by a ball of
+// that radius) is entered by the block's ray no later than by the pixel's
+// (depth depends on t alone: t = 1 on the near plane for every ray), plus
+// the snapping slack of the block-sized pixels the test rasterizes.
+fn block_pad_px(scale: u32) -> f32 {
+    return f32(scale - 1u) * 0.70710678 + f32(scale) * PIXEL_PAD;
+}
+
+// pixel_angle over both axes, for pixels that may not be square.
+fn pixel_angle_xy(f: Frame) -> f32 {
+    return max(pixel_angle(f), 2.0 * length(f.ray_dirs[0].xyz) / f.near * f.viewport.z);
 }
 
 // True when the box reaches within `frame.near` of the near plane or behind

@@ -25,6 +25,14 @@ const STACK: u32 = 64u; // >= BVH depth + 1, checked on the host
 @group(0) @binding(10) var ids: texture_2d<u32>;
 @group(0) @binding(11) var<storage, read> bounds: array<ObjectBounds>;
 
+// Pixels per side of the occlusion test's blocks (hroc_test.wgsl): groups
+// are padded, frustum-culled and split at the near plane as the test pads them.
+override TEST_SCALE: u32 = 1u;
+
+fn test_box(n: BvhNode) -> Box {
+    return padded_box_px(n, frame.eye.xyz, pixel_angle_xy(frame), block_pad_px(TEST_SCALE));
+}
+
 
 
 @compute @workgroup_size(256)
@@ -40,7 +48,7 @@ fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
     if (flags & ALONE) != 0u {
         // The hybrid (§6): the object's own box is a group, marked without
         // rays as ROC marks its boxes; near-plane boxes are visible untested.
-        let b = padded_box(BvhNode(bounds[i].min, 0u, bounds[i].max, 0u), frame.eye.xyz, pixel_angle(frame));
+        let b = test_box(BvhNode(bounds[i].min, 0u, bounds[i].max, 0u));
         if box_in_frustum(frame.planes, b.min, b.max) {
             if crosses_near(frame.planes, frame.near, b) {
                 occludees[i] = 1u;
@@ -91,7 +99,7 @@ fn collect(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
         sp -= 1u;
         let n = stack[sp];
         let node = nodes[n];
-        let b = padded_box(node, frame.eye.xyz, pixel_angle(frame));
+        let b = test_box(node);
         if !box_in_frustum(frame.planes, b.min, b.max) {
             continue;
         }

@@ -6,6 +6,9 @@
 // of them, never stopping at the first hit. Visited marks (both children
 // done → parent done) prune repeated traversal. A group with LEAF_BIT in
 // its id is an object tested alone (§6's hybrid): its own box, no rays.
+// With TEST_SCALE > 1 the test runs on blocks of TEST_SCALE² pixels: boxes
+// are rasterized into a map holding each block's farthest depth (reduce_fs)
+// and padded for rays through block centres (block_pad_px in common.wgsl).
 
 const STACK: u32 = 64u;
 const STAT_SLOTS: u32 = 64u;
@@ -18,6 +21,35 @@ const STAT_SLOTS: u32 = 64u;
 // Per slot: rays cast, nodes visited (spread over slots against contention).
 @group(0) @binding(5) var<storage, read_write> ray_stats: array<atomic<u32>>;
 @group(0) @binding(6) var<storage, read> bounds: array<ObjectBounds>;
+// The host's depth, which reduce_fs reduces to the test's blocks.
+@group(0) @binding(7) var host_depth: texture_depth_2d;
+
+override TEST_SCALE: u32 = 1u;
+
+fn test_box(n: BvhNode) -> Box {
+    return padded_box_px(n, frame.eye.xyz, pixel_angle_xy(frame), block_pad_px(TEST_SCALE));
+}
+
+// A triangle over the whole target.
+@vertex
+fn reduce_vs(@builtin(vertex_index) v: u32) -> @builtin(position) vec4<f32> {
+    let uv = vec2<f32>(f32((v << 1u) & 2u), f32(v & 2u));
+    return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
+}
+
+// The occlusion map of the test's blocks: the farthest depth of each block
+// of TEST_SCALE × TEST_SCALE pixels (TEST_SCALE divides the target's size).
+@fragment
+fn reduce_fs(@builtin(position) p: vec4<f32>) -> @builtin(frag_depth) f32 {
+    let base = vec2<i32>(p.xy) * i32(TEST_SCALE);
+    var farthest = 0.0;
+    for (var y = 0; y < i32(TEST_SCALE); y++) {
+        for (var x = 0; x < i32(TEST_SCALE); x++) {
+            farthest = max(farthest, std_depth(frame, textureLoad(host_depth, base + vec2<i32>(x, y), 0)));
+        }
+    }
+    return std_depth(frame, farthest);
+}
 
 
 struct BoxOut {
@@ -34,7 +66,7 @@ fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) node: u32) -> 
     } else {
         n = nodes[node];
     }
-    let b = padded_box(n, frame.eye.xyz, pixel_angle(frame));
+    let b = test_box(n);
     var out: BoxOut;
     out.clip = frame.view_proj * vec4<f32>(box_corner(b, v), 1.0);
     out.node = node;
@@ -66,9 +98,11 @@ fn box_fs(in: BoxOut) {
     if visited[in.node] != 0u {
         return;
     }
-    // The ray from the eye through this pixel's centre: t = 1 on the near plane.
+    // The ray from the eye through this block's centre (in.clip is in
+    // blocks, frame.viewport in pixels): t = 1 on the near plane.
     let texel = vec2<i32>(in.clip.xy);
-    let ndc = vec2<f32>(in.clip.x * frame.viewport.z * 2.0 - 1.0, 1.0 - in.clip.y * frame.viewport.w * 2.0);
+    let centre = in.clip.xy * f32(TEST_SCALE);
+    let ndc = vec2<f32>(centre.x * frame.viewport.z * 2.0 - 1.0, 1.0 - centre.y * frame.viewport.w * 2.0);
     let eye = frame.eye.xyz;
     let dir = (frame.ray_dirs * vec4<f32>(ndc, 1.0, 0.0)).xyz;
     let inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
@@ -77,7 +111,8 @@ fn box_fs(in: BoxOut) {
     let c0 = frame.view_proj * vec4<f32>(eye, 1.0);
     let c1 = frame.view_proj * vec4<f32>(dir, 0.0);
     let limit = std_depth(frame, textureLoad(occlusion_map, texel, 0)) + 4e-7;
-    let pixel = pixel_angle(frame);
+    let pixel = pixel_angle_xy(frame);
+    let pad = block_pad_px(TEST_SCALE);
 
     var stack: array<u32, STACK>;
     stack[0] = group.child;
@@ -92,7 +127,7 @@ fn box_fs(in: BoxOut) {
         }
         steps += 1u;
         let node = nodes[n];
-        let b = padded_box(node, eye, pixel);
+        let b = padded_box_px(node, eye, pixel, pad);
         let span = ray_box(eye, inv, b.min, b.max);
         let t = max(span.x, 1.0); // nothing before the near plane is drawn
         if span.y < t {

@@ -50,6 +50,20 @@ pub fn box_test_pipeline(
     fragment: Option<&str>,
     depth: (wgpu::TextureFormat, DepthRange),
 ) -> wgpu::RenderPipeline {
+    box_test_pipeline_with(gpu, label, layout, module, fragment, depth, &[])
+}
+
+/// [`box_test_pipeline`] with override `constants` for both stages.
+pub fn box_test_pipeline_with(
+    gpu: &Gpu,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    fragment: Option<&str>,
+    depth: (wgpu::TextureFormat, DepthRange),
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
+    let options = || wgpu::PipelineCompilationOptions { constants, ..Default::default() };
     let (compare, bias) = match depth.1 {
         DepthRange::Standard => (wgpu::CompareFunction::LessEqual, -16),
         DepthRange::Reversed => (wgpu::CompareFunction::GreaterEqual, 16),
@@ -57,7 +71,7 @@ pub fn box_test_pipeline(
     gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
-        vertex: wgpu::VertexState { module, entry_point: Some("box_vs"), compilation_options: Default::default(), buffers: &[] },
+        vertex: wgpu::VertexState { module, entry_point: Some("box_vs"), compilation_options: options(), buffers: &[] },
         primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: depth.0,
@@ -67,7 +81,7 @@ pub fn box_test_pipeline(
             bias: wgpu::DepthBiasState { constant: bias, slope_scale: 0.0, clamp: 0.0 },
         }),
         multisample: Default::default(),
-        fragment: fragment.map(|entry| wgpu::FragmentState { module, entry_point: Some(entry), compilation_options: Default::default(), targets: &[] }),
+        fragment: fragment.map(|entry| wgpu::FragmentState { module, entry_point: Some(entry), compilation_options: options(), targets: &[] }),
         multiview_mask: None,
         cache: None,
     })

@@ -246,6 +246,13 @@ pub struct MethodOptions {
     pub ioc_range: Option<(u32, u32)>,
     /// `hroc`: when a coarse grid of rays seeds the occluders V.
     pub hroc_seed: Seed,
+    /// `hroc`: pixels per side of the blocks the batch occlusion test
+    /// works on: one box fragment and one ray per block, against the
+    /// block's farthest depth, with boxes padded for it (conservative at
+    /// any scale). 2 casts a quarter of the rays at 640 × 360 for a little
+    /// culling; the largest scale up to this one that divides the target's
+    /// width and height is used, 1 being the paper's per-pixel test.
+    pub hroc_test_scale: u32,
     /// A frame whose view direction turned more than this many degrees
     /// since the last frame is culled as after a camera cut (the host need
     /// not say so): 45° is an eighth of a turn, past which most of last
@@ -292,6 +299,7 @@ impl Default for MethodOptions {
             chc_smax: 1.4,
             ioc_range: None,
             hroc_seed: Seed::Cuts,
+            hroc_test_scale: 2,
             cut_turn_deg: 45.0,
             cut_move: 0.1,
         }

@@ -41,12 +41,29 @@ pub fn pixel_angle(ray_dirs: &Mat4, near: f32, height: u32) -> f32 {
     2.0 * ray_dirs.y_axis.truncate().length() / near / height as f32
 }
 
+/// `pixel_angle_xy` in common.wgsl: the larger of a pixel's width and
+/// height at unit distance.
+pub fn pixel_angle_xy(ray_dirs: &Mat4, near: f32, (w, h): (u32, u32)) -> f32 {
+    pixel_angle(ray_dirs, near, h).max(2.0 * ray_dirs.x_axis.truncate().length() / near / w as f32)
+}
+
 /// The shaders' box padding (`padded_box` in common.wgsl).
 pub fn padded(b: Aabb, eye: Vec3, pixel: f32) -> Aabb {
+    padded_px(b, eye, pixel, PIXEL_PAD)
+}
+
+/// `padded_box_px` in common.wgsl: `px` pixels of padding at the farthest corner.
+pub fn padded_px(b: Aabb, eye: Vec3, pixel: f32, px: f32) -> Aabb {
     let far = (b.min - eye).abs().max((b.max - eye).abs()).length();
     let scale = b.min.abs().max(b.max.abs()).max_element();
-    let pad = PIXEL_PAD * pixel * far + 1e-4 * (b.max - b.min).length() + 1e-6 * (scale + eye.length()) + 1e-7;
+    let pad = px * pixel * far + 1e-4 * (b.max - b.min).length() + 1e-6 * (scale + eye.length()) + 1e-7;
     Aabb::new(b.min - Vec3::splat(pad), b.max + Vec3::splat(pad))
+}
+
+/// `block_pad_px` in common.wgsl: the padding, in pixels, of boxes tested
+/// by one ray per block of `scale` × `scale` pixels.
+pub fn block_pad_px(scale: u32) -> f32 {
+    (scale - 1) as f32 * std::f32::consts::FRAC_1_SQRT_2 + scale as f32 * PIXEL_PAD
 }
 
 /// `crosses_near` in common.wgsl.
@@ -57,8 +74,9 @@ pub fn crosses_near(planes: &[Vec4; 6], near: f32, b: &Aabb) -> bool {
 }
 
 /// Groups to rasterize (sorted) and leaves made visible without a test
-/// (adaptive grouping), from the node states.
-pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3, pixel: f32) -> (Vec<u32>, Vec<u32>) {
+/// (adaptive grouping), from the node states, with boxes padded for a test
+/// of `scale` × `scale` blocks (`pixel` from [`pixel_angle_xy`]).
+pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3, pixel: f32, scale: u32) -> (Vec<u32>, Vec<u32>) {
     let (mut groups, mut forced) = (Vec::new(), Vec::new());
     for g in 0..bvh.nodes.len() as u32 {
         let s = state[g as usize];
@@ -67,7 +85,7 @@ pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3
         }
         let mut stack = vec![g];
         while let Some(n) = stack.pop() {
-            let b = padded(bvh.aabb(n), eye, pixel);
+            let b = padded_px(bvh.aabb(n), eye, pixel, block_pad_px(scale));
             if !aabb_in_frustum(planes, b.min, b.max) {
                 continue;
             }
@@ -85,12 +103,14 @@ pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3
     (groups, forced)
 }
 
-/// Leaves in the subtrees of `groups` that a ray through some pixel centre
-/// enters no deeper than the occlusion map there plus `tolerance` (in
-/// depth-buffer units). Boxes are first padded as the shaders pad them when
+/// Leaves in the subtrees of `groups` that a ray through the centre of some
+/// block of `block` × `block` pixels enters no deeper than the block's
+/// farthest occlusion-map depth plus `tolerance` (in depth-buffer units).
+/// Boxes are first padded as the shaders pad them for such blocks when
 /// `pixel` is given, then grown by `grow` times their diagonal. With
-/// no padding, a shrinking `grow` and a negative tolerance this is what the
-/// GPU must find; with padding and generous ones, all it may find.
+/// blocks of one pixel, no padding, a shrinking `grow` and a negative
+/// tolerance this is what the GPU must find at any test scale; with the
+/// GPU's blocks, padding and generous ones, all it may find.
 #[allow(clippy::too_many_arguments)]
 pub fn ray_marked(
     bvh: &Bvh,
@@ -100,6 +120,7 @@ pub fn ray_marked(
     eye: Vec3,
     (w, h): (u32, u32),
     depth: &[f32],
+    block: u32,
     pixel: Option<f32>,
     grow: f32,
     tolerance: f32,
@@ -116,17 +137,19 @@ pub fn ray_marked(
         }
     }
     let mut marked = vec![false; n_obj];
-    for y in 0..h {
-        for x in 0..w {
-            let px = Vec2::new(x as f32 + 0.5, y as f32 + 0.5);
+    let s = block;
+    for y in 0..h / s {
+        for x in 0..w / s {
+            let px = Vec2::new((x * s) as f32 + 0.5 * s as f32, (y * s) as f32 + 0.5 * s as f32);
             let ndc = Vec2::new(px.x / w as f32 * 2.0 - 1.0, 1.0 - px.y / h as f32 * 2.0);
             let dir = (*ray_dirs * Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
             let c0 = *view_proj * eye.extend(1.0);
             let c1 = *view_proj * dir.extend(0.0);
-            let limit = depth[(y * w + x) as usize] + tolerance;
+            let farthest = (0..s * s).map(|i| depth[((y * s + i / s) * w + x * s + i % s) as usize]).fold(0.0f32, f32::max);
+            let limit = farthest + tolerance;
             let mut stack = vec![0u32];
             while let Some(n) = stack.pop() {
-                let b = pixel.map_or(bvh.aabb(n), |px| padded(bvh.aabb(n), eye, px));
+                let b = pixel.map_or(bvh.aabb(n), |px| padded_px(bvh.aabb(n), eye, px, block_pad_px(s)));
                 let g = Vec3::splat(grow * (b.max - b.min).length().max(1e-3));
                 let (t0, t1) = ((b.min - g - eye) / dir, (b.max + g - eye) / dir);
                 let enter = t0.min(t1).max_element();

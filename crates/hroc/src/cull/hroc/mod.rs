@@ -4,7 +4,9 @@
 //!    order) with forced early-Z; fragments mark the effective occluders O;
 //! 2. occludee groups — BVH walk up from every occluder (`hroc_groups.wgsl`);
 //! 3. batch occlusion test — rasterize group boxes, cast rays in their
-//!    subtrees (`hroc_test.wgsl`); marked objects are the occludees U;
+//!    subtrees (`hroc_test.wgsl`); marked objects are the occludees U.
+//!    With [`MethodOptions::hroc_test_scale`](super::MethodOptions) above 1
+//!    the test runs on blocks of pixels against their farthest depth;
 //! 4. occludee rendering — draw U with early-Z; passing objects are D;
 //! 5. next V = O ∪ D, or with OF the objects that own a pixel.
 //!
@@ -62,6 +64,8 @@ pub struct Hroc {
     filter: wgpu::ComputePipeline,
     seed: wgpu::ComputePipeline,
     boxes: wgpu::RenderPipeline,
+    /// With a test scale above 1: the blocks' occlusion map and the pass that reduces the host's depth to it.
+    blocks: Option<Blocks>,
     last: FrameCounts,
     seed_mode: Seed,
     /// Seed V this frame (the first one, or after a cut).
@@ -77,6 +81,19 @@ pub struct Hroc {
 /// that prunes behind its nearest hit: about as much work as the
 /// occlusion test's rays over a few group boxes.
 pub const SEED_GRID: (u32, u32) = (64, 36);
+
+/// The occlusion map of the test's blocks (`reduce_fs` in `hroc_test.wgsl`).
+struct Blocks {
+    scale: u32,
+    view: wgpu::TextureView,
+    bind: wgpu::BindGroup,
+    reduce: wgpu::RenderPipeline,
+}
+
+/// The largest block size up to `wanted` that divides both sides of `size`.
+pub fn test_scale(wanted: u32, (w, h): (u32, u32)) -> u32 {
+    (1..=wanted.max(1)).rev().find(|s| w % s == 0 && h % s == 0).unwrap_or(1)
+}
 
 /// Per-frame sizes of the paper's sets, read after the frame (untimed).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -114,6 +131,7 @@ impl Hroc {
             return Err(Error::InvalidScene(format!("BVH depth {} exceeds {MAX_DEPTH}, which HROC's traversal stacks hold; try --split eq", bvh.depth())));
         }
         let n = cx.object_count;
+        let scale = test_scale(cx.options.hroc_test_scale, cx.targets.size);
         // Rebuilds keep the buffers: size them for the largest tree.
         let nodes = cx.node_capacity;
         use wgpu::BufferUsages as U;
@@ -189,6 +207,9 @@ impl Hroc {
                 storage_entry(6, true),
             ],
         });
+        let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
+        let blocks = (scale > 1).then(|| Blocks::new(gpu, cx, &test_module, scale));
+        let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| &b.view);
         let test_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc test"),
             layout: &test_layout,
@@ -197,14 +218,17 @@ impl Hroc {
                 wgpu::BindGroupEntry { binding: 1, resource: nodes_buf.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 2, resource: occludees.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 3, resource: visited.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&cx.targets.depth_sampled) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(occlusion_map) },
                 wgpu::BindGroupEntry { binding: 5, resource: ray_stats.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 6, resource: cx.bounds.as_entire_binding() },
             ],
         });
-        let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         let test_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc test"), bind_group_layouts: &[Some(&test_layout)], immediate_size: 0 });
-        let boxes = crate::shaders::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), (cx.targets.depth_format, cx.targets.depth));
+        let test_depth = match blocks {
+            Some(_) => (BLOCK_FORMAT, cx.targets.depth),
+            None => (cx.targets.depth_format, cx.targets.depth),
+        };
+        let boxes = crate::shaders::box_test_pipeline_with(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), test_depth, &[("TEST_SCALE", scale as f64)]);
         let words = |bytes: usize| (bytes / 4) as u32;
         let sf = (variant.counters == Counters::StallFree).then(|| {
             StallFree::new(
@@ -223,8 +247,8 @@ impl Hroc {
             tree_nodes: bvh.nodes.len() as u32,
             marks_o: cx.marks_bind(&occluders),
             marks_d: cx.marks_bind(&drawn),
-            extract: gpu.compute_pipeline(&module, "extract", Some(&pl), &[]),
-            collect: gpu.compute_pipeline(&module, "collect", Some(&pl), &[]),
+            extract: gpu.compute_pipeline(&module, "extract", Some(&pl), &[("TEST_SCALE", scale as f64)]),
+            collect: gpu.compute_pipeline(&module, "collect", Some(&pl), &[("TEST_SCALE", scale as f64)]),
             merge: gpu.compute_pipeline(&module, "merge", Some(&pl), &[]),
             filter: gpu.compute_pipeline(&module, "filter_occluders", Some(&pl), &[]),
             seed: gpu.compute_pipeline(&module, "seed", Some(&pl), &[("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)]),
@@ -245,6 +269,7 @@ impl Hroc {
             group_bind,
             test_bind,
             boxes,
+            blocks,
             last: FrameCounts::default(),
             seed_mode: cx.options.hroc_seed,
             seed_next: true,
@@ -316,7 +341,91 @@ impl Hroc {
     }
 }
 
+/// Depth format of the blocks' occlusion map.
+const BLOCK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+impl Blocks {
+    fn new(gpu: &Gpu, cx: &MethodContext, module: &wgpu::ShaderModule, scale: u32) -> Blocks {
+        let device = &gpu.device;
+        let (w, h) = cx.targets.size;
+        let view = device
+            .create_texture(&wgpu::TextureDescriptor {
+                label: Some("hroc test blocks"),
+                size: wgpu::Extent3d { width: w / scale, height: h / scale, depth_or_array_layers: 1 },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: BLOCK_FORMAT,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            })
+            .create_view(&Default::default());
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("hroc reduce"),
+            entries: &[uniform_entry(0), texture_entry(7, wgpu::TextureSampleType::Depth)],
+        });
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hroc reduce"),
+            layout: &layout,
+            entries: &[
+                wgpu::BindGroupEntry { binding: 0, resource: cx.frame.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::TextureView(&cx.targets.depth_sampled) },
+            ],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc reduce"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let constants = [("TEST_SCALE", scale as f64)];
+        let reduce = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("hroc reduce"),
+            layout: Some(&pl),
+            vertex: wgpu::VertexState { module, entry_point: Some("reduce_vs"), compilation_options: Default::default(), buffers: &[] },
+            primitive: Default::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: BLOCK_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Always),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module,
+                entry_point: Some("reduce_fs"),
+                compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+                targets: &[],
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        Blocks { scale, view, bind, reduce }
+    }
+
+    /// Reduces the host's depth (the occlusion map) to the blocks' farthest depth.
+    fn reduce(&self, enc: &mut wgpu::CommandEncoder) {
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("hroc test blocks"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.view,
+                // Every block is written; the clear only keeps the pass from loading.
+                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.reduce);
+        pass.set_bind_group(0, &self.bind, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
 impl Hroc {
+    /// Pixels per side of the occlusion test's blocks in this view (1: per pixel).
+    pub fn test_scale(&self) -> u32 {
+        self.blocks.as_ref().map_or(1, |b| b.scale)
+    }
+
     /// The stall-free variant's `max_count` estimates of V, G and U in the
     /// last frame; `None` for the other variants.
     pub fn estimates(&self) -> Option<[u32; 3]> {
@@ -391,7 +500,10 @@ impl CullMethod for Hroc {
         f.stage(Stage::OcclusionTest);
         if max_groups > 0 || over.is_some() {
             let targets = f.targets;
-            let depth_view = &targets.depth_attachment;
+            if let Some(b) = &self.blocks {
+                b.reduce(f.encoder());
+            }
+            let depth_view = self.blocks.as_ref().map_or(&targets.depth_attachment, |b| &b.view);
             let mut pass = f.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hroc occlusion test"),
                 color_attachments: &[],
