@@ -276,6 +276,7 @@ fn bench_rows_carry_stats_and_woc_reports() {
         dynamic: false,
         motion: hroc::MotionOptions::default(),
         method_options: Default::default(),
+        timestamps: true,
     };
     let report = bench::run(gpu(), &o).unwrap();
     let row = |m: &str| report.rows.iter().find(|r| r.method == m).unwrap();

@@ -149,7 +149,9 @@ struct BenchArgs {
     /// Prints the table as Markdown.
     #[arg(long)]
     markdown: bool,
-    /// Also prints GPU ms per stage and per-frame method statistics.
+    /// Also prints GPU ms per stage (timestamp queries, which only this
+    /// turns on: each one flushes a CPU rasterizer, adding to ms/frame) and
+    /// per-frame method statistics.
     #[arg(long)]
     breakdown: bool,
     /// Fractions of the objects that move every frame, 0 to 1, each run in
@@ -276,6 +278,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         moving: a.moving.first().copied().unwrap_or(0.0),
         dynamic: a.dynamic,
         motion: hroc::MotionOptions { refit: a.refit, rebuild_sah_growth: a.rebuild_growth, ..Default::default() },
+        timestamps: a.breakdown,
     };
     if let Some(bad) = a.moving.iter().find(|f| !(0.0..=1.0).contains(*f)) {
         return Err(Error::Arg(format!("--moving {bad} is not a fraction from 0 to 1")));

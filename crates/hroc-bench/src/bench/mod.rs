@@ -42,6 +42,11 @@ pub struct BenchOptions {
     pub motion: hroc::MotionOptions,
     /// Parameters of the methods (`--soq-base-time`, `--chc-*`).
     pub method_options: crate::cull::MethodOptions,
+    /// Time every stage with GPU timestamps (`--breakdown`). Each stamp is a
+    /// point the GPU must reach before the next command (on lavapipe, a
+    /// flush of the rasterizer), which costs methods of many stages most:
+    /// runs compare ms/frame without them.
+    pub timestamps: bool,
 }
 
 /// One row of the table. Later methods add fields; these names never change.
@@ -50,7 +55,8 @@ pub struct MethodRow {
     pub method: String,
     pub ms_mean: f64,
     pub ms_p95: f64,
-    pub gpu_ms_mean: f64,
+    /// Summed stage times; `None` without timestamps.
+    pub gpu_ms_mean: Option<f64>,
     pub c_over_n: f64,
     pub c_over_r: f64,
     pub false_negatives: u64,
@@ -179,7 +185,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     let base: Vec<glam::Mat4> = scene.objects.iter().map(|ob| ob.transform).collect();
     let centre = scene.bounds().center();
     let frames = frame_count(o, path.as_ref().unwrap_or(&scene.path))?;
-    let mut s = Session::new(gpu, scene, path, frames, o.resolution, o.split)?;
+    let mut s = Session::new_timed(gpu, scene, path, frames, o.resolution, o.split, o.timestamps)?;
     s.culler.set_motion(o.motion)?;
     if o.dynamic {
         let flags: Vec<(u32, hroc::ObjectFlags)> = movers.iter().map(|&i| (i, hroc::ObjectFlags::DYNAMIC)).collect();
@@ -265,7 +271,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
                 method: m.clone(),
                 ms_mean: mean(timed),
                 ms_p95: percentile(timed, 0.95),
-                gpu_ms_mean: mean(&a.gpu),
+                gpu_ms_mean: o.timestamps.then(|| mean(&a.gpu)),
                 c_over_n: a.culled as f64 / (n * frames as u64) as f64,
                 c_over_r: if ref_culled == 0 {
                     if a.culled == 0 {

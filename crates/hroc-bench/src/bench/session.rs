@@ -67,7 +67,13 @@ pub struct Check {
 
 impl<'g> Session<'g> {
     /// `path` overrides the scene's own camera path.
-    pub fn new(gpu: &'g Gpu, mut scene: Scene, path: Option<CameraPath>, frames: usize, (w, h): (u32, u32), split: Split) -> Result<Self> {
+    /// Stages are timed with GPU timestamps.
+    pub fn new(gpu: &'g Gpu, scene: Scene, path: Option<CameraPath>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {
+        Self::new_timed(gpu, scene, path, frames, res, split, true)
+    }
+
+    /// [`Session::new`], with per-stage GPU timestamps or without.
+    pub fn new_timed(gpu: &'g Gpu, mut scene: Scene, path: Option<CameraPath>, frames: usize, (w, h): (u32, u32), split: Split, timestamps: bool) -> Result<Self> {
         if let Some(p) = path {
             scene.path = p;
         }
@@ -79,7 +85,7 @@ impl<'g> Session<'g> {
         // The renderer's pipelines take the culler's marks layout, and the
         // culler takes the renderer's draws: build the objects first.
         let descs = crate::render::object_descs(&scene);
-        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps: true, ..CullerDesc::new(&descs) })?;
+        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, ..CullerDesc::new(&descs) })?;
         let renderer = Renderer::new(gpu, &scene, w, h, culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
         Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc) })

@@ -107,7 +107,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
                 x.method.clone(),
                 format!("{:.2}", x.ms_mean),
                 format!("{:.2}", x.ms_p95),
-                format!("{:.2}", x.gpu_ms_mean),
+                x.gpu_ms_mean.map_or("-".into(), |g| format!("{g:.2}")),
                 format!("{:.3}", x.c_over_n),
                 format!("{:.3}", x.c_over_r),
                 x.false_negatives.to_string(),

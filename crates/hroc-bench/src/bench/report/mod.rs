@@ -295,6 +295,8 @@ impl Runner<'_> {
             dynamic: false,
             motion: hroc::MotionOptions::default(),
             method_options: MethodOptions::default(),
+            // The report plots HROC's stages (the paper's Figure 6).
+            timestamps: true,
         }
     }
 
