@@ -261,14 +261,14 @@ fn stall_free_overflow_draws_what_the_estimate_misses() {
     assert!(overflowed > 0, "no count passed its estimate: the overflow draw was never exercised");
 }
 
-/// Work counters: hroc (counter read-back) submits and waits three times a
-/// frame, reading 4 bytes each time; hroc-na never waits; hroc-sf never
+/// Work counters: hroc-cr+of (counter read-back) submits and waits three times a
+/// frame, reading 4 bytes each time; hroc-na never waits; hroc (sf+of) never
 /// waits either, yet its counts arrive (bytes read without a wait).
 #[test]
 fn work_counters_count_submits_waits_and_bytes() {
     let scene = hroc_bench::scene::load("radial-city", Some(1200), 3).unwrap();
     let mut s = Session::new(gpu(), scene, None, 8, RES, Split::Sah).unwrap();
-    for (m, waits) in [("hroc", 3.0), ("hroc-na", 0.0), ("hroc-sf", 0.0)] {
+    for (m, waits) in [("hroc-cr+of", 3.0), ("hroc-na", 0.0), ("hroc", 0.0)] {
         let mut v = s.create(m).unwrap();
         let mut bytes = 0.0;
         for k in 0..s.cameras.len() {
