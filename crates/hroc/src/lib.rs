@@ -62,17 +62,19 @@
 //! - **Object IDs.** For HROC with occluder filtering (OF, §4.2; the default
 //!   [`Method::HROC`]), the host writes `object index + 1` to an `R32Uint`
 //!   target ([`ViewTargets::ids`]) in every occluding phase and clears it to 0
-//!   each frame. `hroc-cr` and `hroc-na` need no ID target.
-//! - **Mid-frame submits.** Methods with counter read-back (`hroc`,
+//!   each frame. `hroc-na`, `hroc-cr` and `hroc-sf` need no ID target.
+//! - **Submit every frame.** The default [`Method::HROC`] (`hroc` =
+//!   `hroc-sf+of`) and `hroc-sf` use stall-free counters (HROC §6): they
+//!   never submit or wait, and read earlier frames' counts from a staging
+//!   buffer mapped at the next cull, so submit each frame's encoder before
+//!   culling the next frame of that view. They may hand the host two lists
+//!   in one phase (the estimate, then the overflow): draw both.
+//! - **Mid-frame submits.** Methods with counter read-back (`hroc-cr+of`,
 //!   `hroc-cr`, `ioc`, `oq`, `soq`, `chc++`) submit the host's encoder in the
 //!   middle of [`View::cull`], wait for the GPU, and continue in a new
 //!   encoder left in the host's `&mut CommandEncoder`. Record nothing before
 //!   the cull that must not be submitted yet, and keep no debug group open
-//!   across it. The stall-free variants (`hroc-sf`, `hroc-sf+of`, HROC §6)
-//!   never submit or wait: they read earlier frames' counts from a staging
-//!   buffer mapped at the next cull, so submit each frame's encoder before
-//!   culling the next frame of that view. They may hand the host two lists
-//!   in one phase (the estimate, then the overflow): draw both.
+//!   across it.
 //! - **Views.** Right-handed perspective projections (HROC casts rays from
 //!   the eye, and the box tests rasterize the faces a right-handed view sees
 //!   in front): symmetric or off-centre, finite or infinite far plane,
