@@ -41,20 +41,9 @@ pub fn source(name: &str) -> String {
 /// toward the camera so a face lying on the surface it bounds passes, no
 /// depth or colour writes. `fragment`: the entry point that records a
 /// passing fragment (forced early-Z), or `None` for a depth-only pass
-/// counted by occlusion queries.
+/// counted by occlusion queries. `constants`: override constants of both
+/// stages (HROC's `TEST_SCALE`).
 pub fn box_test_pipeline(
-    gpu: &Gpu,
-    label: &str,
-    layout: &wgpu::PipelineLayout,
-    module: &wgpu::ShaderModule,
-    fragment: Option<&str>,
-    depth: (wgpu::TextureFormat, DepthRange),
-) -> wgpu::RenderPipeline {
-    box_test_pipeline_with(gpu, label, layout, module, fragment, depth, &[])
-}
-
-/// [`box_test_pipeline`] with override `constants` for both stages.
-pub fn box_test_pipeline_with(
     gpu: &Gpu,
     label: &str,
     layout: &wgpu::PipelineLayout,

@@ -60,7 +60,7 @@ impl BoxPass {
         });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("roc boxes"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("roc_boxes.wgsl", &shader_source("roc_boxes.wgsl"));
-        let pipeline = crate::shaders::box_test_pipeline(gpu, "roc boxes", &pl, &module, Some("box_fs"), (cx.targets.depth_format, cx.targets.depth));
+        let pipeline = crate::shaders::box_test_pipeline(gpu, "roc boxes", &pl, &module, Some("box_fs"), (cx.targets.depth_format, cx.targets.depth), &[]);
         BoxPass { pipeline, layout }
     }
 

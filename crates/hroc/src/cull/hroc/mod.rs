@@ -228,7 +228,7 @@ impl Hroc {
             Some(_) => (BLOCK_FORMAT, cx.targets.depth),
             None => (cx.targets.depth_format, cx.targets.depth),
         };
-        let boxes = crate::shaders::box_test_pipeline_with(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), test_depth, &[("TEST_SCALE", scale as f64)]);
+        let boxes = crate::shaders::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), test_depth, &[("TEST_SCALE", scale as f64)]);
         let words = |bytes: usize| (bytes / 4) as u32;
         let sf = (variant.counters == Counters::StallFree).then(|| {
             StallFree::new(
