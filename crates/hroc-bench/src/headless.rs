@@ -78,7 +78,8 @@ impl Gpu {
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("hroc"),
-                required_features: FEATURES,
+                // Pipeline statistics where the adapter has them (`--breakdown`'s counts).
+                required_features: FEATURES | (adapter.features() & hroc::PIPELINE_STATISTICS_FEATURES),
                 // The adapter's own limits: large scenes need large buffers.
                 required_limits: adapter.limits(),
                 ..Default::default()

@@ -284,3 +284,44 @@ fn work_counters_count_submits_waits_and_bytes() {
         assert_eq!(bytes > 0.0, m != "hroc-na", "{m}: {bytes} bytes read");
     }
 }
+
+/// Pipeline statistics: every stage's passes are counted under that stage.
+/// vfc's frustum test runs one thread per object (rounded up to its 256-wide
+/// workgroups), hroc-na's group extraction one per object and one per BVH node;
+/// the host's draws, recorded with `Draw::record`, count vertices and
+/// fragments; a view without statistics reports none.
+#[test]
+fn pipeline_statistics_count_every_stage() {
+    use hroc::gpu::Invocations;
+    use hroc::Stage;
+    let gpu = gpu();
+    if !gpu.device.features().contains(hroc::PIPELINE_STATISTICS_FEATURES) {
+        eprintln!("skipped: {} has no pipeline-statistics queries", gpu.adapter_name());
+        return;
+    }
+    let scene = hroc_bench::scene::load("radial-city", Some(1200), 3).unwrap();
+    let mut s = Session::new(gpu, scene, None, 4, RES, Split::Sah).unwrap();
+    let threads = |n: u32| n.div_ceil(256) as u64 * 256;
+    let (n, nodes) = (s.renderer.object_count, s.bvh().nodes.len() as u32);
+    let get = |r: &[(Stage, Invocations)], st: Stage| r.iter().find(|x| x.0 == st).map(|x| x.1).unwrap_or_else(|| panic!("no {st} in {r:?}"));
+    for k in 0..s.cameras.len() {
+        let mut vfc = s.create("vfc").unwrap();
+        let r = s.run_frame(&mut vfc, k).unwrap();
+        assert_eq!(get(&r.invocations, Stage::FrustumCull).compute, threads(n), "frame {k}");
+        let draw = get(&r.invocations, Stage::Draw);
+        assert!(draw.vertex > 0 && draw.fragment > 0 && draw.compute == 0, "frame {k}: {draw:?}");
+        // hroc-na: no stall-free overflow pass joins the extraction.
+        let mut h = s.create("hroc-na").unwrap();
+        let r = s.run_frame(&mut h, k).unwrap();
+        let ge = get(&r.invocations, Stage::GroupExtraction);
+        assert_eq!((ge.compute, ge.vertex, ge.fragment), (threads(n) + threads(nodes), 0, 0), "frame {k}");
+        // Stages are listed in stage order, each once.
+        let stages: Vec<Stage> = r.invocations.iter().map(|x| x.0).collect();
+        assert!(stages.windows(2).all(|w| w[0] < w[1]), "{stages:?}");
+    }
+    // Without timestamps the session counts nothing.
+    let scene = hroc_bench::scene::load("radial-city", Some(300), 3).unwrap();
+    let mut quiet = Session::new_timed(gpu, scene, None, 2, RES, Split::Sah, false).unwrap();
+    let mut v = quiet.create("hroc").unwrap();
+    assert!(quiet.run_frame(&mut v, 0).unwrap().invocations.is_empty());
+}

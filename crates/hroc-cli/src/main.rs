@@ -297,6 +297,9 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         print!("{}", bench::table::render(&report, a.markdown));
         if a.breakdown {
             print!("\n{}", bench::table::breakdown(&report, a.markdown));
+            if let Some(t) = bench::table::invocations(&report, a.markdown) {
+                print!("\nShader invocations per frame (pipeline statistics)\n{t}");
+            }
         }
         reports.push(report);
     }

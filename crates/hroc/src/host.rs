@@ -5,7 +5,7 @@ use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
 use crate::cull::{compact::Compactor, CullMethod, DrawList, Frame, FrameBody, Method, MethodContext, MethodOptions, Stage, Stat, WorkCounts};
 use crate::error::{Error, Result};
 use crate::frustum::{DepthRange, ViewDesc};
-use crate::gpu::{dispatch_size, Gpu, GpuTimer};
+use crate::gpu::{dispatch_size, Gpu, GpuTimer, InvocationCounter, Invocations, PassCount};
 use crate::layout::{DrawCommand, FrameUniform, ObjectBounds};
 use crate::{shaders, Aabb};
 
@@ -79,12 +79,19 @@ pub struct CullerDesc<'a> {
     /// Time every stage with GPU timestamps. Needs `TIMESTAMP_QUERY` and
     /// `TIMESTAMP_QUERY_INSIDE_ENCODERS`.
     pub timestamps: bool,
+    /// Count every stage's vertex, fragment and compute shader invocations
+    /// with pipeline-statistics queries ([`View::stage_invocations`]): work
+    /// that does not depend on how busy the machine is. Needs
+    /// [`PIPELINE_STATISTICS_FEATURES`]. The host's draws are counted when
+    /// it records them with [`Draw::record`].
+    pub pipeline_statistics: bool,
 }
 
 impl<'a> CullerDesc<'a> {
-    /// SAH BVH, no spare slots, default parameters, no timestamps.
+    /// SAH BVH, no spare slots, default parameters, no timestamps, no
+    /// pipeline statistics.
     pub fn new(objects: &'a [ObjectDesc]) -> Self {
-        CullerDesc { objects, capacity: 0, split: Split::Sah, options: MethodOptions::default(), motion: MotionOptions::default(), timestamps: false }
+        CullerDesc { objects, capacity: 0, split: Split::Sah, options: MethodOptions::default(), motion: MotionOptions::default(), timestamps: false, pipeline_statistics: false }
     }
 }
 
@@ -144,6 +151,9 @@ pub const REQUIRED_FEATURES: wgpu::Features =
 /// The features [`CullerDesc::timestamps`] needs.
 pub const TIMESTAMP_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY.union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
 
+/// The features [`CullerDesc::pipeline_statistics`] needs.
+pub const PIPELINE_STATISTICS_FEATURES: wgpu::Features = wgpu::Features::PIPELINE_STATISTICS_QUERY;
+
 /// GPU-only bits of `ObjectBounds::flags` (`ALONE`, `REMOVED` in common.wgsl).
 const ALONE: u32 = 0x4000_0000;
 const REMOVED: u32 = 0x8000_0000;
@@ -202,18 +212,23 @@ pub struct Culler {
     motion: MotionOptions,
     last_update: UpdateStats,
     timestamps: bool,
+    pipeline_statistics: bool,
 }
 
 impl Culler {
     /// Creates a culler on the host's device. Errors, never panics, when the
     /// device lacks [`REQUIRED_FEATURES`] (or [`TIMESTAMP_FEATURES`] when
-    /// asked for timestamps), when an object's box is not finite, or when the
+    /// asked for timestamps, [`PIPELINE_STATISTICS_FEATURES`] when asked
+    /// for pipeline statistics), when an object's box is not finite, or when the
     /// objects exceed the device's buffer limits. Objects flagged
     /// [`ObjectFlags::DYNAMIC`] are left out of the BVH.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, desc: &CullerDesc) -> Result<Culler> {
         let mut needed = REQUIRED_FEATURES;
         if desc.timestamps {
             needed |= TIMESTAMP_FEATURES;
+        }
+        if desc.pipeline_statistics {
+            needed |= PIPELINE_STATISTICS_FEATURES;
         }
         let missing = needed - device.features();
         if !missing.is_empty() {
@@ -259,6 +274,7 @@ impl Culler {
             motion: m,
             last_update: UpdateStats { sah_growth: Some(1.0), ..Default::default() },
             timestamps: desc.timestamps,
+            pipeline_statistics: desc.pipeline_statistics,
         };
         culler.rebuild_tree()?;
         culler.upload_bounds();
@@ -686,6 +702,7 @@ impl Culler {
         cx.options = options;
         let imp = method.create(&cx)?;
         let timer = self.timestamps.then(|| GpuTimer::new(&self.gpu, 64));
+        let counter = self.pipeline_statistics.then(|| InvocationCounter::new(&self.gpu, 64));
         Ok(View {
             method,
             options: options.clone(),
@@ -695,6 +712,7 @@ impl Culler {
             sink,
             split: None,
             timer,
+            counter,
             last_stages: Vec::new(),
             generation: self.generation,
             slots: self.objects.count,
@@ -923,15 +941,21 @@ pub struct Draw<'a> {
     /// True when the method reads the marks: the fragment shader must call
     /// `hroc_mark`. False: `marks` is a sink, and the host may skip marking.
     pub mark: bool,
+    /// The pipeline-statistics slot of this draw, if the view counts.
+    pub(crate) statistics: PassCount,
 }
 
 impl Draw<'_> {
     /// Records the draw into a render pass whose pipeline, vertex and index
     /// buffers and other bind groups the host has set; binds the marks at
-    /// `marks_group`.
+    /// `marks_group`. With [`CullerDesc::pipeline_statistics`], the draw
+    /// is counted in its stage (a host that records the commands itself
+    /// goes uncounted).
     pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, marks_group: u32) {
-        pass.set_bind_group(marks_group, self.marks, &[]);
-        pass.multi_draw_indexed_indirect_count(self.commands, 0, self.count, 0, self.max_count);
+        self.statistics.around(pass, |pass| {
+            pass.set_bind_group(marks_group, self.marks, &[]);
+            pass.multi_draw_indexed_indirect_count(self.commands, 0, self.count, 0, self.max_count);
+        });
     }
 }
 
@@ -1064,6 +1088,7 @@ pub struct View {
     sink: wgpu::BindGroup,
     split: Option<FlagSplit>,
     timer: Option<GpuTimer>,
+    counter: Option<InvocationCounter>,
     last_stages: Vec<(Stage, f64)>,
     /// The culler's BVH generation and slots when this view was built.
     generation: u64,
@@ -1140,6 +1165,9 @@ impl View {
         if let Some(t) = self.timer.as_mut() {
             t.begin_frame();
         }
+        if let Some(c) = self.counter.as_mut() {
+            c.begin_frame();
+        }
         // Flags cost nothing until some object has one.
         let split_flags = ObjectFlags::NEVER_CULL | ObjectFlags::NOT_OCCLUDER;
         if self.split.is_none() && culler.objects.flags.iter().any(|f| f.bits() & split_flags.bits() != 0) {
@@ -1160,12 +1188,15 @@ impl View {
             encoder,
             host,
             timer: self.timer.as_mut(),
+            counter: self.counter.as_mut(),
+            current: Stage::Draw,
             split: self.split.as_mut(),
             sink: &self.sink,
         };
         if let Some(always) = culler.objects.always.as_ref() {
             f.stage(Stage::FlaggedObjects);
-            let d = Draw { phase: Phase::Always, commands: &always.commands, count: &always.count, max_count: always.max_count, marks: f.sink, mark: false };
+            let statistics = f.pass_count();
+            let d = Draw { phase: Phase::Always, commands: &always.commands, count: &always.count, max_count: always.max_count, marks: f.sink, mark: false, statistics };
             f.host.draw(f.encoder, &d);
         }
         match body {
@@ -1174,12 +1205,17 @@ impl View {
         }
         if let Some(s) = f.split.take() {
             f.stage(Stage::FlaggedObjects);
-            let list = s.finish(f.encoder);
-            let d = Draw { phase: Phase::NonOccluders, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: f.sink, mark: false };
+            let (enc, q) = f.counted();
+            let list = s.finish(enc, &q);
+            let statistics = f.pass_count();
+            let d = Draw { phase: Phase::NonOccluders, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: f.sink, mark: false, statistics };
             f.host.draw(f.encoder, &d);
         }
         if let Some(t) = f.timer.take() {
             t.end(f.encoder);
+        }
+        if let Some(c) = f.counter.take() {
+            c.end(f.encoder);
         }
         Ok(())
     }
@@ -1204,6 +1240,18 @@ impl View {
             None => Vec::new(),
         };
         Ok(&self.last_stages)
+    }
+
+    /// Shader invocations per stage of the last frame, in stage order; empty
+    /// without [`CullerDesc::pipeline_statistics`]. Reads back: call after
+    /// the frame's work was submitted.
+    pub fn stage_invocations(&self, culler: &Culler) -> Result<Vec<(Stage, Invocations)>> {
+        let mut v = match self.counter.as_ref() {
+            Some(c) => c.read(&culler.gpu)?,
+            None => Vec::new(),
+        };
+        v.sort_by_key(|(s, _)| *s);
+        Ok(v)
     }
 
     /// The method's statistics of the last frame (set sizes, rays, ...).
@@ -1289,7 +1337,7 @@ impl FlagSplit {
         enc.copy_buffer_to_buffer(&objects.always_deferred, 0, &self.deferred, 0, objects.count as u64 * 4);
     }
 
-    pub(crate) fn split(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, bounds: &wgpu::Buffer, list: &DrawList) -> DrawList {
+    pub(crate) fn split(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, bounds: &wgpu::Buffer, list: &DrawList, count: &PassCount) -> DrawList {
         use wgpu::BufferUsages as U;
         let need = (list.commands.size() / 20).max(1) * 20;
         if self.used == self.pool.len() {
@@ -1303,16 +1351,19 @@ impl FlagSplit {
         gpu.queue.write_buffer(&bound, 0, bytemuck::cast_slice(&[list.max_count, 0, 0, 0]));
         let bind = gpu.bind_buffers(&self.layout, &[bounds, &list.commands, &list.count, &dst, &self.deferred, &bound]);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc flag split"), timestamp_writes: None });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &bind, &[]);
         let (x, y) = dispatch_size(list.max_count, 256);
-        pass.dispatch_workgroups(x, y, 1);
+        count.around(&mut pass, |pass| {
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        });
+        drop(pass);
         DrawList { commands: dst, count: list.count.clone(), max_count: list.max_count }
     }
 
     /// Non-occluders the method drew this frame, plus the never-culled ones, packed.
-    fn finish(&mut self, enc: &mut wgpu::CommandEncoder) -> DrawList {
-        self.compactor.record(enc, &self.job);
+    fn finish(&mut self, enc: &mut wgpu::CommandEncoder, count: &PassCount) -> DrawList {
+        self.compactor.record(enc, count, &self.job);
         self.list.clone()
     }
 }

@@ -30,8 +30,10 @@
 //! may cull a visible object.
 //! - **Device.** Features [`REQUIRED_FEATURES`] (multi-draw-indirect-count,
 //!   `first_instance` in indirect draws, forced early depth test), plus
-//!   [`TIMESTAMP_FEATURES`] for per-stage GPU times. [`Culler::new`] names
-//!   what is missing.
+//!   [`TIMESTAMP_FEATURES`] for per-stage GPU times and
+//!   [`PIPELINE_STATISTICS_FEATURES`] for per-stage shader invocations
+//!   (counted in the host's draws when it records them with
+//!   [`Draw::record`]). [`Culler::new`] names what is missing.
 //! - **Objects.** Object `i` is one indexed draw of the host's index buffer
 //!   ([`ObjectDesc`]) with a world box that holds every vertex it can
 //!   rasterize this frame. The culler hands back
@@ -143,6 +145,6 @@ pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Var
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc, ViewGeometry};
 pub use host::{
-    marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets, REQUIRED_FEATURES,
-    TIMESTAMP_FEATURES,
+    marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets,
+    PIPELINE_STATISTICS_FEATURES, REQUIRED_FEATURES, TIMESTAMP_FEATURES,
 };

@@ -65,13 +65,43 @@ pub struct MethodRow {
     pub stray_pixels: u64,
     /// Mean objects drawn per frame.
     pub drawn_mean: f64,
-    /// Mean GPU ms per stage, in stage order.
-    pub stages_ms: BTreeMap<String, f64>,
+    /// Mean GPU ms per stage, in stage order (by name in the JSON).
+    #[serde(serialize_with = "by_stage_name")]
+    pub stages_ms: BTreeMap<hroc::Stage, f64>,
+    /// Mean shader invocations per frame and stage, from pipeline-statistics
+    /// queries (with `--breakdown` on devices that have them): work that
+    /// does not depend on how busy the machine is. Empty without them.
+    #[serde(serialize_with = "by_stage_name")]
+    pub invocations: BTreeMap<hroc::Stage, InvocationsMean>,
     /// Mean per frame of the method's own statistics (HROC: V, O, G, U, D,
     /// rays, nodes_per_ray). Empty for methods without any.
     pub stats: BTreeMap<String, f64>,
     /// Wall ms of every frame (warm-up frames included).
     pub frame_ms: Vec<f64>,
+}
+
+/// Mean shader invocations per frame of one stage.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct InvocationsMean {
+    pub vertex: f64,
+    pub fragment: f64,
+    pub compute: f64,
+}
+
+impl InvocationsMean {
+    fn of(sum: &hroc::gpu::Invocations, frames: f64) -> Self {
+        InvocationsMean { vertex: sum.vertex as f64 / frames, fragment: sum.fragment as f64 / frames, compute: sum.compute as f64 / frames }
+    }
+
+    /// Every invocation, of any shader stage.
+    pub fn total(&self) -> f64 {
+        self.vertex + self.fragment + self.compute
+    }
+}
+
+/// Serializes a per-stage map by stage name, in stage order.
+fn by_stage_name<T: Serialize, S: serde::Serializer>(m: &BTreeMap<hroc::Stage, T>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_map(m.iter().map(|(k, v)| (k.name(), v)))
 }
 
 #[derive(Clone, Debug, Serialize)]
@@ -123,7 +153,8 @@ pub struct BenchReport {
 struct Acc {
     wall: Vec<f64>,
     gpu: Vec<f64>,
-    stages: BTreeMap<String, f64>,
+    stages: BTreeMap<hroc::Stage, f64>,
+    invocations: BTreeMap<hroc::Stage, hroc::gpu::Invocations>,
     stats: BTreeMap<String, f64>,
     culled: u64,
     drawn: u64,
@@ -213,10 +244,13 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         if k >= warm {
             a.gpu.push(r.gpu_ms());
             for (st, ms) in &r.stages {
-                *a.stages.entry(st.to_string()).or_default() += ms;
+                *a.stages.entry(*st).or_default() += ms;
+            }
+            for (st, inv) in &r.invocations {
+                *a.invocations.entry(*st).or_default() += *inv;
             }
             if let Some(ms) = update {
-                *a.stages.entry(hroc::Stage::ObjectUpdate.to_string()).or_default() += ms;
+                *a.stages.entry(hroc::Stage::ObjectUpdate).or_default() += ms;
             }
         }
         a.culled += n - c.drawn as u64;
@@ -286,7 +320,8 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
                 missing_pixels: a.missing,
                 stray_pixels: a.stray,
                 drawn_mean: a.drawn as f64 / frames as f64,
-                stages_ms: a.stages.iter().map(|(k, v)| (k.clone(), v / timed_frames)).collect(),
+                stages_ms: a.stages.iter().map(|(k, v)| (*k, v / timed_frames)).collect(),
+                invocations: a.invocations.iter().map(|(k, v)| (*k, InvocationsMean::of(v, timed_frames))).collect(),
                 stats: a.stats.iter().map(|(k, v)| (k.clone(), v / frames as f64)).collect(),
                 frame_ms: a.wall.clone(),
             }

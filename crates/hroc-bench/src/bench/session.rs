@@ -41,6 +41,8 @@ pub struct Truth {
 pub struct FrameResult {
     pub wall_ms: f64,
     pub stages: Vec<(Stage, f64)>,
+    /// Shader invocations per stage (empty without pipeline statistics).
+    pub invocations: Vec<(Stage, hroc::gpu::Invocations)>,
     pub lists: Vec<DrawList>,
     pub camera: Camera,
 }
@@ -72,7 +74,8 @@ impl<'g> Session<'g> {
         Self::new_timed(gpu, scene, path, frames, res, split, true)
     }
 
-    /// [`Session::new`], with per-stage GPU timestamps or without.
+    /// [`Session::new`], with per-stage GPU timestamps or without; with
+    /// them, also per-stage pipeline statistics where the device has them.
     pub fn new_timed(gpu: &'g Gpu, mut scene: Scene, path: Option<CameraPath>, frames: usize, (w, h): (u32, u32), split: Split, timestamps: bool) -> Result<Self> {
         if let Some(p) = path {
             scene.path = p;
@@ -85,7 +88,8 @@ impl<'g> Session<'g> {
         // The renderer's pipelines take the culler's marks layout, and the
         // culler takes the renderer's draws: build the objects first.
         let descs = crate::render::object_descs(&scene);
-        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, ..CullerDesc::new(&descs) })?;
+        let pipeline_statistics = timestamps && gpu.device.features().contains(hroc::PIPELINE_STATISTICS_FEATURES);
+        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, pipeline_statistics, ..CullerDesc::new(&descs) })?;
         let renderer = Renderer::new(gpu, &scene, w, h, culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
         Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc) })
@@ -214,7 +218,8 @@ impl<'g> Session<'g> {
         self.gpu.wait()?;
         let wall_ms = start.elapsed().as_secs_f64() * 1e3;
         let stages = view.stage_ms(&self.culler)?.to_vec();
-        Ok(FrameResult { wall_ms, stages, lists, camera })
+        let invocations = view.stage_invocations(&self.culler)?;
+        Ok(FrameResult { wall_ms, stages, invocations, lists, camera })
     }
 
     /// The view of camera `camera` as the culler sees it.

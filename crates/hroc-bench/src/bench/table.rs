@@ -1,6 +1,8 @@
 //! Plain-text and Markdown tables of a bench report.
 
-use super::{BenchReport, MethodRow};
+use super::{BenchReport, InvocationsMean, MethodRow};
+use hroc::Stage;
+use std::collections::BTreeSet;
 use std::fmt::Write;
 
 /// Aligned rows, as Markdown or plain text; the first column left-aligned.
@@ -31,14 +33,10 @@ fn grid(head: &[String], rows: &[Vec<String>], markdown: bool) -> String {
 
 /// GPU ms per stage (the paper's Figure 6) and method statistics, per method.
 pub fn breakdown(r: &BenchReport, markdown: bool) -> String {
-    let mut stages: Vec<String> = Vec::new();
+    // In stage order, which is the order a frame runs them.
+    let stages: BTreeSet<Stage> = r.rows.iter().flat_map(|row| row.stages_ms.keys().copied()).collect();
     let mut stats: Vec<String> = Vec::new();
     for row in &r.rows {
-        for k in row.stages_ms.keys() {
-            if !stages.contains(k) {
-                stages.push(k.clone());
-            }
-        }
         for k in row.stats.keys() {
             if !stats.contains(k) {
                 stats.push(k.clone());
@@ -59,6 +57,34 @@ pub fn breakdown(r: &BenchReport, markdown: bool) -> String {
         })
         .collect();
     grid(&head, &rows, markdown)
+}
+
+/// Shader invocations per frame and stage (pipeline statistics), one row
+/// per method and stage, then the method's culling stages summed; `None`
+/// when no row has them.
+pub fn invocations(r: &BenchReport, markdown: bool) -> Option<String> {
+    if r.rows.iter().all(|row| row.invocations.is_empty()) {
+        return None;
+    }
+    let head: Vec<String> = ["method", "stage", "vertex", "fragment", "compute"].map(String::from).to_vec();
+    let cells = |method: &str, stage: &str, i: &InvocationsMean| vec![method.to_string(), stage.to_string(), count(i.vertex), count(i.fragment), count(i.compute)];
+    let mut rows = Vec::new();
+    for row in r.rows.iter().filter(|row| !row.invocations.is_empty()) {
+        let mut culling = InvocationsMean::default();
+        for (stage, i) in &row.invocations {
+            rows.push(cells(&row.method, stage.name(), i));
+            if !stage.draws_scene() {
+                culling = InvocationsMean { vertex: culling.vertex + i.vertex, fragment: culling.fragment + i.fragment, compute: culling.compute + i.compute };
+            }
+        }
+        rows.push(cells(&row.method, "(culling stages)", &culling));
+    }
+    Some(grid(&head, &rows, markdown))
+}
+
+/// A per-frame count, rounded.
+fn count(v: f64) -> String {
+    format!("{v:.0}")
 }
 
 /// The table `hroc bench` prints: one row per method.

@@ -288,6 +288,13 @@ impl Renderer {
     }
 
     fn draw_raw(&self, enc: &mut wgpu::CommandEncoder, commands: &wgpu::Buffer, count: &wgpu::Buffer, max_count: u32, marks: Option<&wgpu::BindGroup>) {
+        let mut pass = self.draw_pass(enc, marks);
+        pass.multi_draw_indexed_indirect_count(commands, 0, count, 0, max_count);
+    }
+
+    /// A pass over the targets with the scene's pipeline (marking with
+    /// `marks`) and geometry bound.
+    fn draw_pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, marks: Option<&wgpu::BindGroup>) -> wgpu::RenderPass<'e> {
         let t = &self.targets;
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("draw"),
@@ -303,7 +310,7 @@ impl Renderer {
         });
         pass.set_pipeline(if marks.is_some() { &self.draw_mark } else { &self.draw });
         self.bind_geometry(&mut pass, marks);
-        pass.multi_draw_indexed_indirect_count(commands, 0, count, 0, max_count);
+        pass
     }
 
     fn bind_geometry(&self, pass: &mut wgpu::RenderPass<'_>, marks: Option<&wgpu::BindGroup>) {
@@ -351,7 +358,11 @@ pub struct Recorder<'r> {
 impl hroc::DrawHost for Recorder<'_> {
     fn draw(&mut self, enc: &mut wgpu::CommandEncoder, d: &hroc::Draw<'_>) {
         // Every object here is opaque: NonOccluders never come (no flags).
-        self.renderer.draw_raw(enc, d.commands, d.count, d.max_count, d.mark.then_some(d.marks));
+        let mut pass = self.renderer.draw_pass(enc, d.mark.then_some(d.marks));
+        // Binds the marks at group 1 and draws, counted in the culler's
+        // pipeline statistics.
+        d.record(&mut pass, 1);
+        drop(pass);
         self.lists.push(DrawList { commands: d.commands.clone(), count: d.count.clone(), max_count: d.max_count });
     }
 }

@@ -3,7 +3,7 @@
 //! multi-draw-indirect-count reads (HROC §4.1, thesis prefix-sum packing).
 
 use crate::cull::DrawList;
-use crate::gpu::{dispatch_size, Gpu};
+use crate::gpu::{dispatch_size, Gpu, PassCount};
 use crate::layout::{CompactParams, DrawCommand};
 
 const WG: u32 = 256;
@@ -100,16 +100,19 @@ impl Compactor {
         (list, job)
     }
 
-    /// Records the compaction of `job` (one compute pass, three dispatches).
-    pub fn record(&self, enc: &mut wgpu::CommandEncoder, job: &CompactJob) {
+    /// Records the compaction of `job` (one compute pass, three dispatches),
+    /// counted in `count`.
+    pub fn record(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount, job: &CompactJob) {
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compact"), timestamp_writes: None });
-        pass.set_bind_group(0, &job.bind, &[]);
         let (x, y) = dispatch_size(self.blocks, 1);
-        pass.set_pipeline(&self.block_sum);
-        pass.dispatch_workgroups(x, y, 1);
-        pass.set_pipeline(&self.scan_blocks);
-        pass.dispatch_workgroups(1, 1, 1);
-        pass.set_pipeline(&self.scatter);
-        pass.dispatch_workgroups(x, y, 1);
+        count.around(&mut pass, |pass| {
+            pass.set_bind_group(0, &job.bind, &[]);
+            pass.set_pipeline(&self.block_sum);
+            pass.dispatch_workgroups(x, y, 1);
+            pass.set_pipeline(&self.scan_blocks);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(&self.scatter);
+            pass.dispatch_workgroups(x, y, 1);
+        });
     }
 }

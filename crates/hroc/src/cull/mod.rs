@@ -25,7 +25,7 @@ use std::str::FromStr;
 use crate::bvh::Bvh;
 use crate::error::{Error, Result};
 use crate::frustum::ViewGeometry;
-use crate::gpu::{Gpu, GpuTimer};
+use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount};
 use crate::host::{Draw, DrawHost, FlagSplit, Phase, SharedObjects, Targets};
 use crate::layout::FrameUniform;
 
@@ -60,6 +60,9 @@ pub struct Frame<'a> {
     pub(crate) encoder: &'a mut wgpu::CommandEncoder,
     pub(crate) host: &'a mut dyn DrawHost,
     pub(crate) timer: Option<&'a mut GpuTimer>,
+    pub(crate) counter: Option<&'a mut InvocationCounter>,
+    /// The stage begun last ([`Frame::stage`]).
+    pub(crate) current: Stage,
     pub(crate) split: Option<&'a mut FlagSplit>,
     pub(crate) sink: &'a wgpu::BindGroup,
     pub(crate) work: &'a mut WorkCounts,
@@ -85,8 +88,26 @@ impl<'a> Frame<'a> {
 
     /// Begins GPU stage `stage` here (ends the previous one).
     pub fn stage(&mut self, stage: Stage) {
+        self.current = stage;
         if let Some(t) = self.timer.as_deref_mut() {
             t.mark(self.encoder, stage);
+        }
+    }
+
+    /// The encoder, and a pipeline-statistics slot for the pass about to be
+    /// recorded into it ([`Frame::pass_count`]).
+    pub fn counted(&mut self) -> (&mut wgpu::CommandEncoder, PassCount) {
+        let count = self.pass_count();
+        (self.encoder, count)
+    }
+
+    /// A pipeline-statistics slot for the next pass, counted under the
+    /// current stage (nothing when the view does not count): the pass
+    /// records its commands inside [`PassCount::around`].
+    pub fn pass_count(&self) -> PassCount {
+        match self.counter.as_deref() {
+            Some(c) => c.pass(self.current),
+            None => PassCount::NONE,
         }
     }
 
@@ -94,14 +115,16 @@ impl<'a> Frame<'a> {
     /// fragments that pass the depth test mark their object there.
     pub fn draw(&mut self, phase: Phase, list: &DrawList, marks: Option<&wgpu::BindGroup>) {
         let split;
+        let split_count = if self.split.is_some() { self.pass_count() } else { PassCount::NONE };
         let list = match self.split.as_deref_mut() {
             Some(s) => {
-                split = s.split(self.gpu, self.encoder, &self.objects.bounds, list);
+                split = s.split(self.gpu, self.encoder, &self.objects.bounds, list, &split_count);
                 &split
             }
             None => list,
         };
-        let draw = Draw { phase, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: marks.unwrap_or(self.sink), mark: marks.is_some() };
+        let statistics = self.pass_count();
+        let draw = Draw { phase, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: marks.unwrap_or(self.sink), mark: marks.is_some(), statistics };
         self.host.draw(self.encoder, &draw);
     }
 
@@ -623,6 +646,14 @@ named_enum!(
         ObjectUpdate => "object update",
     }
 );
+
+impl Stage {
+    /// True for the stages that draw the scene's geometry (the host's
+    /// draws); the others are the cost of culling.
+    pub fn draws_scene(self) -> bool {
+        matches!(self, Stage::Draw | Stage::OcclusionMap | Stage::OccludeeRendering | Stage::FlaggedObjects)
+    }
+}
 
 named_enum!(
     /// A per-frame statistic a method reports.

@@ -72,7 +72,8 @@ impl BoxPass {
 
     pub(crate) fn record(&self, f: &mut Frame, bind: &wgpu::BindGroup, count: BoxCount) {
         let targets = f.targets;
-        let mut pass = f.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
+        let (enc, q) = f.counted();
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("box occlusion test"),
             color_attachments: &[],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view: &targets.depth_attachment, depth_ops: None, stencil_ops: None }),
@@ -80,12 +81,14 @@ impl BoxPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, bind, &[]);
-        match count {
-            BoxCount::Indirect(args) => pass.draw_indirect(args, 0),
-            BoxCount::Direct(n) => pass.draw(0..36, 0..n),
-        }
+        q.around(&mut pass, |pass| {
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, bind, &[]);
+            match count {
+                BoxCount::Indirect(args) => pass.draw_indirect(args, 0),
+                BoxCount::Direct(n) => pass.draw(0..36, 0..n),
+            }
+        });
     }
 }
 
@@ -165,12 +168,15 @@ impl Roc {
         }
     }
 
-    fn dispatch(&self, enc: &mut wgpu::CommandEncoder, pipeline: &wgpu::ComputePipeline) {
+    fn dispatch(&self, f: &mut Frame, pipeline: &wgpu::ComputePipeline) {
         let (x, y) = dispatch_size(self.n, 256);
+        let (enc, q) = f.counted();
         let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &self.bind, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        q.around(&mut pass, |pass| {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.bind, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        });
     }
 
     /// Objects whose boxes the last frame rasterized.
@@ -198,8 +204,8 @@ impl CullMethod for Roc {
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         // 1. Occlusion map: last frame's visible set.
         f.stage(Stage::OcclusionMap);
-        let enc = f.encoder();
-        self.compactor.record(enc, &self.v_job);
+        let (enc, q) = f.counted();
+        self.compactor.record(enc, &q, &self.v_job);
         if self.all {
             f.draw(Phase::Occluders, &self.v_list, None);
         } else {
@@ -211,14 +217,15 @@ impl CullMethod for Roc {
         let enc = f.encoder();
         enc.clear_buffer(&self.tested, 0, None);
         enc.clear_buffer(&self.args, 0, None);
-        self.dispatch(enc, &self.select);
+        self.dispatch(f, &self.select);
         self.boxes.record(f, &self.box_bind, BoxCount::Indirect(&self.args));
         if self.all {
-            self.dispatch(f.encoder(), &self.split);
+            self.dispatch(f, &self.split);
         }
         // 3. The newly visible objects.
         f.stage(Stage::OccludeeRendering);
-        self.compactor.record(f.encoder(), &self.u_job);
+        let (enc, q) = f.counted();
+        self.compactor.record(enc, &q, &self.u_job);
         if self.all {
             f.draw(Phase::Occludees, &self.u_list, None);
         } else {

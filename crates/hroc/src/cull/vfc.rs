@@ -45,14 +45,18 @@ impl CullMethod for FrustumCuller {
         f.stage(Stage::FrustumCull);
         let n = f.object_count();
         {
-            let mut pass = f.encoder().begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &self.bind, &[]);
+            let (enc, q) = f.counted();
+            let mut pass = enc.begin_compute_pass(&Default::default());
             let (x, y) = dispatch_size(n, 256);
-            pass.dispatch_workgroups(x, y, 1);
+            q.around(&mut pass, |pass| {
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &self.bind, &[]);
+                pass.dispatch_workgroups(x, y, 1);
+            });
         }
         f.stage(Stage::Compact);
-        self.compactor.record(f.encoder(), &self.job);
+        let (enc, q) = f.counted();
+        self.compactor.record(enc, &q, &self.job);
         f.stage(Stage::Draw);
         f.draw(Phase::Visible, &self.list, None);
         Ok(())

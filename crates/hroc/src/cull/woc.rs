@@ -115,11 +115,14 @@ impl Woc {
         }
     }
 
-    fn dispatch(&self, enc: &mut wgpu::CommandEncoder, pipeline: &wgpu::ComputePipeline) {
+    fn dispatch(&self, f: &mut Frame, pipeline: &wgpu::ComputePipeline) {
+        let (enc, q) = f.counted();
         let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &self.bind, &[]);
-        pass.dispatch_workgroups(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
+        q.around(&mut pass, |pass| {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.bind, &[]);
+            pass.dispatch_workgroups(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
+        });
     }
 }
 
@@ -139,21 +142,24 @@ impl CullMethod for Woc {
             let m = view_proj64(&f.geometry.view_proj) * view_proj64(&prev).inverse();
             let m = Mat4::from_cols_array(&m.to_cols_array().map(|x| x as f32));
             f.gpu.queue.write_buffer(&self.reproject, 0, bytemuck::cast_slice(&m.to_cols_array()));
-            self.dispatch(f.encoder(), &self.splat);
+            self.dispatch(f, &self.splat);
         }
         // 2. Pyramid of the warped depth.
         f.stage(Stage::HiZBuild);
-        self.pyramid.record_reduce(f.encoder());
+        let (enc, q) = f.counted();
+        self.pyramid.record_reduce(enc, &q);
         // 3. Every object against it.
         f.stage(Stage::OcclusionTest);
-        self.test.record(f.encoder());
+        let (enc, q) = f.counted();
+        self.test.record(enc, &q);
         // 4. Draw the survivors; keep the depth for the next frame.
         f.stage(Stage::Draw);
-        self.compactor.record(f.encoder(), &self.job);
+        let (enc, q) = f.counted();
+        self.compactor.record(enc, &q, &self.job);
         f.draw(Phase::Visible, &self.list, None);
         f.stage(Stage::SaveDepth);
         f.encoder().clear_buffer(&self.holes, 0, None);
-        self.dispatch(f.encoder(), &self.save);
+        self.dispatch(f, &self.save);
         self.prev = Some(f.geometry.view_proj);
         Ok(())
     }

@@ -1,11 +1,13 @@
 //! The host's device and queue as the culler records with them, read-back
-//! helpers and GPU timestamps.
+//! helpers, GPU timestamps and pipeline statistics.
 
+pub mod stats;
 pub mod timer;
 
 use crate::error::{Error, Result};
 use wgpu::util::DeviceExt;
 
+pub use stats::{InvocationCounter, Invocations, PassCount};
 pub use timer::GpuTimer;
 
 /// A device and its queue (cheap clones of the host's), with the helpers

@@ -8,23 +8,18 @@ use super::{hroc_variants, ReportData, SceneResult};
 use crate::bench::plot::{self, LinePlot, Series, StackedBars};
 use crate::bench::{BenchReport, MethodRow};
 use crate::error::Result;
+use hroc::Stage;
 
 const PLOT: (u32, u32) = (900, 500);
-
-/// HROC's stages in frame order (the others sort after them).
-const FRAME_ORDER: [&str; 9] = ["clear", "occluder seed", "occlusion map", "filtering", "group extraction", "frustum cull", "occlusion test", "occludee rendering", "read-back"];
-
-/// Stages that draw scene geometry; the others are the cost of culling.
-const DRAWING_STAGES: [&str; 4] = ["clear", "draw", "occlusion map", "occludee rendering"];
 
 /// GPU ms of the stages that do not draw scene geometry. `None` for the
 /// query methods, whose queries and draws share one stage.
 pub fn culling_ms(row: &MethodRow) -> Option<f64> {
-    if row.stages_ms.contains_key("queries and draws") {
+    if row.stages_ms.contains_key(&Stage::QueriesAndDraws) {
         return None;
     }
     // fold, not sum: an empty f64 sum is -0.0, which prints as "-0.00".
-    Some(row.stages_ms.iter().filter(|(k, _)| !DRAWING_STAGES.contains(&k.as_str())).fold(0.0, |a, (_, v)| a + v))
+    Some(row.stages_ms.iter().filter(|(k, _)| !k.draws_scene()).fold(0.0, |a, (_, v)| a + v))
 }
 
 fn row<'a>(r: &'a BenchReport, method: &str) -> Option<&'a MethodRow> {
@@ -209,18 +204,10 @@ fn breakdown(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
         if rows.is_empty() {
             continue;
         }
-        let mut stages: Vec<String> = Vec::new();
-        for r in &rows {
-            for k in r.stages_ms.keys() {
-                if !stages.contains(k) {
-                    stages.push(k.clone());
-                }
-            }
-        }
-        // Bottom to top in the order a frame runs them (§3).
-        stages.sort_by_key(|st| FRAME_ORDER.iter().position(|o| o == st).unwrap_or(FRAME_ORDER.len()));
+        // Bottom to top in stage order, which is the order a frame runs them (§3).
+        let stages: std::collections::BTreeSet<Stage> = rows.iter().flat_map(|r| r.stages_ms.keys().copied()).collect();
         let categories: Vec<String> = rows.iter().map(|r| r.method.clone()).collect();
-        let layers: Vec<(String, Vec<f64>)> = stages.iter().map(|st| (st.clone(), rows.iter().map(|r| r.stages_ms.get(st).copied().unwrap_or(0.0)).collect())).collect();
+        let layers: Vec<(String, Vec<f64>)> = stages.iter().map(|st| (st.to_string(), rows.iter().map(|r| r.stages_ms.get(st).copied().unwrap_or(0.0)).collect())).collect();
         let title = format!("{}: HROC GPU ms per stage", s.spec);
         let fig = plot::stacked_bars(&StackedBars { title: &title, y_label: "GPU ms", categories: &categories, layers: &layers }, PLOT)?;
         let stem = format!("stages-{}", stem(&s.spec));

@@ -19,7 +19,7 @@ use super::{Counters, CullMethod, Frame, Method, MethodContext, Seed, Stage, Sta
 use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
-use crate::gpu::{dispatch_size, Gpu};
+use crate::gpu::{dispatch_size, Gpu, PassCount};
 use crate::host::Phase;
 use crate::layout::DrawArgs;
 use crate::shaders::source as shader_source;
@@ -278,11 +278,14 @@ impl Hroc {
         })
     }
 
-    fn dispatch(&self, enc: &mut wgpu::CommandEncoder, pipeline: &wgpu::ComputePipeline, (x, y): (u32, u32)) {
+    fn dispatch(&self, f: &mut Frame, pipeline: &wgpu::ComputePipeline, (x, y): (u32, u32)) {
+        let (enc, q) = f.counted();
         let mut pass = enc.begin_compute_pass(&Default::default());
-        pass.set_pipeline(pipeline);
-        pass.set_bind_group(0, &self.group_bind, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        q.around(&mut pass, |pass| {
+            pass.set_pipeline(pipeline);
+            pass.set_bind_group(0, &self.group_bind, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        });
     }
 
     /// `max_count` of a list: the read-back count with CR, the estimate
@@ -305,7 +308,7 @@ impl Hroc {
         if list.max_count > 0 {
             f.draw(phase, list, Some(marks));
         }
-        if let Some(over) = self.sf.as_ref().and_then(|sf| sf.overflow(f.gpu, f.encoder, which)) {
+        if let Some(over) = self.sf.as_ref().and_then(|sf| sf.overflow(f, which)) {
             f.draw(phase, &over, Some(marks));
         }
     }
@@ -400,7 +403,7 @@ impl Blocks {
     }
 
     /// Reduces the host's depth (the occlusion map) to the blocks' farthest depth.
-    fn reduce(&self, enc: &mut wgpu::CommandEncoder) {
+    fn reduce(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount) {
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("hroc test blocks"),
             color_attachments: &[],
@@ -414,9 +417,11 @@ impl Blocks {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.reduce);
-        pass.set_bind_group(0, &self.bind, &[]);
-        pass.draw(0..3, 0..1);
+        count.around(&mut pass, |pass| {
+            pass.set_pipeline(&self.reduce);
+            pass.set_bind_group(0, &self.bind, &[]);
+            pass.draw(0..3, 0..1);
+        });
     }
 }
 
@@ -472,14 +477,13 @@ impl CullMethod for Hroc {
         };
         if self.seeded {
             f.stage(Stage::Seed);
-            let enc = f.encoder();
-            self.dispatch(enc, &self.seed, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
+            self.dispatch(f, &self.seed, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
         }
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);
-        let enc = f.encoder();
+        let (enc, q) = f.counted();
         enc.clear_buffer(&self.occluders, 0, None);
-        self.compactor.record(enc, &self.v_job);
+        self.compactor.record(enc, &q, &self.v_job);
         if let Some(sf) = self.sf.as_mut() {
             let bytes = sf.begin(f.gpu);
             f.count_async_read(bytes);
@@ -492,19 +496,21 @@ impl CullMethod for Hroc {
         for b in [&self.state, &self.visited, &self.group_count, &self.occludees, &self.ray_stats] {
             enc.clear_buffer(b, 0, None);
         }
-        self.dispatch(enc, &self.extract, (ox, oy));
-        self.dispatch(enc, &self.collect, dispatch_size(nodes, 256));
+        self.dispatch(f, &self.extract, (ox, oy));
+        self.dispatch(f, &self.collect, dispatch_size(nodes, 256));
         let max_groups = self.max_count(f, Counted::G, &self.group_count, nodes + n, Stage::GroupExtraction)?;
-        let over = self.sf.as_ref().and_then(|sf| sf.overflow(f.gpu, f.encoder, Counted::G));
+        let over = self.sf.as_ref().and_then(|sf| sf.overflow(f, Counted::G));
         // 3. Batch occlusion test against the occlusion map (read-only depth).
         f.stage(Stage::OcclusionTest);
         if max_groups > 0 || over.is_some() {
             let targets = f.targets;
             if let Some(b) = &self.blocks {
-                b.reduce(f.encoder());
+                let (enc, q) = f.counted();
+                b.reduce(enc, &q);
             }
             let depth_view = self.blocks.as_ref().map_or(&targets.depth_attachment, |b| &b.view);
-            let mut pass = f.encoder().begin_render_pass(&wgpu::RenderPassDescriptor {
+            let (enc, q) = f.counted();
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hroc occlusion test"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view: depth_view, depth_ops: None, stencil_ops: None }),
@@ -512,31 +518,31 @@ impl CullMethod for Hroc {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.boxes);
-            pass.set_bind_group(0, &self.test_bind, &[]);
-            pass.multi_draw_indirect_count(&self.groups, 0, &self.group_count, 0, max_groups);
-            if let Some(over) = over {
-                // The groups past the estimate, from where the first draw stopped.
-                pass.multi_draw_indirect_count(&self.groups, max_groups as u64 * 16, &over.count, 0, over.max_count);
-            }
+            q.around(&mut pass, |pass| {
+                pass.set_pipeline(&self.boxes);
+                pass.set_bind_group(0, &self.test_bind, &[]);
+                pass.multi_draw_indirect_count(&self.groups, 0, &self.group_count, 0, max_groups);
+                if let Some(over) = over {
+                    // The groups past the estimate, from where the first draw stopped.
+                    pass.multi_draw_indirect_count(&self.groups, max_groups as u64 * 16, &over.count, 0, over.max_count);
+                }
+            });
         }
         // 4. Occludee rendering.
         f.stage(Stage::OccludeeRendering);
-        let enc = f.encoder();
+        let (enc, q) = f.counted();
         enc.clear_buffer(&self.drawn, 0, None);
-        self.compactor.record(enc, &self.u_job);
+        self.compactor.record(enc, &q, &self.u_job);
         self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
         self.draw_list(f, Phase::Occludees, Counted::U, &self.u_list, &self.marks_d);
         // 5. Next frame's occluders.
         f.stage(Stage::Filtering);
         if self.variant.of {
             let (w, h) = f.size();
-            let enc = f.encoder();
-            enc.clear_buffer(&self.visible, 0, None);
-            self.dispatch(enc, &self.filter, (w.div_ceil(16), h.div_ceil(16)));
+            f.encoder().clear_buffer(&self.visible, 0, None);
+            self.dispatch(f, &self.filter, (w.div_ceil(16), h.div_ceil(16)));
         } else {
-            let enc = f.encoder();
-            self.dispatch(enc, &self.merge, (ox, oy));
+            self.dispatch(f, &self.merge, (ox, oy));
         }
         if let Some(sf) = self.sf.as_mut() {
             sf.end(f.encoder, [&self.v_list.count, &self.group_count, &self.u_list.count]);

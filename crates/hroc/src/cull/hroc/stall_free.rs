@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use crate::cull::compact::{storage_entry, uniform_entry};
 use crate::cull::DrawList;
+use crate::cull::Frame;
 use crate::gpu::{dispatch_size, Gpu};
 
 /// The three counted lists of an HROC frame.
@@ -128,19 +129,23 @@ impl StallFree {
     /// Records the overflow pass of `which` and returns the overflow list
     /// (commands [estimate, count) at offset 0, or for G only the count),
     /// `None` when the estimate is the capacity and nothing can overflow.
-    pub fn overflow(&self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, which: Counted) -> Option<DrawList> {
+    pub fn overflow(&self, f: &mut Frame, which: Counted) -> Option<DrawList> {
         let (k, job) = (which as usize, &self.jobs[which as usize]);
         let est = self.estimates[k];
         if est >= job.capacity {
             return None;
         }
-        gpu.queue.write_buffer(&job.params, 0, bytemuck::cast_slice(&[est, job.stride, job.capacity, 0]));
+        f.gpu.queue.write_buffer(&job.params, 0, bytemuck::cast_slice(&[est, job.stride, job.capacity, 0]));
         let threads = if job.stride > 0 { job.capacity - est } else { 1 };
         let (x, y) = dispatch_size(threads, 256);
+        let (enc, count) = f.counted();
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc overflow"), timestamp_writes: None });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &job.bind, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        count.around(&mut pass, |pass| {
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &job.bind, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        });
+        drop(pass);
         Some(DrawList { max_count: job.capacity - est, ..job.list.clone() })
     }
 

@@ -22,7 +22,7 @@ use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
 use crate::cull::DrawList;
 use crate::error::Result;
-use crate::gpu::{dispatch_size, Gpu};
+use crate::gpu::{dispatch_size, Gpu, PassCount};
 use crate::host::Phase;
 use crate::shaders::source as shader_source;
 pub use cpu::Mip;
@@ -98,17 +98,21 @@ impl Pyramid {
     }
 
     /// Levels 0 and 1 from the depth target, then the reduction.
-    pub fn record_from_depth(&self, enc: &mut wgpu::CommandEncoder) {
-        self.record(enc, true);
+    pub fn record_from_depth(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount) {
+        self.record(enc, count, true);
     }
 
     /// The reduction only (level 0 already written, as WOC's warp does).
-    pub fn record_reduce(&self, enc: &mut wgpu::CommandEncoder) {
-        self.record(enc, false);
+    pub fn record_reduce(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount) {
+        self.record(enc, count, false);
     }
 
-    fn record(&self, enc: &mut wgpu::CommandEncoder, from_depth: bool) {
+    fn record(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount, from_depth: bool) {
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hi-z build"), timestamp_writes: None });
+        count.around(&mut pass, |pass| self.record_levels(pass, from_depth));
+    }
+
+    fn record_levels(&self, pass: &mut wgpu::ComputePass<'_>, from_depth: bool) {
         let first = if from_depth {
             // Levels 0 and 1 at once, one thread per level-1 texel.
             let m = self.mips[1.min(self.mips.len() - 1)];
@@ -177,13 +181,15 @@ impl HizTest {
         }
     }
 
-    pub(crate) fn record(&self, enc: &mut wgpu::CommandEncoder) {
+    pub(crate) fn record(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount) {
         enc.clear_buffer(&self.stats, 0, None);
         let (x, y) = dispatch_size(self.n, 256);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hi-z test"), timestamp_writes: None });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &self.bind, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        count.around(&mut pass, |pass| {
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &self.bind, &[]);
+            pass.dispatch_workgroups(x, y, 1);
+        });
     }
 
     /// (tested, near-plane) of the last test.
@@ -245,17 +251,21 @@ impl CullMethod for Hzb {
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         // 1. Early pass: last frame's visible set.
         f.stage(Stage::OcclusionMap);
-        self.compactor.record(f.encoder(), &self.v_job);
+        let (enc, q) = f.counted();
+        self.compactor.record(enc, &q, &self.v_job);
         f.draw(Phase::Occluders, &self.v_list, None);
         // 2. Pyramid of that depth.
         f.stage(Stage::HiZBuild);
-        self.pyramid.record_from_depth(f.encoder());
+        let (enc, q) = f.counted();
+        self.pyramid.record_from_depth(enc, &q);
         // 3. Late pass: every object against it.
         f.stage(Stage::OcclusionTest);
-        self.test.record(f.encoder());
+        let (enc, q) = f.counted();
+        self.test.record(enc, &q);
         // 4. The newly visible.
         f.stage(Stage::OccludeeRendering);
-        self.compactor.record(f.encoder(), &self.u_job);
+        let (enc, q) = f.counted();
+        self.compactor.record(enc, &q, &self.u_job);
         f.draw(Phase::Occludees, &self.u_list, None);
         Ok(())
     }

@@ -217,8 +217,8 @@ impl CullMethod for Ioc {
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);
-        let enc = f.encoder();
-        self.compactor.record(enc, &self.v_job);
+        let (enc, q) = f.counted();
+        self.compactor.record(enc, &q, &self.v_job);
         enc.clear_buffer(&self.next, 0, None);
         f.draw(Phase::Occluders, &self.v_list, Some(&self.marks_next));
         // 2. Levels start..=bottom.
@@ -241,14 +241,16 @@ impl CullMethod for Ioc {
             self.boxes.record(f, &self.box_binds[q], BoxCount::Direct(count));
             let bottom = level >= self.bottom;
             let o = out_of(q);
-            let enc = f.encoder();
+            let (enc, pq) = f.counted();
             enc.clear_buffer(&self.counts[o], 0, None);
             {
                 let mut pass = enc.begin_compute_pass(&Default::default());
-                pass.set_pipeline(if bottom { &self.expand_bottom } else { &self.expand });
-                pass.set_bind_group(0, &self.expand_binds[q], &[]);
                 let (x, y) = dispatch_size(count, 256);
-                pass.dispatch_workgroups(x, y, 1);
+                pq.around(&mut pass, |pass| {
+                    pass.set_pipeline(if bottom { &self.expand_bottom } else { &self.expand });
+                    pass.set_bind_group(0, &self.expand_binds[q], &[]);
+                    pass.dispatch_workgroups(x, y, 1);
+                });
             }
             if bottom {
                 break;
@@ -262,7 +264,8 @@ impl CullMethod for Ioc {
         }
         // 3. The newly visible objects.
         f.stage(Stage::OccludeeRendering);
-        self.compactor.record(f.encoder(), &self.u_job);
+        let (enc, q) = f.counted();
+        self.compactor.record(enc, &q, &self.u_job);
         f.draw(Phase::Occludees, &self.u_list, Some(&self.marks_next));
         f.encoder().copy_buffer_to_buffer(&self.next, 0, &self.visible, 0, self.n as u64 * 4);
         Ok(())

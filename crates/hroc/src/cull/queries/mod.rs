@@ -323,12 +323,12 @@ impl QueryRenderer {
         let total = self.recorded as usize + self.query_ends.len();
         self.grow_sets(f.gpu, total.div_ceil(SET_SIZE as usize));
         let targets = f.targets;
-        let enc = f.encoder();
         let mut start = 0usize;
         let mut i = 0usize;
         while i < self.query_ends.len() {
             // One pass per query set the queries fall in.
             let set = (self.recorded as usize + i) / SET_SIZE as usize;
+            let (enc, count) = f.counted();
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("occlusion queries"),
                 color_attachments: &[],
@@ -337,17 +337,19 @@ impl QueryRenderer {
                 occlusion_query_set: Some(&self.sets[set]),
                 multiview_mask: None,
             });
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &self.bind, &[]);
-            while i < self.query_ends.len() && (self.recorded as usize + i) / SET_SIZE as usize == set {
-                pass.begin_occlusion_query(((self.recorded as usize + i) % SET_SIZE as usize) as u32);
-                for &node in &self.query_boxes[start..self.query_ends[i]] {
-                    pass.draw(0..36, node..node + 1);
+            count.around(&mut pass, |pass| {
+                pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(0, &self.bind, &[]);
+                while i < self.query_ends.len() && (self.recorded as usize + i) / SET_SIZE as usize == set {
+                    pass.begin_occlusion_query(((self.recorded as usize + i) % SET_SIZE as usize) as u32);
+                    for &node in &self.query_boxes[start..self.query_ends[i]] {
+                        pass.draw(0..36, node..node + 1);
+                    }
+                    pass.end_occlusion_query();
+                    start = self.query_ends[i];
+                    i += 1;
                 }
-                pass.end_occlusion_query();
-                start = self.query_ends[i];
-                i += 1;
-            }
+            });
         }
         self.recorded = total as u32;
         self.query_boxes.clear();
