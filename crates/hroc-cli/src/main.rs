@@ -150,8 +150,9 @@ struct BenchArgs {
     #[arg(long)]
     markdown: bool,
     /// Also prints GPU ms per stage (timestamp queries, which only this
-    /// turns on: each one flushes a CPU rasterizer, adding to ms/frame) and
-    /// per-frame method statistics.
+    /// turns on: each one flushes a CPU rasterizer, adding to ms/frame),
+    /// per-frame method statistics, and shader invocations per stage
+    /// (pipeline-statistics queries, where the device has them).
     #[arg(long)]
     breakdown: bool,
     /// Fractions of the objects that move every frame, 0 to 1, each run in
