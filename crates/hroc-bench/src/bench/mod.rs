@@ -74,8 +74,9 @@ pub struct MethodRow {
     #[serde(serialize_with = "by_stage_name")]
     pub invocations: BTreeMap<hroc::Stage, InvocationsMean>,
     /// Mean per frame of the method's own statistics (HROC: V, O, G, U, D,
-    /// rays, nodes_per_ray). Empty for methods without any.
-    pub stats: BTreeMap<String, f64>,
+    /// rays, nodes_per_ray), by name in the JSON. Empty for methods without any.
+    #[serde(serialize_with = "by_stat_name")]
+    pub stats: BTreeMap<hroc::Stat, f64>,
     /// Wall ms of every frame (warm-up frames included).
     pub frame_ms: Vec<f64>,
 }
@@ -101,6 +102,11 @@ impl InvocationsMean {
 
 /// Serializes a per-stage map by stage name, in stage order.
 fn by_stage_name<T: Serialize, S: serde::Serializer>(m: &BTreeMap<hroc::Stage, T>, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_map(m.iter().map(|(k, v)| (k.name(), v)))
+}
+
+/// Serializes a per-statistic map by statistic name, in declaration order.
+fn by_stat_name<S: serde::Serializer>(m: &BTreeMap<hroc::Stat, f64>, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_map(m.iter().map(|(k, v)| (k.name(), v)))
 }
 
@@ -155,7 +161,7 @@ struct Acc {
     gpu: Vec<f64>,
     stages: BTreeMap<hroc::Stage, f64>,
     invocations: BTreeMap<hroc::Stage, hroc::gpu::Invocations>,
-    stats: BTreeMap<String, f64>,
+    stats: BTreeMap<hroc::Stat, f64>,
     culled: u64,
     drawn: u64,
     fneg: u64,
@@ -238,7 +244,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     let mut record = |name: &str, k: usize, r: &FrameResult, c: Check, stats: Vec<(hroc::Stat, f64)>, update: Option<f64>| {
         let a = accs.entry(name.to_string()).or_default();
         for (st, v) in stats {
-            *a.stats.entry(st.to_string()).or_default() += v;
+            *a.stats.entry(st).or_default() += v;
         }
         a.wall.push(r.wall_ms);
         if k >= warm {
@@ -322,7 +328,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
                 drawn_mean: a.drawn as f64 / frames as f64,
                 stages_ms: a.stages.iter().map(|(k, v)| (*k, v / timed_frames)).collect(),
                 invocations: a.invocations.iter().map(|(k, v)| (*k, InvocationsMean::of(v, timed_frames))).collect(),
-                stats: a.stats.iter().map(|(k, v)| (k.clone(), v / frames as f64)).collect(),
+                stats: a.stats.iter().map(|(k, v)| (*k, v / frames as f64)).collect(),
                 frame_ms: a.wall.clone(),
             }
         })

@@ -1,7 +1,7 @@
 //! Plain-text and Markdown tables of a bench report.
 
 use super::{BenchReport, InvocationsMean, MethodRow};
-use hroc::Stage;
+use hroc::{Stage, Stat};
 use std::collections::BTreeSet;
 use std::fmt::Write;
 
@@ -35,17 +35,14 @@ fn grid(head: &[String], rows: &[Vec<String>], markdown: bool) -> String {
 pub fn breakdown(r: &BenchReport, markdown: bool) -> String {
     // In stage order, which is the order a frame runs them.
     let stages: BTreeSet<Stage> = r.rows.iter().flat_map(|row| row.stages_ms.keys().copied()).collect();
-    let mut stats: Vec<String> = Vec::new();
-    for row in &r.rows {
-        for k in row.stats.keys() {
-            if !stats.contains(k) {
-                stats.push(k.clone());
-            }
-        }
-    }
+    let stats: BTreeSet<Stat> = r.rows.iter().flat_map(|row| row.stats.keys().copied()).collect();
     let mut head = vec!["method".to_string()];
     head.extend(stages.iter().map(|s| format!("{s} ms")));
-    head.extend(stats.iter().map(|s| format!("|{s}|").replace("|nodes_per_ray|", "nodes/ray").replace("|rays|", "rays")));
+    head.extend(stats.iter().map(|s| match s {
+        Stat::V | Stat::O | Stat::G | Stat::U | Stat::D => format!("|{s}|"),
+        Stat::NodesPerRay => "nodes/ray".to_string(),
+        _ => s.to_string(),
+    }));
     let rows: Vec<Vec<String>> = r
         .rows
         .iter()

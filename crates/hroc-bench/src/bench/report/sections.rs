@@ -8,7 +8,7 @@ use super::{hroc_variants, ReportData, SceneResult};
 use crate::bench::plot::{self, LinePlot, Series, StackedBars};
 use crate::bench::{BenchReport, MethodRow};
 use crate::error::Result;
-use hroc::Stage;
+use hroc::{Stage, Stat};
 
 const PLOT: (u32, u32) = (900, 500);
 
@@ -214,13 +214,47 @@ fn breakdown(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
         fig.save(plots, &stem)?;
         imgs.push((format!("plots/{stem}.svg"), s.spec.clone()));
         for r in &rows {
-            let g = |k: &str| r.stats.get(k).map_or("-".into(), |v| format!("{v:.0}"));
-            t.row(vec![s.spec.clone(), r.method.clone(), g("V"), g("O"), g("G"), g("U"), g("D"), r.stats.get("nodes_per_ray").map_or("-".into(), |v| format!("{v:.1}"))]);
+            let g = |k: Stat| r.stats.get(&k).map_or("-".into(), |v| format!("{v:.0}"));
+            t.row(vec![
+                s.spec.clone(),
+                r.method.clone(),
+                g(Stat::V),
+                g(Stat::O),
+                g(Stat::G),
+                g(Stat::U),
+                g(Stat::D),
+                r.stats.get(&Stat::NodesPerRay).map_or("-".into(), |v| format!("{v:.1}")),
+            ]);
         }
     }
     doc.images(imgs);
     doc.table(t);
+    invocations(doc, d);
     Ok(())
+}
+
+/// Shader invocations per frame of every method and stage (pipeline
+/// statistics): the work behind the times, independent of machine noise.
+fn invocations(doc: &mut Doc, d: &ReportData) {
+    if d.scenes.iter().all(|s| s.main.rows.iter().all(|r| r.invocations.is_empty())) {
+        return;
+    }
+    doc.heading("Shader invocations per stage");
+    doc.para("Vertex, fragment and compute shader invocations per frame from pipeline-statistics queries, mean over the timed frames; `culling` sums the stages that do not draw scene geometry. Unlike times, these counts do not depend on how busy the machine is.");
+    let mut t = Table::new(&["scene", "method", "stage", "vertex", "fragment", "compute"]);
+    for s in &d.scenes {
+        for r in s.main.rows.iter().filter(|r| !r.invocations.is_empty()) {
+            let mut culling = [0.0; 3];
+            for (stage, i) in &r.invocations {
+                t.row(vec![s.spec.clone(), r.method.clone(), stage.to_string(), format!("{:.0}", i.vertex), format!("{:.0}", i.fragment), format!("{:.0}", i.compute)]);
+                if !stage.draws_scene() {
+                    culling = [culling[0] + i.vertex, culling[1] + i.fragment, culling[2] + i.compute];
+                }
+            }
+            t.row(vec![s.spec.clone(), r.method.clone(), "culling".into(), format!("{:.0}", culling[0]), format!("{:.0}", culling[1]), format!("{:.0}", culling[2])]);
+        }
+    }
+    doc.table(t);
 }
 
 fn overdraw(doc: &mut Doc, d: &ReportData) {
