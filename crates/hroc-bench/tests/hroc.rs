@@ -325,3 +325,32 @@ fn pipeline_statistics_count_every_stage() {
     let mut v = quiet.create("hroc").unwrap();
     assert!(quiet.run_frame(&mut v, 0).unwrap().invocations.is_empty());
 }
+
+/// Clusters as objects: on scenes split into clusters of 64 triangles, on
+/// their hard paths (cuts, the eye inside boxes, boxes across the near
+/// plane), every variant stays conservative, and hroc culls inside meshes:
+/// it draws fewer triangles than the unclustered scene's hroc.
+#[test]
+fn conservative_with_clusters() {
+    for key in ["rooms", "factory"] {
+        let whole = hroc_bench::scene::load(key, Some(300), 2).unwrap();
+        let path = paths::hard_path(&whole);
+        let clustered = whole.clone().clustered(hroc_bench::scene::ClusterOptions::new(64)).unwrap();
+        assert!(clustered.objects.len() > whole.objects.len(), "{key}: nothing split");
+        assert_eq!(clustered.stats().triangles, whole.stats().triangles, "{key}: triangles lost or doubled");
+        let mut triangles = Vec::new();
+        for scene in [whole, clustered] {
+            let mut s = Session::new(gpu(), scene, Some(path.clone()), 24, RES, Split::Sah).unwrap();
+            assert_variants_conservative(&mut s, key);
+            let mut h = s.create("hroc").unwrap();
+            let mut t = 0u64;
+            for k in 0..s.cameras.len() {
+                let (_, truth) = s.truth(k).unwrap();
+                let r = s.run_frame(&mut h, k).unwrap();
+                t += s.check(&r, &truth).unwrap().triangles;
+            }
+            triangles.push(t);
+        }
+        assert!(triangles[1] < triangles[0], "{key}: clusters drew {} triangles, whole objects {}", triangles[1], triangles[0]);
+    }
+}

@@ -270,6 +270,7 @@ fn bench_rows_carry_stats_and_woc_reports() {
         fps: None,
         resolution: RES,
         split: Split::Sah,
+        clusters: None,
         camera_path: None,
         progress: false,
         moving: 0.0,

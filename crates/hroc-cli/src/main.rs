@@ -63,6 +63,11 @@ struct SceneArgs {
     resolution: (u32, u32),
     #[arg(long, default_value_t = Split::Sah)]
     split: Split,
+    /// Split every mesh of at least twice this many triangles into
+    /// clusters of at most this many (a multiple of 4), each a cullable
+    /// object with its own box (meshoptimizer's spatial clustering).
+    #[arg(long)]
+    clusters: Option<u32>,
     /// JSON camera path file (keys of t, eye, target, up, fov_y_deg), or a
     /// built-in path of the scene: `hard` (cuts, the eye inside boxes,
     /// boxes across the near plane) or `cuts` (a cut every second to a
@@ -273,6 +278,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         fps: a.s.fps,
         resolution: a.s.resolution,
         split: a.s.split,
+        clusters: a.s.clusters,
         method_options: a.s.m.options(),
         camera_path: a.s.camera_path,
         progress: true,
@@ -328,7 +334,10 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
         return Err(Error::Arg(format!("--frame {} is past the last frame ({} frames)", a.frame, a.s.frames)));
     }
     let s = &a.s;
-    let scene = hroc_bench::scene::load(&s.scene, s.objects, 0)?;
+    let mut scene = hroc_bench::scene::load(&s.scene, s.objects, 0)?;
+    if let Some(t) = s.clusters {
+        scene = scene.clustered(hroc_bench::scene::ClusterOptions::new(t))?;
+    }
     let path = s.camera_path.as_deref().map(|p| bench::load_path(&scene, p)).transpose()?;
     let gpu = Gpu::new()?;
     let mut session = Session::new(&gpu, scene, path, s.frames, s.resolution, s.split)?;

@@ -5,6 +5,7 @@
 //! transform, one colour, one world-space AABB.
 
 pub mod camera;
+pub mod clusters;
 pub mod error;
 pub mod generators;
 pub mod gltf;
@@ -16,6 +17,7 @@ use glam::{Mat4, Vec3};
 use std::path::Path;
 
 pub use camera::{Camera, CameraKey, CameraPath};
+pub use clusters::{Cluster, ClusterOptions};
 pub use error::{Error, Result};
 pub use hroc::Aabb;
 
@@ -35,6 +37,9 @@ pub struct Mesh {
     pub vertices: Vec<Vertex>,
     pub indices: Vec<u32>,
     pub bounds: Aabb,
+    /// Contiguous runs of `indices` that objects may draw alone
+    /// ([`Mesh::clusterize`]); empty when the mesh is only drawn whole.
+    pub clusters: Vec<Cluster>,
 }
 
 impl Mesh {
@@ -44,15 +49,14 @@ impl Mesh {
         let normals = normals.unwrap_or_else(|| compute_normals(&positions, &indices));
         let bounds = Aabb::from_points(positions.iter().map(|p| Vec3::from(*p)));
         let vertices = positions.into_iter().zip(normals).map(|(position, normal)| Vertex { position, normal }).collect();
-        Mesh { name: name.into(), vertices, indices, bounds }
+        Mesh { name: name.into(), vertices, indices, bounds, clusters: Vec::new() }
     }
 
     /// Tight world box of the mesh under an affine transform. A transform
     /// that keeps axes on axes (scale, translation, quarter turns) maps the
     /// mesh box exactly; any other rotation needs the vertices themselves.
     pub fn world_bounds(&self, m: &Mat4) -> Aabb {
-        let axis_aligned = [m.x_axis, m.y_axis, m.z_axis].iter().all(|c| c.truncate().to_array().iter().filter(|v| **v != 0.0).count() <= 1);
-        if axis_aligned || self.vertices.is_empty() {
+        if keeps_axes(m) || self.vertices.is_empty() {
             return self.bounds.transformed(m);
         }
         Aabb::from_points(self.vertices.iter().map(|v| m.transform_point3(Vec3::from(v.position))))
@@ -60,6 +64,12 @@ impl Mesh {
     pub fn triangle_count(&self) -> usize {
         self.indices.len() / 3
     }
+}
+
+/// True when `m` maps axes onto axes (scale, translation, quarter turns):
+/// it maps a box onto a box exactly.
+pub(crate) fn keeps_axes(m: &Mat4) -> bool {
+    [m.x_axis, m.y_axis, m.z_axis].iter().all(|c| c.truncate().to_array().iter().filter(|v| **v != 0.0).count() <= 1)
 }
 
 /// Area-weighted vertex normals; degenerate vertices get +Y.
@@ -78,10 +88,13 @@ pub fn compute_normals(positions: &[[f32; 3]], indices: &[u32]) -> Vec<[f32; 3]>
     n.into_iter().map(|v| v.try_normalize().unwrap_or(Vec3::Y).to_array()).collect()
 }
 
-/// One drawable instance: a mesh under a transform.
+/// One drawable instance: a mesh, or one cluster of it, under a transform.
 #[derive(Clone, Debug)]
 pub struct Object {
     pub mesh: u32,
+    /// The cluster of the mesh this object draws ([`Mesh::clusters`]);
+    /// `None`: the whole mesh.
+    pub cluster: Option<u32>,
     pub transform: Mat4,
     /// Linear RGB in [0, 1].
     pub color: [f32; 3],
@@ -117,9 +130,15 @@ impl Scene {
     }
 
     pub fn stats(&self) -> SceneStats {
-        let triangles = self.objects.iter().map(|o| self.meshes[o.mesh as usize].triangle_count() as u64).sum();
-        let vertices = self.objects.iter().map(|o| self.meshes[o.mesh as usize].vertices.len() as u64).sum();
+        let triangles = self.objects.iter().map(|o| self.triangles(o) as u64).sum();
+        // A clustered instance's vertices count once, at its first cluster.
+        let vertices = self.objects.iter().filter(|o| o.cluster.unwrap_or(0) == 0).map(|o| self.meshes[o.mesh as usize].vertices.len() as u64).sum();
         SceneStats { objects: self.objects.len(), meshes: self.meshes.len(), triangles, vertices, unique_triangles: self.meshes.iter().map(|m| m.triangle_count() as u64).sum() }
+    }
+
+    /// Triangles `o` draws: its cluster's, or its mesh's.
+    pub fn triangles(&self, o: &Object) -> u32 {
+        self.meshes[o.mesh as usize].range(o.cluster).1 / 3
     }
 
     /// Adds an object drawing `mesh` under `transform`; its world box is the
@@ -128,7 +147,7 @@ impl Scene {
     /// mesh box can be twice as wide as the mesh itself.
     pub fn push_object(&mut self, mesh: u32, transform: Mat4, color: [f32; 3]) {
         let bounds = self.meshes[mesh as usize].world_bounds(&transform);
-        self.objects.push(Object { mesh, transform, color, bounds });
+        self.objects.push(Object { mesh, cluster: None, transform, color, bounds });
     }
 
     /// Checks everything the renderer relies on; loaders and generators call
@@ -155,8 +174,18 @@ impl Scene {
             if !o.transform.is_finite() {
                 return Err(Error::InvalidScene(format!("object {oi}: non-finite transform")));
             }
-            if self.meshes[o.mesh as usize].indices.is_empty() {
+            let mesh = &self.meshes[o.mesh as usize];
+            if mesh.indices.is_empty() {
                 return Err(Error::InvalidScene(format!("object {oi}: mesh {} has no triangles", o.mesh)));
+            }
+            if let Some(c) = o.cluster {
+                let ok = mesh
+                    .clusters
+                    .get(c as usize)
+                    .is_some_and(|c| c.index_count > 0 && c.index_count % 3 == 0 && c.first_index as u64 + c.index_count as u64 <= mesh.indices.len() as u64);
+                if !ok {
+                    return Err(Error::InvalidScene(format!("object {oi}: cluster {c} of mesh {} is not a run of its triangles", o.mesh)));
+                }
             }
             if !(o.bounds.min.is_finite() && o.bounds.max.is_finite()) || o.bounds.is_empty() {
                 return Err(Error::InvalidScene(format!("object {oi}: invalid bounds {:?}", o.bounds)));

@@ -28,6 +28,9 @@ pub struct BenchOptions {
     pub fps: Option<f32>,
     pub resolution: (u32, u32),
     pub split: Split,
+    /// Split meshes into clusters of at most this many triangles, each a
+    /// cullable object (`--clusters`; [`crate::scene::Scene::clustered`]).
+    pub clusters: Option<u32>,
     /// A camera path file, or a built-in path of the scene by name
     /// (`hard`, `cuts`: [`crate::scene::paths::builtin`]).
     pub camera_path: Option<PathBuf>,
@@ -65,6 +68,9 @@ pub struct MethodRow {
     pub stray_pixels: u64,
     /// Mean objects drawn per frame.
     pub drawn_mean: f64,
+    /// Mean triangles drawn per frame, and their fraction of the scene's.
+    pub triangles_mean: f64,
+    pub triangles_fraction: f64,
     /// Mean GPU ms per stage, in stage order (by name in the JSON).
     #[serde(serialize_with = "by_stage_name")]
     pub stages_ms: BTreeMap<hroc::Stage, f64>,
@@ -164,6 +170,7 @@ struct Acc {
     stats: BTreeMap<hroc::Stat, f64>,
     culled: u64,
     drawn: u64,
+    triangles: u64,
     fneg: u64,
     missing: u64,
     stray: u64,
@@ -181,7 +188,10 @@ pub fn warmup_frames(frames: usize) -> usize {
 
 /// Loads the scene and camera path the options name (no GPU needed).
 pub fn load_inputs(o: &BenchOptions) -> Result<(Scene, Option<CameraPath>)> {
-    let scene = crate::scene::load(&o.scene, o.objects, 0)?;
+    let mut scene = crate::scene::load(&o.scene, o.objects, 0)?;
+    if let Some(t) = o.clusters {
+        scene = scene.clustered(crate::scene::ClusterOptions::new(t))?;
+    }
     let path = o.camera_path.as_deref().map(|p| load_path(&scene, p)).transpose()?;
     Ok((scene, path))
 }
@@ -232,6 +242,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     s.options = o.method_options.clone();
     let mut cullers = o.methods.iter().filter(|m| *m != "noc").map(|m| Ok((m.clone(), s.create(m)?))).collect::<Result<Vec<_>>>()?;
     let n = s.renderer.object_count as u64;
+    let scene_triangles = s.scene.stats().triangles;
     let frames = s.cameras.len();
     let warm = warmup_frames(frames);
     let bar = if o.progress { indicatif::ProgressBar::new(frames as u64) } else { indicatif::ProgressBar::hidden() };
@@ -261,6 +272,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         }
         a.culled += n - c.drawn as u64;
         a.drawn += c.drawn as u64;
+        a.triangles += c.triangles;
         a.fneg += c.false_negatives as u64;
         a.missing += c.missing_pixels as u64;
         a.stray += c.stray_pixels as u64;
@@ -326,6 +338,8 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
                 missing_pixels: a.missing,
                 stray_pixels: a.stray,
                 drawn_mean: a.drawn as f64 / frames as f64,
+                triangles_mean: a.triangles as f64 / frames as f64,
+                triangles_fraction: a.triangles as f64 / (frames as f64 * scene_triangles.max(1) as f64),
                 stages_ms: a.stages.iter().map(|(k, v)| (*k, v / timed_frames)).collect(),
                 invocations: a.invocations.iter().map(|(k, v)| (*k, InvocationsMean::of(v, timed_frames))).collect(),
                 stats: a.stats.iter().map(|(k, v)| (*k, v / frames as f64)).collect(),

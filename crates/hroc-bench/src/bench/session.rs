@@ -57,6 +57,8 @@ impl FrameResult {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Check {
     pub drawn: usize,
+    /// Triangles of the drawn objects.
+    pub triangles: u64,
     pub false_negatives: usize,
     pub missing_pixels: usize,
     /// `noc` fragments the method did not reproduce that lie in front of
@@ -113,7 +115,7 @@ impl<'g> Session<'g> {
                 return Err(crate::Error::Arg(format!("object {i} out of range")));
             };
             o.transform = m;
-            o.bounds = self.scene.meshes[o.mesh as usize].world_bounds(&m);
+            o.bounds = self.scene.meshes[o.mesh as usize].part_bounds(o.cluster, &m);
             boxes.push((i, o.bounds));
         }
         self.gpu.queue.submit([]);
@@ -146,7 +148,7 @@ impl<'g> Session<'g> {
                 return Err(crate::Error::Arg(format!("object {i} out of range")));
             };
             o.transform = m;
-            o.bounds = self.scene.meshes[o.mesh as usize].world_bounds(&m);
+            o.bounds = self.scene.meshes[o.mesh as usize].part_bounds(o.cluster, &m);
             descs.push(hroc::ObjectDesc { bounds: o.bounds, ..all[i as usize] });
         }
         let got = self.culler.add_objects(&descs)?;
@@ -312,6 +314,7 @@ impl<'g> Session<'g> {
         }
         Ok(Check {
             drawn: drawn.iter().filter(|&&d| d).count(),
+            triangles: self.scene.objects.iter().zip(&drawn).filter(|(_, &d)| d).map(|(o, _)| self.scene.triangles(o) as u64).sum(),
             false_negatives: undrawn.iter().filter(|&&o| real[o as usize]).count(),
             missing_pixels: missing,
             stray_pixels: strays,

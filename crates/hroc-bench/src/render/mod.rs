@@ -79,8 +79,9 @@ pub fn object_descs(scene: &Scene) -> Vec<hroc::ObjectDesc> {
         .objects
         .iter()
         .map(|o| {
-            let (first_index, base_vertex, index_count) = ranges[o.mesh as usize];
-            hroc::ObjectDesc { bounds: o.bounds, index_count, first_index, base_vertex, flags: hroc::ObjectFlags::NONE }
+            let (first_index, base_vertex, _) = ranges[o.mesh as usize];
+            let (first, index_count) = scene.meshes[o.mesh as usize].range(o.cluster);
+            hroc::ObjectDesc { bounds: o.bounds, index_count, first_index: first_index + first, base_vertex, flags: hroc::ObjectFlags::NONE }
         })
         .collect()
 }

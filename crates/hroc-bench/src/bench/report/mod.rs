@@ -289,6 +289,7 @@ impl Runner<'_> {
             fps: None,
             resolution,
             split,
+            clusters: None,
             camera_path: None,
             progress: true,
             moving: 0.0,
