@@ -4,7 +4,7 @@
 # and Chromium for the report's browser test. Installs only what is missing.
 set -eu
 cd "$(dirname "$0")"
-./ensure-vulkan.sh
+./ensure-run-deps.sh
 missing=()
 command -v Xvfb >/dev/null || missing+=(xvfb)
 command -v chromium >/dev/null || missing+=(chromium)
