@@ -212,6 +212,24 @@ enum SceneCmd {
     },
     /// Lists the built-in scenes.
     List,
+    /// Writes a scene out as .obj or .glb (and its camera path as JSON):
+    /// generated scenes measured as the files real assets come in.
+    Export {
+        /// Built-in scene key or a .gltf/.glb/.obj path.
+        scene: String,
+        #[arg(long)]
+        objects: Option<usize>,
+        /// The file to write: .obj or .glb.
+        #[arg(long)]
+        out: PathBuf,
+        /// The whole scene as one mesh in world space (one object), as
+        /// interiors and city blocks often come.
+        #[arg(long)]
+        single_mesh: bool,
+        /// Also write the scene's camera path here (for `--camera-path`).
+        #[arg(long)]
+        path_out: Option<PathBuf>,
+    },
 }
 
 fn main() -> ExitCode {
@@ -242,6 +260,19 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Bench(a) => bench_cmd(a),
         Cmd::Render(a) => render_cmd(a),
         Cmd::Scene { cmd: SceneCmd::Info { scene, objects } } => scene_info(&scene, objects),
+        Cmd::Scene { cmd: SceneCmd::Export { scene, objects, out, single_mesh, path_out } } => {
+            let mut s = hroc_bench::scene::load(&scene, objects, 0)?;
+            if single_mesh {
+                s = s.merged();
+            }
+            hroc_bench::scene::export::write(&s, &out)?;
+            if let Some(p) = path_out {
+                hroc_bench::scene::export::write_path(&s.path, &p)?;
+            }
+            let st = s.stats();
+            eprintln!("wrote {}: {} objects, {} triangles", out.display(), st.objects, st.triangles);
+            Ok(())
+        }
         Cmd::Scene { cmd: SceneCmd::List } => {
             for g in hroc_bench::scene::generators::keys() {
                 println!("{g}");

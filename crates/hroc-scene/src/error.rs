@@ -10,6 +10,8 @@ pub enum Error {
     NotFound(PathBuf),
     #[error("cannot read {path}: {source}")]
     Io { path: PathBuf, source: std::io::Error },
+    #[error("cannot write {path}: {source}")]
+    Write { path: PathBuf, source: std::io::Error },
     #[error("unknown scene '{0}': expected one of {1} or a path to a .gltf/.glb/.obj file")]
     UnknownScene(String, String),
     #[error("unsupported file type '{0}': expected .gltf, .glb or .obj")]

@@ -7,6 +7,7 @@
 pub mod camera;
 pub mod clusters;
 pub mod error;
+pub mod export;
 pub mod generators;
 pub mod gltf;
 pub mod motion;

@@ -7,6 +7,11 @@ use std::fmt::Write;
 
 /// Aligned rows, as Markdown or plain text; the first column left-aligned.
 fn grid(head: &[String], rows: &[Vec<String>], markdown: bool) -> String {
+    // A `|` inside a Markdown cell (|V|) would split it.
+    let escaped = |s: &String| if markdown { s.replace('|', "\\|") } else { s.clone() };
+    let head: Vec<String> = head.iter().map(escaped).collect();
+    let rows: Vec<Vec<String>> = rows.iter().map(|r| r.iter().map(escaped).collect()).collect();
+    let (head, rows) = (&head[..], &rows[..]);
     let widths: Vec<usize> = (0..head.len()).map(|i| rows.iter().map(|r| r[i].len()).chain([head[i].len()]).max().unwrap_or(0)).collect();
     let line = |cells: &[String]| {
         let c: Vec<String> = cells.iter().zip(&widths).enumerate().map(|(i, (s, w))| if i == 0 { format!("{s:<w$}") } else { format!("{s:>w$}") }).collect();
@@ -120,7 +125,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
             r.host_update_ms_mean
         );
     }
-    let head = ["method", "ms/frame", "p95 ms", "GPU ms", "C/N", "C/R", "false neg", "missing px", "drawn/frame"];
+    let head = ["method", "ms/frame", "p95 ms", "GPU ms", "C/N", "C/R", "false neg", "missing px", "drawn/frame", "triangles/frame"];
     let noc = r.rows.iter().find(|x| x.method == "noc").map(|x| x.ms_mean);
     let mut rows: Vec<Vec<String>> = r
         .rows
@@ -136,6 +141,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
                 x.false_negatives.to_string(),
                 x.missing_pixels.to_string(),
                 format!("{:.0}", x.drawn_mean),
+                format!("{:.0} ({:.1} %)", x.triangles_mean, 100.0 * x.triangles_fraction),
             ]
         })
         .collect();
