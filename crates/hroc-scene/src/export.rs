@@ -81,7 +81,7 @@ pub fn write_glb(scene: &Scene, path: &Path) -> Result<()> {
     let mut view = |bin: &mut Vec<u8>, bytes: &[u8]| {
         let offset = bin.len();
         bin.extend_from_slice(bytes);
-        while bin.len() % 4 != 0 {
+        while !bin.len().is_multiple_of(4) {
             bin.push(0);
         }
         views.push(json!({ "buffer": 0, "byteOffset": offset, "byteLength": bytes.len() }));
@@ -117,7 +117,7 @@ pub fn write_glb(scene: &Scene, path: &Path) -> Result<()> {
         "scene": 0,
     });
     let mut text = serde_json::to_vec(&doc).map_err(|e| Error::Write { path: path.to_path_buf(), source: std::io::Error::other(e) })?;
-    while text.len() % 4 != 0 {
+    while !text.len().is_multiple_of(4) {
         text.push(b' ');
     }
     let total = 12 + 8 + text.len() + 8 + bin.len();
