@@ -89,7 +89,12 @@ impl CameraPath {
             std::io::ErrorKind::NotFound => Error::NotFound(path.to_path_buf()),
             _ => Error::Io { path: path.to_path_buf(), source: e },
         })?;
-        let p: CameraPath = serde_json::from_str(&text).map_err(|e| Error::CameraPath { path: path.to_path_buf(), msg: e.to_string() })?;
+        Self::from_json(&text, path)
+    }
+
+    /// Parses and checks a JSON path read from `path` (named in errors).
+    pub fn from_json(text: &str, path: &Path) -> Result<Self> {
+        let p: CameraPath = serde_json::from_str(text).map_err(|e| Error::CameraPath { path: path.to_path_buf(), msg: e.to_string() })?;
         p.validate().map_err(|msg| Error::CameraPath { path: path.to_path_buf(), msg })?;
         Ok(p)
     }

@@ -2,7 +2,11 @@
 //!
 //! The node hierarchy of the default scene is flattened into one object per
 //! mesh-primitive instance; a (mesh, primitive) pair used by several nodes
-//! becomes one shared [`Mesh`] (instancing).
+//! becomes one shared [`Mesh`] (instancing), and so does a node's
+//! `EXT_mesh_gpu_instancing` list of instances (one object per instance).
+//! `KHR_mesh_quantization` positions and normals (8- and 16-bit integers,
+//! normalized or not) are decoded to floats. A file that requires any other
+//! extension the loader does not read is refused with its name.
 //!
 //! Files are untrusted input. The loader resolves buffers itself (only `data:`
 //! URIs and relative paths inside the asset's folder), parses GLB containers
@@ -27,6 +31,13 @@ type Msg<T> = std::result::Result<T, String>;
 /// Colour of primitives without a material.
 const DEFAULT_COLOR: [f32; 3] = [0.8, 0.8, 0.8];
 
+/// Objects a file may instance (`EXT_mesh_gpu_instancing` multiplies a
+/// small file into many): every object costs the culler and the renderer.
+const MAX_OBJECTS: usize = 1 << 22;
+
+/// Extensions read here that the `gltf` crate does not know.
+const READ_HERE: [&str; 2] = ["KHR_mesh_quantization", "EXT_mesh_gpu_instancing"];
+
 /// Elements an accessor without a buffer view (all zeros, then sparse
 /// substitutions) may have: such accessors cost memory that the file's size
 /// does not bound.
@@ -37,11 +48,18 @@ pub fn load(path: &Path) -> Result<Scene> {
         std::io::ErrorKind::NotFound => Error::NotFound(path.to_path_buf()),
         _ => Error::Io { path: path.to_path_buf(), source: e },
     })?;
+    load_bytes(&bytes, path)
+}
+
+/// Loads a `.gltf` or `.glb` file's `bytes`, read from `path`: relative
+/// buffer URIs resolve inside `path`'s folder, and errors name `path`.
+pub fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
     let bad = |msg: String| Error::Malformed { format: "glTF", path: path.to_path_buf(), msg };
 
     let (json, blob) = if bytes.starts_with(b"glTF") { split_glb(&bytes).map_err(bad)? } else { (&bytes[..], None) };
-    let root: gltf::json::Root = gltf::json::deserialize::from_slice(json).map_err(|e| bad(format!("invalid JSON: {e}")))?;
+    let mut root: gltf::json::Root = gltf::json::deserialize::from_slice(json).map_err(|e| bad(format!("invalid JSON: {e}")))?;
     check_position_indices(&root).map_err(bad)?;
+    check_required_extensions(&mut root).map_err(bad)?;
     let doc = gltf::Document::from_json(root).map_err(|e| bad(describe_gltf_error(&e)))?;
 
     let base = match path.parent() {
@@ -91,6 +109,7 @@ fn build_scene(doc: &gltf::Document, buffers: &[Vec<u8>], path: &Path) -> Result
             return Err(bad(format!("node {ni}{}: non-finite world transform", node_name(node))));
         }
         if let Some(mesh) = node.mesh() {
+            let instances = gpu_instances(doc, node, buffers).map_err(|m| bad(format!("node {ni}{}: EXT_mesh_gpu_instancing: {m}", node_name(node))))?;
             for prim in mesh.primitives() {
                 let key = (mesh.index(), prim.index());
                 let mi = match mesh_of.get(&key) {
@@ -108,7 +127,12 @@ fn build_scene(doc: &gltf::Document, buffers: &[Vec<u8>], path: &Path) -> Result
                     }
                 };
                 if let Some(mi) = mi {
-                    scene.push_object(mi, world, primitive_color(&prim));
+                    for t in &instances {
+                        if scene.objects.len() >= MAX_OBJECTS {
+                            return Err(bad(format!("more than {MAX_OBJECTS} objects (mesh instances)")));
+                        }
+                        scene.push_object(mi, world * *t, primitive_color(&prim));
+                    }
                 }
             }
         }
@@ -171,11 +195,12 @@ fn read_primitive(mesh: &gltf::Mesh, prim: &gltf::Primitive, buffers: &[Vec<u8>]
     let Some(pos_acc) = prim.get(&gltf::Semantic::Positions) else {
         return Err(format!("{what}: no POSITION attribute"));
     };
-    check_type(&pos_acc, "POSITION", Dimensions::Vec3, &[DataType::F32])?;
+    // Floats, or KHR_mesh_quantization's integers.
+    check_type(&pos_acc, "POSITION", Dimensions::Vec3, &[DataType::F32, DataType::I8, DataType::U8, DataType::I16, DataType::U16])?;
     check_accessor(&pos_acc)?;
     let normal_acc = prim.get(&gltf::Semantic::Normals);
     if let Some(acc) = &normal_acc {
-        check_type(acc, "NORMAL", Dimensions::Vec3, &[DataType::F32])?;
+        check_type(acc, "NORMAL", Dimensions::Vec3, &[DataType::F32, DataType::I8, DataType::I16])?;
         check_accessor(acc)?;
         if acc.count() != pos_acc.count() {
             return Err(format!("{what}: {} normals for {} positions", acc.count(), pos_acc.count()));
@@ -188,18 +213,9 @@ fn read_primitive(mesh: &gltf::Mesh, prim: &gltf::Primitive, buffers: &[Vec<u8>]
 
     let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d[..]));
     let short = || format!("{what}: accessor data is shorter than its count");
-    let positions: Vec<[f32; 3]> = reader.read_positions().ok_or_else(short)?.collect();
-    if positions.len() != pos_acc.count() {
-        return Err(short());
-    }
-    let normals = match reader.read_normals() {
-        Some(it) => {
-            let n: Vec<[f32; 3]> = it.collect();
-            if n.len() != positions.len() {
-                return Err(short());
-            }
-            unit_normals(n)
-        }
+    let positions = read_vec3(&pos_acc, buffers).ok_or_else(short)?;
+    let normals = match &normal_acc {
+        Some(acc) => unit_normals(read_vec3(acc, buffers).ok_or_else(short)?),
         None => None,
     };
     let vertices: Vec<u32> = match reader.read_indices() {
@@ -229,6 +245,109 @@ fn read_primitive(mesh: &gltf::Mesh, prim: &gltf::Primitive, buffers: &[Vec<u8>]
         (None, _) => format!("mesh{}[{}]", mesh.index(), prim.index()),
     };
     Ok(Some(Mesh::new(name, positions, normals, indices)))
+}
+
+/// An accessor's VEC3 elements as floats: floats as they are, integers
+/// (KHR_mesh_quantization) as their values, or normalized to [0, 1] or
+/// [-1, 1] when the accessor says so (glTF 2.0 §3.11). `None` when the data
+/// is shorter than the count.
+fn read_vec3(acc: &gltf::Accessor, buffers: &[Vec<u8>]) -> Option<Vec<[f32; 3]>> {
+    fn read<T: gltf::accessor::Item + Copy>(acc: &gltf::Accessor, buffers: &[Vec<u8>], f: impl Fn(T) -> f32) -> Option<Vec<[f32; 3]>> {
+        let it = gltf::accessor::Iter::<[T; 3]>::new(acc.clone(), |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d[..]))?;
+        let v: Vec<[f32; 3]> = it.map(|e| e.map(&f)).collect();
+        (v.len() == acc.count()).then_some(v)
+    }
+    let n = acc.normalized();
+    match acc.data_type() {
+        DataType::F32 => read::<f32>(acc, buffers, |x| x),
+        DataType::I8 => read::<i8>(acc, buffers, |x| if n { (x as f32 / 127.0).max(-1.0) } else { x as f32 }),
+        DataType::U8 => read::<u8>(acc, buffers, |x| if n { x as f32 / 255.0 } else { x as f32 }),
+        DataType::I16 => read::<i16>(acc, buffers, |x| if n { (x as f32 / 32767.0).max(-1.0) } else { x as f32 }),
+        DataType::U16 => read::<u16>(acc, buffers, |x| if n { x as f32 / 65535.0 } else { x as f32 }),
+        DataType::U32 => None,
+    }
+}
+
+/// A node's instance transforms: its `EXT_mesh_gpu_instancing` TRANSLATION,
+/// ROTATION and SCALE accessors composed per instance (each missing one is
+/// the identity), or the node alone.
+fn gpu_instances(doc: &gltf::Document, node: &gltf::Node, buffers: &[Vec<u8>]) -> Msg<Vec<Mat4>> {
+    let Some(ext) = node.extension_value("EXT_mesh_gpu_instancing") else { return Ok(vec![Mat4::IDENTITY]) };
+    let attributes = ext.get("attributes").and_then(|a| a.as_object()).ok_or("no attributes object")?;
+    let doc_accessor = |name: &str| -> Msg<Option<gltf::Accessor>> {
+        let Some(v) = attributes.get(name) else { return Ok(None) };
+        let i = v.as_u64().ok_or_else(|| format!("{name} is not an accessor index"))? as usize;
+        let acc = doc.accessors().nth(i).ok_or_else(|| format!("{name} accessor {i} does not exist"))?;
+        check_accessor(&acc)?;
+        Ok(Some(acc))
+    };
+    let (t, r, s) = (doc_accessor("TRANSLATION")?, doc_accessor("ROTATION")?, doc_accessor("SCALE")?);
+    let count = [&t, &r, &s].iter().filter_map(|a| a.as_ref().map(|a| a.count())).max().ok_or("no TRANSLATION, ROTATION or SCALE")?;
+    if [&t, &r, &s].iter().any(|a| a.as_ref().is_some_and(|a| a.count() != count)) {
+        return Err("TRANSLATION, ROTATION and SCALE differ in count".into());
+    }
+    if count > MAX_OBJECTS {
+        return Err(format!("{count} instances (at most {MAX_OBJECTS})"));
+    }
+    let short = || "accessor data is shorter than its count".to_string();
+    let vec3 = |a: &Option<gltf::Accessor>, name: &str, default: f32| -> Msg<Vec<[f32; 3]>> {
+        match a {
+            Some(a) => {
+                check_type(a, name, Dimensions::Vec3, &[DataType::F32])?;
+                read_vec3(a, buffers).ok_or_else(short)
+            }
+            None => Ok(vec![[default; 3]; count]),
+        }
+    };
+    let translations = vec3(&t, "TRANSLATION", 0.0)?;
+    let scales = vec3(&s, "SCALE", 1.0)?;
+    let rotations: Vec<[f32; 4]> = match &r {
+        Some(a) => {
+            check_type(a, "ROTATION", Dimensions::Vec4, &[DataType::F32, DataType::I8, DataType::I16])?;
+            read_quats(a, buffers).ok_or_else(short)?
+        }
+        None => vec![[0.0, 0.0, 0.0, 1.0]; count],
+    };
+    let mut out = Vec::with_capacity(count);
+    for k in 0..count {
+        let q = Quat::from_array(rotations[k]);
+        if !q.is_finite() || q.length() < 1e-6 {
+            return Err(format!("instance {k}: invalid rotation {:?}", rotations[k]));
+        }
+        let m = Mat4::from_scale_rotation_translation(Vec3::from(scales[k]), q.normalize(), Vec3::from(translations[k]));
+        if !m.is_finite() {
+            return Err(format!("instance {k}: non-finite transform"));
+        }
+        out.push(m);
+    }
+    Ok(out)
+}
+
+/// Instance rotations: floats, or normalized 8/16-bit integers (KHR_mesh_quantization).
+fn read_quats(acc: &gltf::Accessor, buffers: &[Vec<u8>]) -> Option<Vec<[f32; 4]>> {
+    fn read<T: gltf::accessor::Item + Copy>(acc: &gltf::Accessor, buffers: &[Vec<u8>], f: impl Fn(T) -> f32) -> Option<Vec<[f32; 4]>> {
+        let it = gltf::accessor::Iter::<[T; 4]>::new(acc.clone(), |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d[..]))?;
+        let v: Vec<[f32; 4]> = it.map(|e| e.map(&f)).collect();
+        (v.len() == acc.count()).then_some(v)
+    }
+    match acc.data_type() {
+        DataType::F32 => read::<f32>(acc, buffers, |x| x),
+        DataType::I8 => read::<i8>(acc, buffers, |x| (x as f32 / 127.0).max(-1.0)),
+        DataType::I16 => read::<i16>(acc, buffers, |x| (x as f32 / 32767.0).max(-1.0)),
+        _ => None,
+    }
+}
+
+/// Refuses files that require an extension nobody here reads (Draco,
+/// meshopt compression, ...), by name; lets through the ones read here,
+/// which the `gltf` crate would refuse.
+fn check_required_extensions(root: &mut gltf::json::Root) -> Msg<()> {
+    let known = |e: &str| READ_HERE.contains(&e) || gltf::json::extensions::ENABLED_EXTENSIONS.contains(&e);
+    if let Some(e) = root.extensions_required.iter().find(|e| !known(e)) {
+        return Err(format!("the file requires the extension {e}, which hroc does not read (it reads {})", READ_HERE.join(", ")));
+    }
+    root.extensions_required.retain(|e| !READ_HERE.contains(&e.as_str()));
+    Ok(())
 }
 
 /// File normals normalised, or `None` (compute them) when any is degenerate.

@@ -15,6 +15,11 @@ pub fn load(path: &Path) -> Result<Scene> {
         std::io::ErrorKind::NotFound => Error::NotFound(path.to_path_buf()),
         _ => Error::Io { path: path.to_path_buf(), source: e },
     })?;
+    load_bytes(&bytes, path)
+}
+
+/// Loads an OBJ file's `bytes`; errors name `path`.
+pub fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
     let bad = |msg: String| Error::Malformed { format: "OBJ", path: path.to_path_buf(), msg };
 
     // `..Default::default()` covers fields that tobj features may add.
