@@ -56,7 +56,7 @@ pub fn load(path: &Path) -> Result<Scene> {
 pub fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
     let bad = |msg: String| Error::Malformed { format: "glTF", path: path.to_path_buf(), msg };
 
-    let (json, blob) = if bytes.starts_with(b"glTF") { split_glb(&bytes).map_err(bad)? } else { (&bytes[..], None) };
+    let (json, blob) = if bytes.starts_with(b"glTF") { split_glb(bytes).map_err(bad)? } else { (bytes, None) };
     let mut root: gltf::json::Root = gltf::json::deserialize::from_slice(json).map_err(|e| bad(format!("invalid JSON: {e}")))?;
     check_position_indices(&root).map_err(bad)?;
     check_required_extensions(&mut root).map_err(bad)?;
