@@ -261,7 +261,7 @@ fn run(cli: Cli) -> Result<()> {
         Cmd::Render(a) => render_cmd(a),
         Cmd::Scene { cmd: SceneCmd::Info { scene, objects } } => scene_info(&scene, objects),
         Cmd::Scene { cmd: SceneCmd::Export { scene, objects, out, single_mesh, path_out } } => {
-            let mut s = loading(&scene, || Ok(hroc_bench::scene::load(&scene, objects, 0)?))?;
+            let mut s = loading(&scene, || hroc_bench::scene::load(&scene, objects, 0))?;
             if single_mesh {
                 s = s.merged();
             }
@@ -321,7 +321,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
     if let Some(bad) = a.moving.iter().find(|f| !(0.0..=1.0).contains(*f)) {
         return Err(Error::Arg(format!("--moving {bad} is not a fraction from 0 to 1")));
     }
-    let (scene, path) = loading(&opts.scene, || Ok(bench::load_inputs(&opts)?))?;
+    let (scene, path) = loading(&opts.scene, || bench::load_inputs(&opts))?;
     let gpu = Gpu::new()?;
     let mut reports = Vec::new();
     for (k, &moving) in a.moving.iter().enumerate() {
@@ -365,7 +365,7 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
         return Err(Error::Arg(format!("--frame {} is past the last frame ({} frames)", a.frame, a.s.frames)));
     }
     let s = &a.s;
-    let mut scene = loading(&s.scene, || Ok(hroc_bench::scene::load(&s.scene, s.objects, 0)?))?;
+    let mut scene = loading(&s.scene, || hroc_bench::scene::load(&s.scene, s.objects, 0))?;
     if let Some(t) = s.clusters {
         scene = scene.clustered(hroc_bench::scene::ClusterOptions::new(t))?;
     }
@@ -414,7 +414,7 @@ fn loading<T>(what: &str, load: impl FnOnce() -> Result<T>) -> Result<T> {
 
 fn scene_info(spec: &str, objects: Option<usize>) -> Result<()> {
     let t = std::time::Instant::now();
-    let scene = loading(spec, || Ok(hroc_bench::scene::load(spec, objects, 0)?))?;
+    let scene = loading(spec, || hroc_bench::scene::load(spec, objects, 0))?;
     let load_ms = t.elapsed().as_secs_f64() * 1e3;
     let st = scene.stats();
     println!("scene      {}", scene.name);
