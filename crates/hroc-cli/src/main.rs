@@ -63,11 +63,14 @@ struct SceneArgs {
     resolution: (u32, u32),
     #[arg(long, default_value_t = Split::Sah)]
     split: Split,
-    /// Split every mesh of at least twice this many triangles into
-    /// clusters of at most this many (a multiple of 4), each a cullable
-    /// object with its own box (meshoptimizer's spatial clustering).
-    #[arg(long)]
-    clusters: Option<u32>,
+    /// Split every mesh of at least twice T triangles into clusters of at
+    /// most T (a multiple of 4), each a cullable object with its own box
+    /// (meshoptimizer's spatial clustering): T, `off`, or `auto` (files:
+    /// 256, where a one-mesh interior measured 0.43 × noc against 1.14
+    /// without; generated scenes, whose small props measured no better:
+    /// off).
+    #[arg(long, default_value = "auto", value_parser = parse_clusters)]
+    clusters: Clusters,
     /// JSON camera path file (keys of t, eye, target, up, fov_y_deg), or a
     /// built-in path of the scene: `hard` (cuts, the eye inside boxes,
     /// boxes across the near plane) or `cuts` (a cut every second to a
@@ -301,6 +304,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
     check_frames(a.s.frames)?;
     let methods = hroc_bench::bench::parse_methods(&a.methods)?;
     // Load and check the inputs before touching the GPU: bad files fail fast.
+    let clusters = a.s.clusters.triangles(&a.s.scene);
     let opts = BenchOptions {
         scene: a.s.scene,
         objects: a.s.objects,
@@ -309,7 +313,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         fps: a.s.fps,
         resolution: a.s.resolution,
         split: a.s.split,
-        clusters: a.s.clusters,
+        clusters,
         method_options: a.s.m.options(),
         camera_path: a.s.camera_path,
         progress: true,
@@ -366,7 +370,7 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     }
     let s = &a.s;
     let mut scene = loading(&s.scene, || hroc_bench::scene::load(&s.scene, s.objects, 0))?;
-    if let Some(t) = s.clusters {
+    if let Some(t) = s.clusters.triangles(&s.scene) {
         scene = scene.clustered(hroc_bench::scene::ClusterOptions::new(t))?;
     }
     let path = s.camera_path.as_deref().map(|p| bench::load_path(&scene, p)).transpose()?;
@@ -398,6 +402,37 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     views::save_png(&a.out, s.resolution.0, s.resolution.1, &px)?;
     eprintln!("wrote {}", a.out.display());
     Ok(())
+}
+
+/// `--clusters`: a cluster size, none, or the default for the scene.
+#[derive(Clone, Copy, Debug)]
+enum Clusters {
+    Off,
+    Auto,
+    Triangles(u32),
+}
+
+/// Cluster size of loaded files under `--clusters auto` (BENCHMARKS.md:
+/// rooms as one mesh, 64–1024 measured; 256 keeps draws few).
+const AUTO_FILE_CLUSTERS: u32 = 256;
+
+impl Clusters {
+    /// The cluster size for scene `spec`, if any.
+    fn triangles(self, spec: &str) -> Option<u32> {
+        match self {
+            Clusters::Off => None,
+            Clusters::Triangles(t) => Some(t),
+            Clusters::Auto => hroc_bench::scene::generators::find(spec).is_none().then_some(AUTO_FILE_CLUSTERS),
+        }
+    }
+}
+
+fn parse_clusters(s: &str) -> std::result::Result<Clusters, String> {
+    match s {
+        "off" => Ok(Clusters::Off),
+        "auto" => Ok(Clusters::Auto),
+        t => t.parse().map(Clusters::Triangles).map_err(|_| format!("'{t}' is not a cluster size in triangles, off or auto")),
+    }
 }
 
 /// Runs `load` with a spinner and the elapsed time on a terminal (big files

@@ -8,7 +8,8 @@
 //! (`meshopt_buildMeshletsSpatial`, which splits by the surface area
 //! heuristic, the cost the BVH minimises too) builds clusters of up to 512
 //! triangles; larger clusters are groups of those, partitioned by
-//! `meshopt_partitionClusters` with positions.
+//! `meshopt_partitionClusters` with positions. Each cluster's triangles are
+//! then ordered for the vertex cache (`meshopt_optimizeVertexCache`).
 
 use glam::{Mat4, Vec3};
 
@@ -90,6 +91,9 @@ impl Mesh {
             for &c in &g {
                 indices.extend_from_slice(&meshlet_indices[c]);
             }
+            // Each cluster is its own draw: order its triangles for the
+            // post-transform vertex cache (meshopt_optimizeVertexCache).
+            meshopt::optimize_vertex_cache_in_place(&mut indices[first as usize..], positions.len());
             let run = &indices[first as usize..];
             let bounds = Aabb::from_points(run.iter().map(|&i| Vec3::from(positions[i as usize])));
             clusters.push(Cluster { first_index: first, index_count: run.len() as u32, bounds });
