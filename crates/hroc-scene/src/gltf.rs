@@ -5,7 +5,8 @@
 //! becomes one shared [`Mesh`] (instancing), and so does a node's
 //! `EXT_mesh_gpu_instancing` list of instances (one object per instance).
 //! `KHR_mesh_quantization` positions and normals (8- and 16-bit integers,
-//! normalized or not) are decoded to floats. A file that requires any other
+//! normalized or not) are decoded to floats. Primitives are read, and
+//! placed objects boxed, in parallel (rayon). A file that requires any other
 //! extension the loader does not read is refused with its name.
 //!
 //! Files are untrusted input. The loader resolves buffers itself (only `data:`
@@ -92,8 +93,13 @@ fn build_scene(doc: &gltf::Document, buffers: &[Vec<u8>], path: &Path) -> Result
         }
     };
 
-    // (mesh, primitive) -> index into scene.meshes, or None when skipped.
-    let mut mesh_of: HashMap<(usize, usize), Option<u32>> = HashMap::new();
+    // First the walk: every (mesh, primitive) placement, in node order, and
+    // each pair once in `keys`. Reading the primitives and boxing the
+    // placements come after, in parallel (rayon): they are most of a big
+    // file's load time.
+    let mut key_of: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut keys: Vec<(usize, usize)> = Vec::new();
+    let mut placements: Vec<(usize, Mat4, [f32; 3])> = Vec::new();
     let mut visited = vec![false; nodes.len()];
     // Iterative depth-first walk: deep hierarchies must not overflow the stack.
     let mut stack: Vec<(usize, Mat4)> = roots.iter().rev().map(|&r| (r, Mat4::IDENTITY)).collect();
@@ -112,34 +118,52 @@ fn build_scene(doc: &gltf::Document, buffers: &[Vec<u8>], path: &Path) -> Result
             let instances = gpu_instances(doc, node, buffers).map_err(|m| bad(format!("node {ni}{}: EXT_mesh_gpu_instancing: {m}", node_name(node))))?;
             for prim in mesh.primitives() {
                 let key = (mesh.index(), prim.index());
-                let mi = match mesh_of.get(&key) {
-                    Some(&mi) => mi,
-                    None => {
-                        let mi = match read_primitive(&mesh, &prim, buffers).map_err(bad)? {
-                            Some(m) => {
-                                scene.meshes.push(m);
-                                Some(scene.meshes.len() as u32 - 1)
-                            }
-                            None => None,
-                        };
-                        mesh_of.insert(key, mi);
-                        mi
-                    }
-                };
-                if let Some(mi) = mi {
-                    for t in &instances {
-                        if scene.objects.len() >= MAX_OBJECTS {
-                            return Err(bad(format!("more than {MAX_OBJECTS} objects (mesh instances)")));
-                        }
-                        scene.push_object(mi, world * *t, primitive_color(&prim));
-                    }
+                let k = *key_of.entry(key).or_insert_with(|| {
+                    keys.push(key);
+                    keys.len() - 1
+                });
+                if placements.len() + instances.len() > MAX_OBJECTS {
+                    return Err(bad(format!("more than {MAX_OBJECTS} objects (mesh instances)")));
                 }
+                placements.extend(instances.iter().map(|t| (k, world * *t, primitive_color(&prim))));
             }
         }
         for c in node.children().collect::<Vec<_>>().into_iter().rev() {
             stack.push((c.index(), world));
         }
     }
+
+    // Each used primitive once, in parallel; the first error in file order wins.
+    use rayon::prelude::*;
+    let meshes: Vec<gltf::Mesh> = doc.meshes().collect();
+    let read: Vec<Msg<Option<Mesh>>> = keys
+        .par_iter()
+        .map(|&(m, p)| {
+            let mesh = &meshes[m];
+            let prim = mesh.primitives().nth(p).ok_or_else(|| format!("mesh {m} has no primitive {p}"))?;
+            read_primitive(mesh, &prim, buffers)
+        })
+        .collect();
+    // Key -> index into scene.meshes, or None when skipped (points, lines).
+    let mut mesh_index: Vec<Option<u32>> = Vec::with_capacity(keys.len());
+    for r in read {
+        mesh_index.push(match r.map_err(bad)? {
+            Some(m) => {
+                scene.meshes.push(m);
+                Some(scene.meshes.len() as u32 - 1)
+            }
+            None => None,
+        });
+    }
+    let meshes = &scene.meshes;
+    scene.objects = placements
+        .par_iter()
+        .filter_map(|&(k, transform, color)| {
+            let mesh = mesh_index[k]?;
+            let bounds = meshes[mesh as usize].world_bounds(&transform);
+            Some(crate::Object { mesh, cluster: None, transform, color, bounds })
+        })
+        .collect();
 
     scene.validate()?;
     scene.path = CameraPath::orbit(&scene.bounds());
