@@ -45,6 +45,8 @@ fn small_report(out: &Path) -> Output {
         "0,0.5",
         "--motion-methods",
         "noc,vfc,roc,hzb,hroc",
+        "--clusters",
+        "64",
     ])
 }
 
@@ -118,6 +120,7 @@ fn report_is_complete_and_renders_in_chromium() {
         "High resolution",
         "Scenes (thesis Table 1)",
         "Moving objects",
+        "Clusters",
     ] {
         assert!(md.contains(h), "report.md lacks '{h}'");
     }
@@ -132,7 +135,10 @@ fn report_is_complete_and_renders_in_chromium() {
     reports.extend(data["sweep"].as_array().unwrap().iter().map(|p| &p["report"]));
     reports.push(&data["hires"]);
     reports.extend(data["motion"].as_array().unwrap());
-    assert_eq!(reports.len(), 2 * 2 + 2 + 1 + 2);
+    reports.extend(data["clusters"].as_array().unwrap().iter().map(|c| &c["report"]));
+    assert_eq!(reports.len(), 2 * 2 + 2 + 1 + 2 + 2);
+    assert_eq!(data["clusters"][1]["triangles"], 64);
+    assert!(data["clusters"][1]["report"]["objects"].as_u64() > data["clusters"][0]["report"]["objects"].as_u64(), "clusters split nothing");
     assert_eq!(data["motion"][1]["moving"], 0.5);
     for rep in reports {
         for row in rep["rows"].as_array().unwrap() {

@@ -81,6 +81,16 @@ pub struct ReportArgs {
     /// Methods of the motion table: those that take moving objects.
     #[arg(long, default_value = "noc,vfc,roc,hzb,hroc")]
     pub motion_methods: String,
+    /// Cluster sizes (triangles) of the clusters table, each against the
+    /// scene without clusters, or `none`.
+    #[arg(long, default_value = "64,256")]
+    pub clusters: String,
+    /// The clusters table's scene (a key or a file): factory's racks and
+    /// machines are meshes large enough to split.
+    #[arg(long, default_value = "factory")]
+    pub cluster_scene: String,
+    #[arg(long, default_value = "noc,ref,hzb,hroc")]
+    pub cluster_methods: String,
 }
 
 /// The validated plan of a report.
@@ -95,6 +105,8 @@ struct Plan {
     hires_methods: Vec<String>,
     motion: Vec<f64>,
     motion_methods: Vec<String>,
+    clusters: Vec<u32>,
+    cluster_methods: Vec<String>,
 }
 
 fn list(s: &str) -> Vec<String> {
@@ -138,7 +150,19 @@ impl Plan {
         if let Some(m) = motion_methods.iter().find(|m| m.parse::<hroc::Method>().is_ok_and(|m| !m.takes_motion())) {
             return Err(Error::Arg(format!("--motion-methods: {m} takes static scenes only")));
         }
+        let clusters = if a.clusters.trim() == "none" {
+            Vec::new()
+        } else {
+            list(&a.clusters)
+                .iter()
+                .map(|s| {
+                    s.parse::<u32>().ok().filter(|t| *t >= 4 && t.is_multiple_of(4)).ok_or_else(|| Error::Arg(format!("--clusters: '{s}' is not a cluster size (a multiple of 4)")))
+                })
+                .collect::<Result<Vec<_>>>()?
+        };
         Ok(Plan {
+            clusters,
+            cluster_methods: with_noc(crate::bench::parse_methods(&a.cluster_methods)?),
             scenes,
             methods: with_noc(crate::bench::parse_methods(&a.methods)?),
             splits,
@@ -216,6 +240,17 @@ pub struct ReportData {
     pub hires_skipped: Option<String>,
     /// The motion table's runs, one per moving fraction.
     pub motion: Vec<BenchReport>,
+    /// The clusters table's runs: the first scene without clusters, then
+    /// with each cluster size.
+    pub clusters: Vec<ClusterRun>,
+}
+
+/// One run of the clusters table.
+#[derive(Clone, Debug, Serialize)]
+pub struct ClusterRun {
+    /// Triangles per cluster at most; `None`: whole objects.
+    pub triangles: Option<u32>,
+    pub report: BenchReport,
 }
 
 pub fn run(a: ReportArgs) -> Result<()> {
@@ -223,11 +258,20 @@ pub fn run(a: ReportArgs) -> Result<()> {
     let started = std::time::Instant::now();
     // Bad scene files fail here, before the GPU starts.
     let scenes = plan.scenes.iter().map(|s| scene::load(s, Some(a.objects), 0)).collect::<Result<Vec<Scene>>>()?;
+    if !plan.clusters.is_empty() {
+        scene::load(&a.cluster_scene, Some(a.objects), 0)?;
+    }
     let gpu = Gpu::new()?;
     for dir in [a.out.clone(), a.out.join("plots"), a.out.join("images")] {
         std::fs::create_dir_all(&dir).map_err(|e| Error::Io { path: dir, source: e })?;
     }
-    let steps = scenes.len() * (1 + usize::from(plan.splits.iter().any(|&s| s != Split::Sah))) + 1 + plan.sweep.len() + usize::from(plan.hires.is_some()) + plan.motion.len();
+    let steps = scenes.len() * (1 + usize::from(plan.splits.iter().any(|&s| s != Split::Sah)))
+        + 1
+        + plan.sweep.len()
+        + usize::from(plan.hires.is_some())
+        + plan.motion.len()
+        + plan.clusters.len()
+        + usize::from(!plan.clusters.is_empty());
     let mut r = Runner { gpu: &gpu, a: &a, plan: &plan, step: 0, steps };
 
     // The measurements, in the report's order.
@@ -237,6 +281,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
     let (sweep, sweep_stopped) = r.sweep();
     let (hires, hires_skipped) = r.hires(&scenes[0])?;
     let motion = r.motion()?;
+    let clusters = r.clusters()?;
 
     let info = &gpu.info;
     let data = ReportData {
@@ -259,6 +304,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
         hires,
         hires_skipped,
         motion,
+        clusters,
     };
     write(&a.out, &data)?;
     eprintln!("wrote {} in {:.1} min", a.out.join("index.html").display(), data.meta.minutes);
@@ -361,6 +407,23 @@ impl Runner<'_> {
         Ok(runs)
     }
 
+    /// The clusters scene without clusters and with each size (a loaded
+    /// file's one mesh, or a generated scene's props, split into clusters).
+    fn clusters(&mut self) -> Result<Vec<ClusterRun>> {
+        if self.plan.clusters.is_empty() {
+            return Ok(Vec::new());
+        }
+        let spec = self.a.cluster_scene.clone();
+        let mut runs = Vec::new();
+        for t in std::iter::once(None).chain(self.plan.clusters.iter().map(|&t| Some(t))) {
+            self.say(format!("clusters: {spec} {}", t.map_or("without clusters".to_string(), |t| format!("in clusters of {t} triangles"))));
+            let mut o = self.opts(&spec, &self.plan.cluster_methods, self.a.frames, self.a.resolution, Split::Sah);
+            o.clusters = t;
+            runs.push(ClusterRun { triangles: t, report: super::run(self.gpu, &o)? });
+        }
+        Ok(runs)
+    }
+
     /// The first generated scene of the report (a file has no motion and
     /// one size), or radial-city.
     fn first_generated(&self) -> String {
@@ -426,8 +489,9 @@ mod tests {
         assert_eq!(Plan::new(&args(&["--methods", "hroc"])).unwrap().methods, ["noc", "hroc"]);
         assert_eq!(p.motion, [0.0, 0.1, 1.0]);
         assert_eq!(p.motion_methods, ["noc", "vfc", "roc", "hzb", "hroc"]);
-        let none = Plan::new(&args(&["--sweep", "none", "--hires", "none", "--motion", "none"])).unwrap();
-        assert!(none.sweep.is_empty() && none.hires.is_none() && none.motion.is_empty());
+        assert_eq!((p.clusters.as_slice(), p.cluster_methods.as_slice()), (&[64, 256][..], &["noc", "ref", "hzb", "hroc"].map(String::from)[..]));
+        let none = Plan::new(&args(&["--sweep", "none", "--hires", "none", "--motion", "none", "--clusters", "none"])).unwrap();
+        assert!(none.sweep.is_empty() && none.hires.is_none() && none.motion.is_empty() && none.clusters.is_empty());
         for bad in [
             &["--scenes", ","][..],
             &["--frames", "0"],
@@ -438,6 +502,8 @@ mod tests {
             &["--methods", "nope"],
             &["--motion", "2"],
             &["--motion-methods", "oq"],
+            &["--clusters", "6"],
+            &["--clusters", "x"],
         ] {
             assert!(Plan::new(&args(bad)).is_err(), "{bad:?}");
         }

@@ -48,6 +48,7 @@ pub fn build(d: &ReportData, plots: &Path) -> Result<Doc> {
     sweep(&mut doc, d, plots)?;
     hires(&mut doc, d);
     motion(&mut doc, d);
+    clusters(&mut doc, d);
     Ok(doc)
 }
 
@@ -345,6 +346,33 @@ fn motion(doc: &mut Doc, d: &ReportData) {
     ));
     let (head, rows) = crate::bench::table::motion_grid(&d.motion);
     doc.table(Table { head, rows });
+}
+
+fn clusters(doc: &mut Doc, d: &ReportData) {
+    let Some(first) = d.clusters.first() else { return };
+    doc.heading("Clusters");
+    doc.para(format!(
+        "{}, {} frames, as whole objects and split into clusters of at most T triangles (meshoptimizer's spatial clustering; each cluster a cullable object with its own box). Triangles: drawn per frame, and their share of the scene's.",
+        first.report.scene, first.report.frames
+    ));
+    let mut t = Table::new(&["clusters", "objects", "method", "ms/frame", "× noc", "C/R", "drawn/frame", "triangles/frame"]);
+    for run in &d.clusters {
+        let r = &run.report;
+        let noc = r.rows.iter().find(|x| x.method == "noc").map(|x| x.ms_mean);
+        for row in &r.rows {
+            t.row(vec![
+                run.triangles.map_or("none".into(), |t| t.to_string()),
+                r.objects.to_string(),
+                row.method.clone(),
+                ms(row.ms_mean),
+                noc.map_or("-".into(), |n| format!("{:.2}", row.ms_mean / n)),
+                format!("{:.3}", row.c_over_r),
+                format!("{:.0}", row.drawn_mean),
+                format!("{:.0} ({:.1} %)", row.triangles_mean, 100.0 * row.triangles_fraction),
+            ]);
+        }
+    }
+    doc.table(t);
 }
 
 /// A file-name-safe form of a scene spec (a key, or a path).
