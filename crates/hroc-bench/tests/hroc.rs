@@ -354,3 +354,35 @@ fn conservative_with_clusters() {
         assert!(triangles[1] < triangles[0], "{key}: clusters drew {} triangles, whole objects {}", triangles[1], triangles[0]);
     }
 }
+
+/// Occluder filtering (§4.2) with a stride: next frame's V is exactly the
+/// objects of the ID target's sampled pixels (the centre of every S × S
+/// square), and the variants stay conservative along the hard path.
+#[test]
+fn occluder_filtering_samples_every_stride() {
+    let scene = hroc_bench::scene::load("radial-city", Some(1500), 4).unwrap();
+    let path = paths::hard_path(&scene);
+    for stride in [1u32, 3] {
+        let mut s = Session::new(gpu(), scene.clone(), Some(path.clone()), 12, RES, Split::Sah).unwrap();
+        s.options = hroc::MethodOptions { hroc_filter_stride: stride, ..Default::default() };
+        let mut h = s.create("hroc-of").unwrap();
+        let (w, ht) = RES;
+        for k in 0..s.cameras.len() {
+            s.run_frame(&mut h, k).unwrap();
+            let ids = s.read_truth().unwrap().ids;
+            let mut want = vec![false; s.renderer.object_count as usize];
+            for y in (stride / 2..ht).step_by(stride as usize) {
+                for x in (stride / 2..w).step_by(stride as usize) {
+                    let id = ids[(y * w + x) as usize];
+                    if id > 0 {
+                        want[(id - 1) as usize] = true;
+                    }
+                }
+            }
+            assert_eq!(h.method_state::<Hroc>().unwrap().next_occluders(s.gpu).unwrap(), want, "stride {stride} frame {k}");
+        }
+        if stride > 1 {
+            assert_variants_conservative(&mut s, "radial-city, filter stride 3");
+        }
+    }
+}

@@ -110,6 +110,10 @@ struct MethodArgs {
     /// ray per block; the largest size up to this that divides the resolution).
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=8))]
     hroc_test_scale: u32,
+    /// hroc with OF: occluder filtering reads one pixel in every S × S,
+    /// 1 to 8 (1: every pixel, the paper's).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
+    hroc_filter_stride: u32,
     /// Degrees the view may turn between frames before the frame is culled
     /// as after a camera cut (`inf`: never).
     #[arg(long, default_value_t = 45.0)]
@@ -131,6 +135,7 @@ impl MethodArgs {
             ioc_range: self.ioc_range,
             hroc_seed: self.hroc_seed,
             hroc_test_scale: self.hroc_test_scale,
+            hroc_filter_stride: self.hroc_filter_stride,
             cut_turn_deg: self.cut_turn,
             cut_move: self.cut_move,
         }

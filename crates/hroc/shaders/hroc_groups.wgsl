@@ -124,13 +124,17 @@ fn merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: ve
 }
 
 // Occluder filtering (§4.2): the item buffer decides the next occluders.
+// One thread reads the centre pixel of each FILTER_STRIDE² square.
+override FILTER_STRIDE: u32 = 1u;
+
 @compute @workgroup_size(16, 16)
 fn filter_occluders(@builtin(global_invocation_id) gid: vec3<u32>) {
     let size = textureDimensions(ids);
-    if gid.x >= size.x || gid.y >= size.y {
+    let px = gid.xy * FILTER_STRIDE + vec2<u32>(FILTER_STRIDE / 2u);
+    if px.x >= size.x || px.y >= size.y {
         return;
     }
-    let id = textureLoad(ids, gid.xy, 0).r;
+    let id = textureLoad(ids, px, 0).r;
     if id != 0u {
         visible[id - 1u] = 1u;
     }

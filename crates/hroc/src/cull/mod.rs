@@ -276,6 +276,13 @@ pub struct MethodOptions {
     /// culling; the largest scale up to this one that divides the target's
     /// width and height is used, 1 being the paper's per-pixel test.
     pub hroc_test_scale: u32,
+    /// `hroc` with OF: occluder filtering (§4.2) reads one pixel of the
+    /// ID target in every `S × S` (1: every pixel, the paper's). Objects
+    /// that cover no sampled pixel leave V: only speed and culling change,
+    /// as V may be any set of objects. A sparser read costs 1/S² of the
+    /// filter's threads, and keeps small objects, which occlude little,
+    /// out of next frame's untested V.
+    pub hroc_filter_stride: u32,
     /// A frame whose view direction turned more than this many degrees
     /// since the last frame is culled as after a camera cut (the host need
     /// not say so): 45° is an eighth of a turn, past which most of last
@@ -323,6 +330,7 @@ impl Default for MethodOptions {
             ioc_range: None,
             hroc_seed: Seed::Cuts,
             hroc_test_scale: 2,
+            hroc_filter_stride: 1,
             cut_turn_deg: 45.0,
             cut_move: 0.1,
         }

@@ -62,6 +62,8 @@ pub struct Hroc {
     collect: wgpu::ComputePipeline,
     merge: wgpu::ComputePipeline,
     filter: wgpu::ComputePipeline,
+    /// One ID pixel read in every `filter_stride²` ([`MethodOptions::hroc_filter_stride`](super::MethodOptions)).
+    filter_stride: u32,
     seed: wgpu::ComputePipeline,
     boxes: wgpu::RenderPipeline,
     /// With a test scale above 1: the blocks' occlusion map and the pass that reduces the host's depth to it.
@@ -132,6 +134,7 @@ impl Hroc {
         }
         let n = cx.object_count;
         let scale = test_scale(cx.options.hroc_test_scale, cx.targets.size);
+        let filter_stride = cx.options.hroc_filter_stride.max(1);
         // Rebuilds keep the buffers: size them for the largest tree.
         let nodes = cx.node_capacity;
         use wgpu::BufferUsages as U;
@@ -250,7 +253,8 @@ impl Hroc {
             extract: gpu.compute_pipeline(&module, "extract", Some(&pl), &[("TEST_SCALE", scale as f64)]),
             collect: gpu.compute_pipeline(&module, "collect", Some(&pl), &[("TEST_SCALE", scale as f64)]),
             merge: gpu.compute_pipeline(&module, "merge", Some(&pl), &[]),
-            filter: gpu.compute_pipeline(&module, "filter_occluders", Some(&pl), &[]),
+            filter: gpu.compute_pipeline(&module, "filter_occluders", Some(&pl), &[("FILTER_STRIDE", filter_stride as f64)]),
+            filter_stride,
             seed: gpu.compute_pipeline(&module, "seed", Some(&pl), &[("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)]),
             visible,
             occluders,
@@ -341,6 +345,12 @@ impl Hroc {
             occluders: gpu.read::<u32>(&self.occluders, 0, self.n as u64)?.iter().map(|&x| x != 0).collect(),
             occludees: gpu.read::<u32>(&self.occludees, 0, self.n as u64)?.iter().map(|&x| x != 0).collect(),
         })
+    }
+
+    /// Debug read-back: next frame's V, per object, as the last frame's
+    /// occluder filtering (or merge) left it.
+    pub fn next_occluders(&self, gpu: &Gpu) -> Result<Vec<bool>> {
+        Ok(gpu.read::<u32>(&self.visible, 0, self.n as u64)?.iter().map(|&x| x != 0).collect())
     }
 }
 
@@ -540,7 +550,8 @@ impl CullMethod for Hroc {
         if self.variant.of {
             let (w, h) = f.size();
             f.encoder().clear_buffer(&self.visible, 0, None);
-            self.dispatch(f, &self.filter, (w.div_ceil(16), h.div_ceil(16)));
+            let s = self.filter_stride;
+            self.dispatch(f, &self.filter, (w.div_ceil(s).div_ceil(16), h.div_ceil(s).div_ceil(16)));
         } else {
             self.dispatch(f, &self.merge, (ox, oy));
         }
