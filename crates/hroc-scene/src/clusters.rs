@@ -9,7 +9,8 @@
 //! heuristic, the cost the BVH minimises too) builds clusters of up to 512
 //! triangles; larger clusters are groups of those, partitioned by
 //! `meshopt_partitionClusters` with positions. Each cluster's triangles are
-//! then ordered for the vertex cache (`meshopt_optimizeVertexCache`).
+//! then ordered for the vertex cache (`meshopt_optimizeVertexCache`), and the
+//! mesh's vertices for fetch (`meshopt_optimizeVertexFetch`).
 
 use glam::{Mat4, Vec3};
 
@@ -59,7 +60,8 @@ const GROUPED_MESHLET_TRIANGLES: u32 = 256;
 impl Mesh {
     /// Splits the mesh into clusters of at most `triangles` (a multiple of
     /// 4): reorders `indices` so that each cluster is one contiguous run,
-    /// and sets [`Mesh::clusters`]. The triangles are the same, each once.
+    /// reorders `vertices` in first-use order (dropping unused ones), and
+    /// sets [`Mesh::clusters`]. The triangles are the same, each once.
     pub fn clusterize(&mut self, triangles: u32) {
         let positions: Vec<[f32; 3]> = self.vertices.iter().map(|v| v.position).collect();
         let adapter = meshopt::VertexDataAdapter::new(bytemuck::cast_slice(&positions), 12, 0).expect("12-byte positions");
@@ -98,6 +100,13 @@ impl Mesh {
             let bounds = Aabb::from_points(run.iter().map(|&i| Vec3::from(positions[i as usize])));
             clusters.push(Cluster { first_index: first, index_count: run.len() as u32, bounds });
         }
+        // Vertices in the order the clusters first use them
+        // (meshopt_optimizeVertexFetch): a cluster's draw reads a compact
+        // run of the vertex buffer. Unused vertices go; positions, and so
+        // every box, stay as they were.
+        let used = meshopt::optimize_vertex_fetch_in_place(&mut indices, &mut self.vertices);
+        self.vertices.truncate(used);
+        self.bounds = Aabb::from_points(self.vertices.iter().map(|v| Vec3::from(v.position)));
         self.indices = indices;
         self.clusters = clusters;
     }
