@@ -816,3 +816,28 @@ fn gpu_instancing_errors_are_clear() {
     let e = load(write_doc(&dir, "empty.gltf", &doc)).unwrap_err();
     message(&e, "no TRANSLATION, ROTATION or SCALE");
 }
+
+/// One mesh of two primitives with two materials: two objects, each with its
+/// own triangles, colour and box, both under the node's transform.
+#[test]
+fn primitives_and_materials_of_one_mesh_are_objects() {
+    let mut doc = tri_doc(&TRI, &[0, 1, 2]);
+    doc["meshes"][0]["primitives"] = json!([
+        { "attributes": { "POSITION": 0 }, "indices": 1, "material": 0 },
+        { "attributes": { "POSITION": 0 }, "material": 1 }
+    ]);
+    doc["materials"] = json!([
+        { "pbrMetallicRoughness": { "baseColorFactor": [1.0, 0.0, 0.0, 1.0] } },
+        { "pbrMetallicRoughness": { "baseColorFactor": [0.0, 0.0, 1.0, 1.0] } }
+    ]);
+    doc["nodes"][0]["translation"] = json!([0.0, 3.0, 0.0]);
+    let dir = tmp("primitives_materials");
+    let s = load(write_doc(&dir, "two.gltf", &doc)).unwrap();
+    assert_eq!((s.objects.len(), s.meshes.len()), (2, 2));
+    assert_eq!(s.objects[0].color, [1.0, 0.0, 0.0]);
+    assert_eq!(s.objects[1].color, [0.0, 0.0, 1.0]);
+    for o in &s.objects {
+        assert_close(o.bounds.min, Vec3::new(0.0, 3.0, 0.0));
+        assert_close(o.bounds.max, Vec3::new(1.0, 4.0, 0.0));
+    }
+}

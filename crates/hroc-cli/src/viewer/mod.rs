@@ -48,6 +48,9 @@ pub struct ViewArgs {
     pub view: View,
     #[arg(long, default_value_t = Split::Sah)]
     pub split: Split,
+    /// Clusters of at most T triangles, `off`, or `auto` (as `hroc bench`).
+    #[arg(long, default_value = "auto", value_parser = crate::parse_clusters)]
+    pub clusters: crate::Clusters,
     /// JSON camera path file (keys of t, eye, target, up, fov_y_deg).
     #[arg(long)]
     pub camera_path: Option<PathBuf>,
@@ -61,7 +64,10 @@ pub fn run(args: ViewArgs) -> Result<()> {
         return Err(Error::Arg("--frames must be at least 1".into()));
     }
     // Bad inputs fail before a window opens.
-    let scene = hroc_bench::scene::load(&args.scene, args.objects, 0)?;
+    let mut scene = hroc_bench::scene::load(&args.scene, args.objects, 0)?;
+    if let Some(t) = args.clusters.triangles(&args.scene) {
+        scene = scene.clustered(hroc_bench::scene::ClusterOptions::new(t))?;
+    }
     let path = args.camera_path.as_deref().map(CameraPath::from_file).transpose()?;
 
     let event_loop = winit::event_loop::EventLoop::new().map_err(|e| {
