@@ -9,28 +9,37 @@ use std::path::Path;
 use crate::error::{Error, Result};
 use crate::{CameraPath, Mesh, Scene};
 
+/// The triangles `o` draws in world space: the positions and normals of
+/// the vertices they use (in first-use order) and indices into those.
+fn world_geometry(scene: &Scene, o: &crate::Object) -> (Vec<[f32; 3]>, Vec<[f32; 3]>, Vec<u32>) {
+    let m = &scene.meshes[o.mesh as usize];
+    let (first, count) = m.range(o.cluster);
+    let normal_m = Mat3::from_mat4(o.transform).inverse().transpose();
+    let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::with_capacity(count as usize));
+    let mut local = std::collections::HashMap::new();
+    for &i in &m.indices[first as usize..(first + count) as usize] {
+        let at = *local.entry(i).or_insert_with(|| {
+            let v = &m.vertices[i as usize];
+            positions.push(o.transform.transform_point3(Vec3::from(v.position)).to_array());
+            normals.push((normal_m * Vec3::from(v.normal)).normalize_or(Vec3::Y).to_array());
+            positions.len() as u32 - 1
+        });
+        indices.push(at);
+    }
+    (positions, normals, indices)
+}
+
 impl Scene {
     /// The whole scene as one mesh in world space, drawn by one object:
     /// how interiors and city blocks often come in files.
     pub fn merged(&self) -> Scene {
         let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
         for o in &self.objects {
-            let m = &self.meshes[o.mesh as usize];
-            let (first, count) = m.range(o.cluster);
-            let normal_m = Mat3::from_mat4(o.transform).inverse().transpose();
-            let run = &m.indices[first as usize..(first + count) as usize];
-            // Only the vertices this object's triangles use.
-            let mut local = std::collections::HashMap::new();
-            for &i in run {
-                let next = positions.len() as u32;
-                let at = *local.entry(i).or_insert_with(|| {
-                    let v = &m.vertices[i as usize];
-                    positions.push(o.transform.transform_point3(Vec3::from(v.position)).to_array());
-                    normals.push((normal_m * Vec3::from(v.normal)).normalize_or(Vec3::Y).to_array());
-                    next
-                });
-                indices.push(at);
-            }
+            let (p, n, i) = world_geometry(self, o);
+            let base = positions.len() as u32;
+            indices.extend(i.iter().map(|i| base + i));
+            positions.extend(p);
+            normals.extend(n);
         }
         let mut s = Scene { name: format!("{}-merged", self.name), path: self.path.clone(), ..Default::default() };
         s.meshes.push(Mesh::new(format!("{} (one mesh)", self.name), positions, Some(normals), indices));
@@ -43,29 +52,26 @@ fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::Write { path: path.to_path_buf(), source }
 }
 
-/// Writes `scene` as OBJ: one `o` group per object, vertices in world space.
+/// Writes `scene` as OBJ: one `o` group per object, with the vertices its
+/// triangles use, in world space.
 pub fn write_obj(scene: &Scene, path: &Path) -> Result<()> {
     let f = std::fs::File::create(path).map_err(io(path))?;
     let mut w = std::io::BufWriter::new(f);
     let mut base = 1u64;
     for (k, o) in scene.objects.iter().enumerate() {
-        let m = &scene.meshes[o.mesh as usize];
-        let (first, count) = m.range(o.cluster);
-        let normal_m = Mat3::from_mat4(o.transform).inverse().transpose();
+        let (positions, normals, indices) = world_geometry(scene, o);
         writeln!(w, "o object{k}").map_err(io(path))?;
-        for v in &m.vertices {
-            let p = o.transform.transform_point3(Vec3::from(v.position));
-            writeln!(w, "v {} {} {}", p.x, p.y, p.z).map_err(io(path))?;
+        for p in &positions {
+            writeln!(w, "v {} {} {}", p[0], p[1], p[2]).map_err(io(path))?;
         }
-        for v in &m.vertices {
-            let n = (normal_m * Vec3::from(v.normal)).normalize_or(Vec3::Y);
-            writeln!(w, "vn {} {} {}", n.x, n.y, n.z).map_err(io(path))?;
+        for n in &normals {
+            writeln!(w, "vn {} {} {}", n[0], n[1], n[2]).map_err(io(path))?;
         }
-        for t in m.indices[first as usize..(first + count) as usize].chunks_exact(3) {
+        for t in indices.chunks_exact(3) {
             let [a, b, c] = [0, 1, 2].map(|i| base + t[i] as u64);
             writeln!(w, "f {a}//{a} {b}//{b} {c}//{c}").map_err(io(path))?;
         }
-        base += m.vertices.len() as u64;
+        base += positions.len() as u64;
     }
     w.flush().map_err(io(path))
 }

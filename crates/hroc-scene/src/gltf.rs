@@ -60,6 +60,7 @@ pub fn load_bytes(bytes: &[u8], path: &Path) -> Result<Scene> {
     let (json, blob) = if bytes.starts_with(b"glTF") { split_glb(bytes).map_err(bad)? } else { (bytes, None) };
     let mut root: gltf::json::Root = gltf::json::deserialize::from_slice(json).map_err(|e| bad(format!("invalid JSON: {e}")))?;
     check_position_indices(&root).map_err(bad)?;
+    check_image_sources(&root).map_err(bad)?;
     check_required_extensions(&mut root).map_err(bad)?;
     let doc = gltf::Document::from_json(root).map_err(|e| bad(describe_gltf_error(&e)))?;
 
@@ -276,20 +277,27 @@ fn read_primitive(mesh: &gltf::Mesh, prim: &gltf::Primitive, buffers: &[Vec<u8>]
 /// [-1, 1] when the accessor says so (glTF 2.0 §3.11). `None` when the data
 /// is shorter than the count.
 fn read_vec3(acc: &gltf::Accessor, buffers: &[Vec<u8>]) -> Option<Vec<[f32; 3]>> {
-    fn read<T: gltf::accessor::Item + Copy>(acc: &gltf::Accessor, buffers: &[Vec<u8>], f: impl Fn(T) -> f32) -> Option<Vec<[f32; 3]>> {
-        let it = gltf::accessor::Iter::<[T; 3]>::new(acc.clone(), |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d[..]))?;
-        let v: Vec<[f32; 3]> = it.map(|e| e.map(&f)).collect();
-        (v.len() == acc.count()).then_some(v)
-    }
     let n = acc.normalized();
     match acc.data_type() {
-        DataType::F32 => read::<f32>(acc, buffers, |x| x),
-        DataType::I8 => read::<i8>(acc, buffers, |x| if n { (x as f32 / 127.0).max(-1.0) } else { x as f32 }),
-        DataType::U8 => read::<u8>(acc, buffers, |x| if n { x as f32 / 255.0 } else { x as f32 }),
-        DataType::I16 => read::<i16>(acc, buffers, |x| if n { (x as f32 / 32767.0).max(-1.0) } else { x as f32 }),
-        DataType::U16 => read::<u16>(acc, buffers, |x| if n { x as f32 / 65535.0 } else { x as f32 }),
+        DataType::F32 => read::<f32, _>(acc, buffers, |x| x),
+        DataType::I8 => read::<i8, _>(acc, buffers, |x| if n { (x as f32 / 127.0).max(-1.0) } else { x as f32 }),
+        DataType::U8 => read::<u8, _>(acc, buffers, |x| if n { x as f32 / 255.0 } else { x as f32 }),
+        DataType::I16 => read::<i16, _>(acc, buffers, |x| if n { (x as f32 / 32767.0).max(-1.0) } else { x as f32 }),
+        DataType::U16 => read::<u16, _>(acc, buffers, |x| if n { x as f32 / 65535.0 } else { x as f32 }),
         DataType::U32 => None,
     }
+}
+
+/// An accessor's `N`-component elements of component type `T`, each
+/// component mapped to a float by `f`; `None` when the data is shorter than
+/// the count (the reader handles strides and sparse substitutions).
+fn read<T: gltf::accessor::Item + Copy, const N: usize>(acc: &gltf::Accessor, buffers: &[Vec<u8>], f: impl Fn(T) -> f32) -> Option<Vec<[f32; N]>>
+where
+    [T; N]: gltf::accessor::Item,
+{
+    let it = gltf::accessor::Iter::<[T; N]>::new(acc.clone(), |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d[..]))?;
+    let v: Vec<[f32; N]> = it.map(|e| e.map(&f)).collect();
+    (v.len() == acc.count()).then_some(v)
 }
 
 /// A node's instance transforms: its `EXT_mesh_gpu_instancing` TRANSLATION,
@@ -349,15 +357,10 @@ fn gpu_instances(doc: &gltf::Document, node: &gltf::Node, buffers: &[Vec<u8>]) -
 
 /// Instance rotations: floats, or normalized 8/16-bit integers (KHR_mesh_quantization).
 fn read_quats(acc: &gltf::Accessor, buffers: &[Vec<u8>]) -> Option<Vec<[f32; 4]>> {
-    fn read<T: gltf::accessor::Item + Copy>(acc: &gltf::Accessor, buffers: &[Vec<u8>], f: impl Fn(T) -> f32) -> Option<Vec<[f32; 4]>> {
-        let it = gltf::accessor::Iter::<[T; 4]>::new(acc.clone(), |b: gltf::Buffer| buffers.get(b.index()).map(|d| &d[..]))?;
-        let v: Vec<[f32; 4]> = it.map(|e| e.map(&f)).collect();
-        (v.len() == acc.count()).then_some(v)
-    }
     match acc.data_type() {
-        DataType::F32 => read::<f32>(acc, buffers, |x| x),
-        DataType::I8 => read::<i8>(acc, buffers, |x| (x as f32 / 127.0).max(-1.0)),
-        DataType::I16 => read::<i16>(acc, buffers, |x| (x as f32 / 32767.0).max(-1.0)),
+        DataType::F32 => read::<f32, _>(acc, buffers, |x| x),
+        DataType::I8 => read::<i8, _>(acc, buffers, |x| (x as f32 / 127.0).max(-1.0)),
+        DataType::I16 => read::<i16, _>(acc, buffers, |x| (x as f32 / 32767.0).max(-1.0)),
         _ => None,
     }
 }
@@ -442,6 +445,21 @@ fn check_position_indices(root: &gltf::json::Root) -> Msg<()> {
                     return Err(format!("mesh {mi} primitive {pi}: POSITION accessor {} does not exist ({} accessors)", a.value(), root.accessors.len()));
                 }
             }
+        }
+    }
+    Ok(())
+}
+
+/// `gltf`'s `Image::source` unwraps a URI, or a MIME type beside a buffer
+/// view, that validation does not require; reject an image without one.
+fn check_image_sources(root: &gltf::json::Root) -> Msg<()> {
+    for (i, image) in root.images.iter().enumerate() {
+        let ok = match image.buffer_view {
+            Some(_) => image.mime_type.is_some(),
+            None => image.uri.is_some(),
+        };
+        if !ok {
+            return Err(format!("image {i} has neither a URI nor a buffer view with a MIME type"));
         }
     }
     Ok(())

@@ -841,3 +841,17 @@ fn primitives_and_materials_of_one_mesh_are_objects() {
         assert_close(o.bounds.max, Vec3::new(1.0, 4.0, 0.0));
     }
 }
+
+/// An image with neither a URI nor a buffer view and MIME type (the `gltf`
+/// crate would unwrap the missing URI) is a clear error.
+#[test]
+fn image_without_source_is_an_error() {
+    let mut doc = tri_doc(&TRI, &[0, 1, 2]);
+    doc["images"] = json!([{ "name": "nothing" }]);
+    let dir = tmp("image_without_source");
+    let e = load(write_doc(&dir, "img.gltf", &doc)).unwrap_err();
+    message(&e, "image 0 has neither a URI");
+    doc["images"] = json!([{ "bufferView": 0 }]);
+    let e = load(write_doc(&dir, "img2.gltf", &doc)).unwrap_err();
+    message(&e, "MIME type");
+}

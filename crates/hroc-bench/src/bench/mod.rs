@@ -99,10 +99,17 @@ impl InvocationsMean {
     fn of(sum: &hroc::gpu::Invocations, frames: f64) -> Self {
         InvocationsMean { vertex: sum.vertex as f64 / frames, fragment: sum.fragment as f64 / frames, compute: sum.compute as f64 / frames }
     }
+}
 
-    /// Every invocation, of any shader stage.
-    pub fn total(&self) -> f64 {
-        self.vertex + self.fragment + self.compute
+impl MethodRow {
+    /// Invocations per frame of the stages that do not draw scene
+    /// geometry: the work of culling itself.
+    pub fn culling_invocations(&self) -> InvocationsMean {
+        self.invocations.iter().filter(|(stage, _)| !stage.draws_scene()).fold(InvocationsMean::default(), |a, (_, i)| InvocationsMean {
+            vertex: a.vertex + i.vertex,
+            fragment: a.fragment + i.fragment,
+            compute: a.compute + i.compute,
+        })
     }
 }
 

@@ -72,14 +72,8 @@ pub fn invocations(r: &BenchReport, markdown: bool) -> Option<String> {
     let cells = |method: &str, stage: &str, i: &InvocationsMean| vec![method.to_string(), stage.to_string(), count(i.vertex), count(i.fragment), count(i.compute)];
     let mut rows = Vec::new();
     for row in r.rows.iter().filter(|row| !row.invocations.is_empty()) {
-        let mut culling = InvocationsMean::default();
-        for (stage, i) in &row.invocations {
-            rows.push(cells(&row.method, stage.name(), i));
-            if !stage.draws_scene() {
-                culling = InvocationsMean { vertex: culling.vertex + i.vertex, fragment: culling.fragment + i.fragment, compute: culling.compute + i.compute };
-            }
-        }
-        rows.push(cells(&row.method, "(culling stages)", &culling));
+        rows.extend(row.invocations.iter().map(|(stage, i)| cells(&row.method, stage.name(), i)));
+        rows.push(cells(&row.method, "(culling stages)", &row.culling_invocations()));
     }
     Some(grid(&head, &rows, markdown))
 }

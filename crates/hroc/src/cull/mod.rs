@@ -280,8 +280,9 @@ pub struct MethodOptions {
     /// ID target in every `S × S` (1: every pixel, the paper's). Objects
     /// that cover no sampled pixel leave V: only speed and culling change,
     /// as V may be any set of objects. A sparser read costs 1/S² of the
-    /// filter's threads, and keeps small objects, which occlude little,
-    /// out of next frame's untested V.
+    /// filter's threads and keeps small objects out of next frame's
+    /// untested V, but measured fewer occluders cull less (BENCHMARKS.md),
+    /// so the default reads every pixel.
     pub hroc_filter_stride: u32,
     /// A frame whose view direction turned more than this many degrees
     /// since the last frame is culled as after a camera cut (the host need

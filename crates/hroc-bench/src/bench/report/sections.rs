@@ -245,14 +245,13 @@ fn invocations(doc: &mut Doc, d: &ReportData) {
     let mut t = Table::new(&["scene", "method", "stage", "vertex", "fragment", "compute"]);
     for s in &d.scenes {
         for r in s.main.rows.iter().filter(|r| !r.invocations.is_empty()) {
-            let mut culling = [0.0; 3];
+            let mut row = |stage: String, i: &crate::bench::InvocationsMean| {
+                t.row(vec![s.spec.clone(), r.method.clone(), stage, format!("{:.0}", i.vertex), format!("{:.0}", i.fragment), format!("{:.0}", i.compute)]);
+            };
             for (stage, i) in &r.invocations {
-                t.row(vec![s.spec.clone(), r.method.clone(), stage.to_string(), format!("{:.0}", i.vertex), format!("{:.0}", i.fragment), format!("{:.0}", i.compute)]);
-                if !stage.draws_scene() {
-                    culling = [culling[0] + i.vertex, culling[1] + i.fragment, culling[2] + i.compute];
-                }
+                row(stage.to_string(), i);
             }
-            t.row(vec![s.spec.clone(), r.method.clone(), "culling".into(), format!("{:.0}", culling[0]), format!("{:.0}", culling[1]), format!("{:.0}", culling[2])]);
+            row("culling".into(), &r.culling_invocations());
         }
     }
     doc.table(t);

@@ -227,10 +227,7 @@ impl Hroc {
             ],
         });
         let test_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc test"), bind_group_layouts: &[Some(&test_layout)], immediate_size: 0 });
-        let test_depth = match blocks {
-            Some(_) => (BLOCK_FORMAT, cx.targets.depth),
-            None => (cx.targets.depth_format, cx.targets.depth),
-        };
+        let test_depth = (blocks.as_ref().map_or(cx.targets.depth_format, |_| BLOCK_FORMAT), cx.targets.depth);
         let boxes = crate::shaders::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), test_depth, &[("TEST_SCALE", scale as f64)]);
         let words = |bytes: usize| (bytes / 4) as u32;
         let sf = (variant.counters == Counters::StallFree).then(|| {
