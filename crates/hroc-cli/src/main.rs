@@ -114,6 +114,11 @@ struct MethodArgs {
     /// 1 to 8 (1: every pixel, the paper's).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=8))]
     hroc_filter_stride: u32,
+    /// hroc: rounds of occludee rendering, 1 to 4 (1: the paper's, every
+    /// occludee drawn; more: front to back, each round drawing the
+    /// occludees nearest in some block and testing the rest again).
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=cull::hroc::MAX_ROUNDS as i64))]
+    hroc_rounds: u32,
     /// Degrees the view may turn between frames before the frame is culled
     /// as after a camera cut (`inf`: never).
     #[arg(long, default_value_t = 45.0)]
@@ -136,6 +141,7 @@ impl MethodArgs {
             hroc_seed: self.hroc_seed,
             hroc_test_scale: self.hroc_test_scale,
             hroc_filter_stride: self.hroc_filter_stride,
+            hroc_rounds: self.hroc_rounds,
             cut_turn_deg: self.cut_turn,
             cut_move: self.cut_move,
         }

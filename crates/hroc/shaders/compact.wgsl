@@ -1,4 +1,5 @@
-// Ordered stream compaction of per-object draw commands by a flag per item:
+// Ordered stream compaction of per-object draw commands by a flag per item
+// (non-zero, or equal to `select` when that is not 0):
 // a three-pass prefix sum (block sums, scan of block sums, scatter). Object
 // order is kept so equal-depth surfaces never flicker (HROC §4.1).
 
@@ -12,6 +13,8 @@ const ITEMS: u32 = 8u;
 struct Params {
     n: u32,
     blocks: u32,
+    select: u32,
+    _pad: u32,
 }
 
 @group(0) @binding(0) var<uniform> params: Params;
@@ -41,7 +44,7 @@ fn workgroup_scan(lid: u32, v: u32) -> u32 {
 }
 
 fn flag(i: u32) -> u32 {
-    if i < params.n && flags[i] != 0u {
+    if i < params.n && flags[i] != 0u && (params.select == 0u || flags[i] == params.select) {
         return 1u;
     }
     return 0u;

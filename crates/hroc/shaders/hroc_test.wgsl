@@ -149,3 +149,104 @@ fn box_fs(in: BoxOut) {
     atomicAdd(&ray_stats[2u * slot], 1u);
     atomicAdd(&ray_stats[2u * slot + 1u], steps);
 }
+
+// Front-to-back rounds of occludee rendering. The batch test marks U
+// against a map of last frame's occluders only; objects that came into view
+// this frame are missing from it, and whatever they hide passes the test.
+// Each round draws the occludees whose box is nearest at some block
+// (`front`), then tests the others' boxes again against the depth those
+// draws left, front to back as CHC++ interleaves its queries with drawing
+// (Mattausch et al. 2008), but with no read-back: the survivors are the
+// next round's candidates, and the last round draws all of its candidates.
+// Round k's candidates are the objects whose `candidates` flag equals
+// round.candidate (k + 1; U's marks in round 0); a pass never reads in its
+// vertex stage what its fragments write, so the flags of round k + 1 and
+// the front marks are separate buffers, tagged by round instead of cleared.
+
+struct RoundParams {
+    candidate: u32,
+    front: u32,
+    alive: u32,
+    _pad: u32,
+}
+
+@group(0) @binding(8) var<uniform> round: RoundParams;
+// The compacted U list: vertices 36 i to 36 i + 35 are the box of its
+// i-th object (one draw, not instances: a CPU rasterizer pays per instance).
+@group(0) @binding(9) var<storage, read> occludee_list: array<DrawCommand>;
+// What the pass marks: front marks (front_fs) or next round's candidates (late_fs).
+@group(0) @binding(10) var<storage, read_write> round_marks: array<u32>;
+@group(0) @binding(11) var<storage, read> candidates: array<u32>;
+@group(0) @binding(12) var<storage, read> front_marks: array<u32>;
+
+// rounds_init only: the U list's count, and the box draw it sizes.
+@group(0) @binding(13) var<storage, read> occludee_count: array<u32>;
+@group(0) @binding(14) var<storage, read_write> box_draw: array<u32>;
+
+struct RoundOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) object: u32,
+}
+
+fn round_box(o: u32, v: u32, drawn: bool) -> RoundOut {
+    var out: RoundOut;
+    out.object = o;
+    if !drawn {
+        out.clip = vec4<f32>(0.0, 0.0, -2.0, 1.0); // a point behind the near plane
+        return out;
+    }
+    let b = test_box(BvhNode(bounds[o].min, 0u, bounds[o].max, 0u));
+    out.clip = frame.view_proj * vec4<f32>(box_corner(b, v), 1.0);
+    return out;
+}
+
+// Round 0: an occludee whose test box crosses the near plane has no front
+// faces to rasterize, so it is drawn in front at once, as group extraction
+// draws such leaves untested.
+@compute @workgroup_size(256)
+fn rounds_init(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let o = id.y * nwg.x * 256u + id.x;
+    if o == 0u {
+        box_draw[0] = 36u * occludee_count[0];
+    }
+    if o >= frame.object_count || candidates[o] != round.candidate {
+        return;
+    }
+    if crosses_near(frame.planes, frame.near, test_box(BvhNode(bounds[o].min, 0u, bounds[o].max, 0u))) {
+        round_marks[o] = round.front;
+    }
+}
+
+// The boxes of this round's candidates, with depth writes and no fragment
+// stage, over the blocks' occlusion map: the nearest box depth.
+@vertex
+fn front_vs(@builtin(vertex_index) v: u32) -> RoundOut {
+    let o = occludee_list[v / 36u].first_instance;
+    return round_box(o, v % 36u, candidates[o] == round.candidate);
+}
+
+// Every box of U: the passes below test the round in the fragment stage
+// (a vertex stage that reads the state measured slower on lavapipe).
+@vertex
+fn round_vs(@builtin(vertex_index) v: u32) -> RoundOut {
+    let o = occludee_list[v / 36u].first_instance;
+    return round_box(o, v % 36u, true);
+}
+
+// Against the nearest box depth (read-only, biased towards the eye): a
+// candidate whose box is the nearest at some block is drawn this round.
+@fragment @early_depth_test(force)
+fn front_fs(in: RoundOut) {
+    if candidates[in.object] == round.candidate {
+        round_marks[in.object] = round.front;
+    }
+}
+
+// Against the depth this round's draws left: a box still in front
+// somewhere makes its object a candidate of the next round.
+@fragment @early_depth_test(force)
+fn late_fs(in: RoundOut) {
+    if candidates[in.object] == round.candidate && front_marks[in.object] != round.front {
+        round_marks[in.object] = round.alive;
+    }
+}

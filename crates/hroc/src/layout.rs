@@ -81,8 +81,10 @@ pub struct CompactParams {
     pub n: u32,
     /// Blocks of 2048 items, one workgroup each.
     pub blocks: u32,
+    /// 0: every non-zero flag selects its item; else only flags equal to it.
+    pub select: u32,
     /// Unused.
-    pub _pad: [u32; 2],
+    pub _pad: u32,
 }
 
 /// Every (WGSL struct name, Rust size) pair the shader test checks.
@@ -94,5 +96,6 @@ pub fn mirrored_sizes() -> Vec<(&'static str, usize)> {
         ("DrawCommand", size_of::<DrawCommand>()),
         ("DrawArgs", size_of::<DrawArgs>()),
         ("BvhNode", size_of::<crate::bvh::BvhNode>()),
+        ("Params", size_of::<CompactParams>()),
     ]
 }

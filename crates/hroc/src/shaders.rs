@@ -52,19 +52,46 @@ pub fn box_test_pipeline(
     depth: (wgpu::TextureFormat, DepthRange),
     constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
+    box_pipeline(gpu, label, layout, module, ("box_vs", fragment), depth, BoxDepth::Test, constants)
+}
+
+/// What a box pipeline does with depth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BoxDepth {
+    /// [`box_test_pipeline`]'s test: nearer or equal, biased toward the camera, no writes.
+    Test,
+    /// Writes the nearest box depth (`Less`, or `Greater` reversed), no bias.
+    Write,
+}
+
+/// [`box_test_pipeline`] with other entry points (`stages`: vertex,
+/// fragment) or, with [`BoxDepth::Write`], a pass that writes box depth.
+#[allow(clippy::too_many_arguments)]
+pub fn box_pipeline(
+    gpu: &Gpu,
+    label: &str,
+    layout: &wgpu::PipelineLayout,
+    module: &wgpu::ShaderModule,
+    (vertex, fragment): (&str, Option<&str>),
+    depth: (wgpu::TextureFormat, DepthRange),
+    mode: BoxDepth,
+    constants: &[(&str, f64)],
+) -> wgpu::RenderPipeline {
     let options = || wgpu::PipelineCompilationOptions { constants, ..Default::default() };
-    let (compare, bias) = match depth.1 {
-        DepthRange::Standard => (wgpu::CompareFunction::LessEqual, -16),
-        DepthRange::Reversed => (wgpu::CompareFunction::GreaterEqual, 16),
+    let (compare, bias) = match (depth.1, mode) {
+        (DepthRange::Standard, BoxDepth::Test) => (wgpu::CompareFunction::LessEqual, -16),
+        (DepthRange::Reversed, BoxDepth::Test) => (wgpu::CompareFunction::GreaterEqual, 16),
+        (DepthRange::Standard, BoxDepth::Write) => (wgpu::CompareFunction::Less, 0),
+        (DepthRange::Reversed, BoxDepth::Write) => (wgpu::CompareFunction::Greater, 0),
     };
     gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
-        vertex: wgpu::VertexState { module, entry_point: Some("box_vs"), compilation_options: options(), buffers: &[] },
+        vertex: wgpu::VertexState { module, entry_point: Some(vertex), compilation_options: options(), buffers: &[] },
         primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
         depth_stencil: Some(wgpu::DepthStencilState {
             format: depth.0,
-            depth_write_enabled: Some(false),
+            depth_write_enabled: Some(mode == BoxDepth::Write),
             depth_compare: Some(compare),
             stencil: Default::default(),
             bias: wgpu::DepthBiasState { constant: bias, slope_scale: 0.0, clamp: 0.0 },

@@ -1,4 +1,4 @@
-//! GPU ordered compaction: `flags[i] != 0` selects command i; the survivors
+//! GPU ordered compaction: `flags[i] != 0` (or `flags[i] == select`) selects command i; the survivors
 //! are packed in order and their number written to a count buffer that the
 //! multi-draw-indirect-count reads (HROC §4.1, thesis prefix-sum packing).
 
@@ -52,7 +52,7 @@ impl Compactor {
     /// A compactor for lists of `n` items.
     pub fn new(gpu: &Gpu, n: u32) -> Self {
         let blocks = n.div_ceil(WG * ITEMS).max(1);
-        let params = gpu.buffer_init("compact params", bytemuck::bytes_of(&CompactParams { n, blocks, _pad: [0; 2] }), wgpu::BufferUsages::UNIFORM);
+        let params = gpu.buffer_init("compact params", bytemuck::bytes_of(&CompactParams { n, blocks, select: 0, _pad: 0 }), wgpu::BufferUsages::UNIFORM);
         let block_sums = gpu.buffer("block sums", blocks as u64 * 4, wgpu::BufferUsages::STORAGE);
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("compact"),
@@ -87,17 +87,29 @@ impl Compactor {
         CompactJob { bind: gpu.bind_buffers(&self.layout, &[&self.params, flags, src, dst, &self.block_sums, count]) }
     }
 
+    /// Like [`Compactor::job`], selecting only the items whose flag equals `select` (not 0).
+    pub fn job_selecting(&self, gpu: &Gpu, flags: &wgpu::Buffer, select: u32, src: &wgpu::Buffer, dst: &wgpu::Buffer, count: &wgpu::Buffer) -> CompactJob {
+        let params = CompactParams { n: self.n, blocks: self.blocks, select, _pad: 0 };
+        let params = gpu.buffer_init("compact params", bytemuck::bytes_of(&params), wgpu::BufferUsages::UNIFORM);
+        CompactJob { bind: gpu.bind_buffers(&self.layout, &[&params, flags, src, dst, &self.block_sums, count]) }
+    }
+
     /// A list of up to `len()` commands packed from `src` by `flags`, and
     /// the job that packs it (the usual V and U lists of a culler).
     pub fn packed_list(&self, gpu: &Gpu, label: &str, flags: &wgpu::Buffer, src: &wgpu::Buffer) -> (DrawList, CompactJob) {
+        let list = self.list(gpu, label);
+        let job = self.job(gpu, flags, src, &list.commands, &list.count);
+        (list, job)
+    }
+
+    /// An empty list of up to `len()` commands, for a job to pack.
+    pub fn list(&self, gpu: &Gpu, label: &str) -> DrawList {
         use wgpu::BufferUsages as U;
-        let list = DrawList {
+        DrawList {
             commands: gpu.buffer(label, self.n as u64 * std::mem::size_of::<DrawCommand>() as u64, U::STORAGE | U::INDIRECT | U::COPY_SRC),
             count: gpu.buffer(label, 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
             max_count: self.n,
-        };
-        let job = self.job(gpu, flags, src, &list.commands, &list.count);
-        (list, job)
+        }
     }
 
     /// Records the compaction of `job` (one compute pass, three dispatches),

@@ -284,6 +284,14 @@ pub struct MethodOptions {
     /// untested V, but measured fewer occluders cull less (BENCHMARKS.md),
     /// so the default reads every pixel.
     pub hroc_filter_stride: u32,
+    /// `hroc`: rounds of occludee rendering, 1 to [`hroc::MAX_ROUNDS`]. 1
+    /// is the paper's: every object the batch test marks (U) is drawn. With
+    /// more, each round but the last draws the marked objects whose box is
+    /// nearest at some block, and tests the rest again against the depth
+    /// those draws left; objects hidden by what came into view this frame
+    /// are then culled too. Rounds only change which of U are drawn, never
+    /// what passes: every object they drop is behind drawn depth.
+    pub hroc_rounds: u32,
     /// A frame whose view direction turned more than this many degrees
     /// since the last frame is culled as after a camera cut (the host need
     /// not say so): 45° is an eighth of a turn, past which most of last
@@ -332,6 +340,7 @@ impl Default for MethodOptions {
             hroc_seed: Seed::Cuts,
             hroc_test_scale: 2,
             hroc_filter_stride: 1,
+            hroc_rounds: 1,
             cut_turn_deg: 45.0,
             cut_move: 0.1,
         }
@@ -635,6 +644,9 @@ named_enum!(
         OcclusionTest => "occlusion test",
         /// Drawing the objects that passed (HROC §3.4).
         OccludeeRendering => "occludee rendering",
+        /// HROC's front-to-back occludee rounds: nearest boxes, re-tests
+        /// and their lists ([`MethodOptions::hroc_rounds`]).
+        OccludeeRounds => "occludee rounds",
         /// HROC's occluder filtering (§4.2).
         Filtering => "filtering",
         /// Hi-Z pyramid build.
@@ -675,6 +687,8 @@ named_enum!(
         G => "G",
         /// |U|: occludees that passed the test.
         U => "U",
+        /// Occludees drawn in the front lists of HROC's rounds before the last.
+        Front => "front",
         /// |D|: occludees with a fragment through early-Z.
         D => "D",
         /// Rays cast by HROC's test.

@@ -7,7 +7,11 @@
 //!    subtrees (`hroc_test.wgsl`); marked objects are the occludees U.
 //!    With [`MethodOptions::hroc_test_scale`](super::MethodOptions) above 1
 //!    the test runs on blocks of pixels against their farthest depth;
-//! 4. occludee rendering — draw U with early-Z; passing objects are D;
+//! 4. occludee rendering — draw U with early-Z; passing objects are D.
+//!    With [`MethodOptions::hroc_rounds`](super::MethodOptions) above 1, in
+//!    front-to-back rounds: each draws the occludees whose box is nearest
+//!    at some block and tests the rest again against the depth it left
+//!    (`rounds_init`, `front_depth_vs`, `front_fs`, `late_fs`);
 //! 5. next V = O ∪ D, or with OF the objects that own a pixel.
 //!
 //! CR reads back |V|, |G|, |U| for `max_count` instead of N.
@@ -27,6 +31,9 @@ use stall_free::{Counted, StallFree};
 
 /// The stacks in both shaders hold at most this many entries.
 pub const MAX_DEPTH: u32 = 62;
+/// Most occludee rounds: each costs a reduce, three box passes over U and
+/// a compaction, and past four the rounds measured no further culling.
+pub const MAX_ROUNDS: u32 = 4;
 const STAT_SLOTS: u64 = 64;
 
 pub use super::Variant;
@@ -76,6 +83,35 @@ pub struct Hroc {
     seeded: bool,
     /// The stall-free variant's estimates and overflow passes.
     sf: Option<StallFree>,
+    /// Front-to-back occludee rounds, when more than one.
+    rounds: Option<Rounds>,
+}
+
+/// Front-to-back rounds of occludee rendering (step 4 with
+/// [`MethodOptions::hroc_rounds`](super::MethodOptions) above 1). Round k's
+/// candidates are flagged k + 1: U's marks in round 0, then the late test's
+/// marks, in two buffers that take turns; front marks are k + 1 too.
+struct Rounds {
+    count: u32,
+    /// Front marks, and round k + 1's candidates by the parity of k.
+    front: wgpu::Buffer,
+    alive: [wgpu::Buffer; 2],
+    /// One draw of U's boxes, 36 |U| vertices (sized on the GPU).
+    box_args: wgpu::Buffer,
+    /// Nearest candidate box depth over the blocks' occlusion map.
+    front_map: Blocks,
+    /// Per round: the bindings of its front passes and of its late test.
+    front_binds: Vec<wgpu::BindGroup>,
+    late_binds: Vec<wgpu::BindGroup>,
+    init: wgpu::ComputePipeline,
+    init_bind: wgpu::BindGroup,
+    front_depth: wgpu::RenderPipeline,
+    front_marks: wgpu::RenderPipeline,
+    late: wgpu::RenderPipeline,
+    /// Each round's front list, but the last round's.
+    fronts: Vec<(DrawList, CompactJob)>,
+    /// The last round's list: its candidates, all drawn.
+    last: (DrawList, CompactJob),
 }
 
 /// Cells of the occluder seed's ray grid (`seed` in `hroc_groups.wgsl`):
@@ -110,6 +146,8 @@ pub struct FrameCounts {
     pub u: u32,
     /// |D|: occludees with a fragment through early-Z when drawn (HROC §3.4).
     pub d: u32,
+    /// Occludees drawn in the rounds' front lists (0 with one round).
+    pub front: u32,
     /// Rays cast by the batch occlusion test, one per group-box fragment that traverses.
     pub rays: u64,
     /// BVH nodes visited by those rays, summed over all rays.
@@ -229,16 +267,17 @@ impl Hroc {
         let test_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc test"), bind_group_layouts: &[Some(&test_layout)], immediate_size: 0 });
         let test_depth = (blocks.as_ref().map_or(cx.targets.depth_format, |_| BLOCK_FORMAT), cx.targets.depth);
         let boxes = crate::shaders::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), test_depth, &[("TEST_SCALE", scale as f64)]);
+        let round_count = cx.options.hroc_rounds.clamp(1, MAX_ROUNDS);
+        let rounds = (round_count > 1).then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, round_count, &occludees, &u_list, &compactor));
         let words = |bytes: usize| (bytes / 4) as u32;
+        let command_words = words(std::mem::size_of::<crate::layout::DrawCommand>());
         let sf = (variant.counters == Counters::StallFree).then(|| {
-            StallFree::new(
-                gpu,
-                [
-                    (&v_list.commands, &v_list.count, n, words(std::mem::size_of::<crate::layout::DrawCommand>())),
-                    (&groups, &group_count, nodes + n, 0),
-                    (&u_list.commands, &u_list.count, n, words(std::mem::size_of::<crate::layout::DrawCommand>())),
-                ],
-            )
+            let last = rounds.as_ref().map_or(&u_list, |r| &r.last.0);
+            let mut lists = vec![(&v_list.commands, &v_list.count, n, command_words), (&groups, &group_count, nodes + n, 0), (&last.commands, &last.count, n, command_words)];
+            for (l, _) in rounds.iter().flat_map(|r| &r.fronts) {
+                lists.push((&l.commands, &l.count, n, command_words));
+            }
+            StallFree::new(gpu, &lists)
         });
         Ok(Hroc {
             variant,
@@ -276,6 +315,7 @@ impl Hroc {
             seed_next: true,
             seeded: false,
             sf,
+            rounds,
         })
     }
 
@@ -299,7 +339,7 @@ impl Hroc {
                 f.stage(resume);
                 Ok(c)
             }
-            (Counters::StallFree, Some(sf)) => Ok(sf.estimates[which as usize]),
+            (Counters::StallFree, Some(sf)) => Ok(sf.estimates[which.index()]),
             _ => Ok(capacity),
         }
     }
@@ -314,6 +354,79 @@ impl Hroc {
         }
     }
 
+    /// Step 4 in front-to-back rounds: in each round but the last, the
+    /// candidates whose box is nearest at some block are drawn, and the
+    /// others are tested again, alone, against the depth those draws left;
+    /// the last round draws all of its candidates. Round 0's candidates are
+    /// U, whose list (just compacted) instances every box pass.
+    fn occludee_rounds(&self, f: &mut Frame) -> Result<()> {
+        let n = self.n;
+        let r = self.rounds.as_ref().expect("rounds");
+        f.stage(Stage::OccludeeRounds);
+        {
+            let (enc, q) = f.counted();
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            q.around(&mut pass, |pass| {
+                pass.set_pipeline(&r.init);
+                pass.set_bind_group(0, &r.init_bind, &[]);
+                let (x, y) = dispatch_size(n, 256);
+                pass.dispatch_workgroups(x, y, 1);
+            });
+        }
+        let boxes = |f: &mut Frame, label: &str, view: &wgpu::TextureView, write: bool, pipeline: &wgpu::RenderPipeline, bind: &wgpu::BindGroup| {
+            let (enc, q) = f.counted();
+            let depth_ops = write.then_some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store });
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some(label),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view, depth_ops, stencil_ops: None }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            q.around(&mut pass, |pass| {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, bind, &[]);
+                pass.draw_indirect(&r.box_args, 0);
+            });
+        };
+        for k in 0..r.count - 1 {
+            let (list, job) = &r.fronts[k as usize];
+            // The nearest candidate boxes over the occlusion map, then the
+            // candidates that own some of that depth.
+            f.stage(Stage::OccludeeRounds);
+            {
+                let (enc, q) = f.counted();
+                r.front_map.reduce(enc, &q);
+            }
+            let bind = &r.front_binds[k as usize];
+            boxes(f, "hroc front depth", &r.front_map.view, true, &r.front_depth, bind);
+            boxes(f, "hroc front", &r.front_map.view, false, &r.front_marks, bind);
+            let (enc, q) = f.counted();
+            self.compactor.record(enc, &q, job);
+            let max_count = self.max_count(f, Counted::Front(k), &list.count, n, Stage::OccludeeRounds)?;
+            f.stage(Stage::OccludeeRendering);
+            let drawn = DrawList { max_count, ..list.clone() };
+            self.draw_list(f, Phase::Occludees, Counted::Front(k), &drawn, &self.marks_d);
+            // The other candidates against the depth just drawn.
+            f.stage(Stage::OccludeeRounds);
+            let targets = f.targets;
+            if let Some(b) = &self.blocks {
+                let (enc, q) = f.counted();
+                b.reduce(enc, &q);
+            }
+            let test_view = self.blocks.as_ref().map_or(&targets.depth_attachment, |b| &b.view);
+            boxes(f, "hroc late test", test_view, false, &r.late, &r.late_binds[k as usize]);
+        }
+        let (list, job) = &r.last;
+        let (enc, q) = f.counted();
+        self.compactor.record(enc, &q, job);
+        let max_count = self.max_count(f, Counted::U, &list.count, n, Stage::OccludeeRounds)?;
+        f.stage(Stage::OccludeeRendering);
+        self.draw_list(f, Phase::Occludees, Counted::U, &DrawList { max_count, ..list.clone() }, &self.marks_d);
+        Ok(())
+    }
+
     /// Sizes of V, O, G, U, D and ray statistics of the last frame (reads
     /// back; call after the frame).
     pub fn counts(&self, gpu: &Gpu) -> Result<FrameCounts> {
@@ -325,6 +438,10 @@ impl Hroc {
             g: gpu.read::<u32>(&self.group_count, 0, 1)?[0],
             u: sum(&self.occludees)?,
             d: sum(&self.drawn)?,
+            front: match &self.rounds {
+                Some(r) => sum(&r.front)?,
+                None => 0,
+            },
             rays: stats.iter().step_by(2).map(|&x| x as u64).sum(),
             nodes_visited: stats.iter().skip(1).step_by(2).map(|&x| x as u64).sum(),
         })
@@ -432,6 +549,87 @@ impl Blocks {
     }
 }
 
+impl Rounds {
+    #[allow(clippy::too_many_arguments)]
+    fn new(
+        gpu: &Gpu,
+        cx: &MethodContext,
+        module: &wgpu::ShaderModule,
+        scale: u32,
+        test_depth: (wgpu::TextureFormat, crate::DepthRange),
+        count: u32,
+        occludees: &wgpu::Buffer,
+        u_list: &DrawList,
+        compactor: &Compactor,
+    ) -> Rounds {
+        use wgpu::BufferUsages as U;
+        let device = &gpu.device;
+        let n = cx.object_count;
+        let flags = |label| gpu.buffer(label, n as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+        let (front, alive) = (flags("hroc front marks"), [flags("hroc round candidates"), flags("hroc round candidates")]);
+        let unused = gpu.buffer("hroc unused", 4, U::STORAGE);
+        let box_args = gpu.buffer_init("hroc round boxes", bytemuck::cast_slice(&[0u32, 1, 0, 0]), U::INDIRECT | U::STORAGE);
+        let round_entries =
+            [uniform_entry(0), storage_entry(6, true), uniform_entry(8), storage_entry(9, true), storage_entry(10, false), storage_entry(11, true), storage_entry(12, true)];
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc rounds"), entries: &round_entries });
+        let init_entries = [&round_entries[..], &[storage_entry(13, true), storage_entry(14, false)]].concat();
+        let init_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc rounds init"), entries: &init_entries });
+        let candidates = |k: u32| if k == 0 { occludees } else { &alive[(k as usize - 1) % 2] };
+        let (mut front_binds, mut late_binds, mut init_bind) = (Vec::new(), Vec::new(), None);
+        for k in 0..count {
+            let params = gpu.buffer_init("hroc round params", bytemuck::cast_slice(&[k + 1, k + 1, k + 2, 0]), U::UNIFORM);
+            let bind = |layout: &wgpu::BindGroupLayout, marks: &wgpu::Buffer, front_in: &wgpu::Buffer, init: bool| {
+                let mut buffers = vec![(0, cx.frame), (6, cx.bounds), (8, &params), (9, &u_list.commands), (10, marks), (11, candidates(k)), (12, front_in)];
+                if init {
+                    buffers.extend([(13, &u_list.count), (14, &box_args)]);
+                }
+                let entries: Vec<_> = buffers.iter().map(|&(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }).collect();
+                device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("hroc rounds"), layout, entries: &entries })
+            };
+            if k == 0 {
+                init_bind = Some(bind(&init_layout, &front, &unused, true));
+            }
+            front_binds.push(bind(&layout, &front, &unused, false));
+            late_binds.push(bind(&layout, candidates(k + 1), &front, false));
+        }
+        let pipeline_layout = |l: &wgpu::BindGroupLayout| {
+            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc rounds"), bind_group_layouts: &[Some(l)], immediate_size: 0 })
+        };
+        let (pl, init_pl) = (pipeline_layout(&layout), pipeline_layout(&init_layout));
+        let constants = [("TEST_SCALE", scale as f64)];
+        let block_depth = (BLOCK_FORMAT, cx.targets.depth);
+        use crate::shaders::{box_pipeline, BoxDepth};
+        let list = |label: &str, flags: &wgpu::Buffer, select: u32| {
+            let list = compactor.list(gpu, label);
+            let job = compactor.job_selecting(gpu, flags, select, cx.commands, &list.commands, &list.count);
+            (list, job)
+        };
+        Rounds {
+            count,
+            front_map: Blocks::new(gpu, cx, module, scale),
+            init: gpu.compute_pipeline(module, "rounds_init", Some(&init_pl), &constants),
+            init_bind: init_bind.expect("at least one round"),
+            front_depth: box_pipeline(gpu, "hroc front depth", &pl, module, ("front_vs", None), block_depth, BoxDepth::Write, &constants),
+            front_marks: box_pipeline(gpu, "hroc front", &pl, module, ("round_vs", Some("front_fs")), block_depth, BoxDepth::Test, &constants),
+            late: box_pipeline(gpu, "hroc late test", &pl, module, ("round_vs", Some("late_fs")), test_depth, BoxDepth::Test, &constants),
+            fronts: (0..count - 1).map(|k| list("hroc front list", &front, k + 1)).collect(),
+            last: list("hroc last round list", candidates(count - 1), count),
+            front,
+            alive,
+            box_args,
+            front_binds,
+            late_binds,
+        }
+    }
+
+    /// Clears the marks of the last frame.
+    fn clear(&self, enc: &mut wgpu::CommandEncoder) {
+        for b in [&self.front, &self.alive[0], &self.alive[1]] {
+            enc.clear_buffer(b, 0, None);
+        }
+    }
+}
+
 impl Hroc {
     /// Pixels per side of the occlusion test's blocks in this view (1: per pixel).
     pub fn test_scale(&self) -> u32 {
@@ -441,7 +639,7 @@ impl Hroc {
     /// The stall-free variant's `max_count` estimates of V, G and U in the
     /// last frame; `None` for the other variants.
     pub fn estimates(&self) -> Option<[u32; 3]> {
-        self.sf.as_ref().map(|sf| sf.estimates)
+        self.sf.as_ref().map(|sf| [sf.estimates[0], sf.estimates[1], sf.estimates[2]])
     }
 
     /// This frame's packed occluder list V (drawing it alone rebuilds the occlusion map).
@@ -503,6 +701,9 @@ impl CullMethod for Hroc {
         for b in [&self.state, &self.visited, &self.group_count, &self.occludees, &self.ray_stats] {
             enc.clear_buffer(b, 0, None);
         }
+        if let Some(r) = &self.rounds {
+            r.clear(enc);
+        }
         self.dispatch(f, &self.extract, (ox, oy));
         self.dispatch(f, &self.collect, dispatch_size(nodes, 256));
         let max_groups = self.max_count(f, Counted::G, &self.group_count, nodes + n, Stage::GroupExtraction)?;
@@ -540,8 +741,12 @@ impl CullMethod for Hroc {
         let (enc, q) = f.counted();
         enc.clear_buffer(&self.drawn, 0, None);
         self.compactor.record(enc, &q, &self.u_job);
-        self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
-        self.draw_list(f, Phase::Occludees, Counted::U, &self.u_list, &self.marks_d);
+        if self.rounds.is_some() {
+            self.occludee_rounds(f)?;
+        } else {
+            self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
+            self.draw_list(f, Phase::Occludees, Counted::U, &self.u_list, &self.marks_d);
+        }
         // 5. Next frame's occluders.
         f.stage(Stage::Filtering);
         if self.variant.of {
@@ -553,7 +758,10 @@ impl CullMethod for Hroc {
             self.dispatch(f, &self.merge, (ox, oy));
         }
         if let Some(sf) = self.sf.as_mut() {
-            sf.end(f.encoder, [&self.v_list.count, &self.group_count, &self.u_list.count]);
+            let last = self.rounds.as_ref().map_or(&self.u_list, |r| &r.last.0);
+            let mut counts = vec![&self.v_list.count, &self.group_count, &last.count];
+            counts.extend(self.rounds.iter().flat_map(|r| r.fronts.iter().map(|(l, _)| &l.count)));
+            sf.end(f.encoder, &counts);
         }
         Ok(())
     }
@@ -570,6 +778,7 @@ impl CullMethod for Hroc {
             (Stat::O, c.o as f64),
             (Stat::G, c.g as f64),
             (Stat::U, c.u as f64),
+            (Stat::Front, c.front as f64),
             (Stat::D, c.d as f64),
             (Stat::Rays, c.rays as f64),
             (Stat::NodesPerRay, if c.rays > 0 { c.nodes_visited as f64 / c.rays as f64 } else { 0.0 }),

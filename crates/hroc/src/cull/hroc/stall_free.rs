@@ -14,15 +14,29 @@ use crate::cull::DrawList;
 use crate::cull::Frame;
 use crate::gpu::{dispatch_size, Gpu};
 
-/// The three counted lists of an HROC frame.
+/// The counted lists of an HROC frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Counted {
     /// The occluder list V (§3.1).
-    V = 0,
+    V,
     /// The occludee groups G (§3.2).
-    G = 1,
-    /// The occludee list U (§3.4).
-    U = 2,
+    G,
+    /// The occludee list U (§3.4), or with rounds the last round's list.
+    U,
+    /// The front list of occludee round k (all rounds but the last).
+    Front(u32),
+}
+
+impl Counted {
+    /// Index of the list among [`StallFree::new`]'s.
+    pub fn index(self) -> usize {
+        match self {
+            Counted::V => 0,
+            Counted::G => 1,
+            Counted::U => 2,
+            Counted::Front(k) => 3 + k as usize,
+        }
+    }
 }
 
 /// Estimate = last known count × `MARGIN` + `SLACK`: a quarter more absorbs
@@ -53,17 +67,18 @@ struct Job {
 /// Per-view state of the stall-free variant.
 pub struct StallFree {
     pipeline: wgpu::ComputePipeline,
-    jobs: [Job; 3],
+    jobs: Vec<Job>,
     ring: Vec<(wgpu::Buffer, Slot)>,
-    /// Last counts read back without waiting (V, G, U).
-    known: Option<[u32; 3]>,
-    /// This frame's estimates.
-    pub estimates: [u32; 3],
+    /// Last counts read back without waiting, in [`Counted::index`] order.
+    known: Option<Vec<u32>>,
+    /// This frame's estimates, in [`Counted::index`] order.
+    pub estimates: Vec<u32>,
 }
 
 impl StallFree {
-    /// `lists`: (commands, count, capacity, u32 words per command) of V, G, U.
-    pub fn new(gpu: &Gpu, lists: [(&wgpu::Buffer, &wgpu::Buffer, u32, u32); 3]) -> Self {
+    /// `lists`: (commands, count, capacity, u32 words per command) of V, G,
+    /// U and the front lists, in [`Counted::index`] order.
+    pub fn new(gpu: &Gpu, lists: &[(&wgpu::Buffer, &wgpu::Buffer, u32, u32)]) -> Self {
         let device = &gpu.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hroc overflow"),
@@ -72,19 +87,23 @@ impl StallFree {
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc overflow"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("overflow.wgsl", &crate::shaders::source("overflow.wgsl"));
         use wgpu::BufferUsages as U;
-        let jobs = lists.map(|(commands, count, capacity, stride)| {
-            let params = gpu.buffer("hroc overflow params", 16, U::UNIFORM | U::COPY_DST);
-            let list = DrawList {
-                // The groups' overflow is drawn from the groups buffer at an offset: no copy.
-                commands: gpu.buffer("hroc overflow list", (capacity.max(1) as u64) * 4 * stride.max(1) as u64, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-                count: gpu.buffer("hroc overflow count", 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
-                max_count: 0,
-            };
-            let bind = gpu.bind_buffers(&layout, &[&params, commands, count, &list.commands, &list.count]);
-            Job { params, bind, list, stride, capacity }
-        });
-        let ring = (0..RING).map(|_| (gpu.buffer("hroc counts staging", 16, U::MAP_READ | U::COPY_DST), Slot::Free)).collect();
-        StallFree { pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]), jobs, ring, known: None, estimates: lists.map(|l| l.2) }
+        let jobs: Vec<Job> = lists
+            .iter()
+            .map(|&(commands, count, capacity, stride)| {
+                let params = gpu.buffer("hroc overflow params", 16, U::UNIFORM | U::COPY_DST);
+                let list = DrawList {
+                    // The groups' overflow is drawn from the groups buffer at an offset: no copy.
+                    commands: gpu.buffer("hroc overflow list", (capacity.max(1) as u64) * 4 * stride.max(1) as u64, U::STORAGE | U::INDIRECT | U::COPY_SRC),
+                    count: gpu.buffer("hroc overflow count", 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),
+                    max_count: 0,
+                };
+                let bind = gpu.bind_buffers(&layout, &[&params, commands, count, &list.commands, &list.count]);
+                Job { params, bind, list, stride, capacity }
+            })
+            .collect();
+        let bytes = (lists.len() as u64 * 4).next_multiple_of(16);
+        let ring = (0..RING).map(|_| (gpu.buffer("hroc counts staging", bytes, U::MAP_READ | U::COPY_DST), Slot::Free)).collect();
+        StallFree { pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]), jobs, ring, known: None, estimates: lists.iter().map(|l| l.2).collect() }
     }
 
     /// Starts a frame: maps the counts copied last frame, takes any that
@@ -107,18 +126,19 @@ impl StallFree {
                 if state == 2 {
                     *slot = Slot::Free;
                 } else if state == 1 {
-                    let counts = buf.slice(..).get_mapped_range().ok().map(|v| bytemuck::pod_read_unaligned::<[u32; 4]>(&v[..16]));
+                    let n = self.jobs.len();
+                    let counts = buf.slice(..).get_mapped_range().ok().map(|v| v[..n * 4].chunks_exact(4).map(bytemuck::pod_read_unaligned::<u32>).collect::<Vec<u32>>());
                     buf.unmap();
                     *slot = Slot::Free;
                     if let Some(c) = counts {
-                        self.known = Some([c[0], c[1], c[2]]);
-                        bytes += 12;
+                        bytes += c.len() as u64 * 4;
+                        self.known = Some(c);
                     }
                 }
             }
         }
         for (k, job) in self.jobs.iter().enumerate() {
-            self.estimates[k] = match self.known {
+            self.estimates[k] = match &self.known {
                 Some(c) => ((c[k] as f64 * MARGIN).ceil() as u32).saturating_add(SLACK).min(job.capacity),
                 None => job.capacity,
             };
@@ -130,7 +150,7 @@ impl StallFree {
     /// (commands [estimate, count) at offset 0, or for G only the count),
     /// `None` when the estimate is the capacity and nothing can overflow.
     pub fn overflow(&self, f: &mut Frame, which: Counted) -> Option<DrawList> {
-        let (k, job) = (which as usize, &self.jobs[which as usize]);
+        let (k, job) = (which.index(), &self.jobs[which.index()]);
         let est = self.estimates[k];
         if est >= job.capacity {
             return None;
@@ -149,9 +169,10 @@ impl StallFree {
         Some(DrawList { max_count: job.capacity - est, ..job.list.clone() })
     }
 
-    /// Ends a frame: copies the three counts to a free staging buffer, to
-    /// be mapped at the next frame (skipped when all are in flight).
-    pub fn end(&mut self, enc: &mut wgpu::CommandEncoder, counts: [&wgpu::Buffer; 3]) {
+    /// Ends a frame: copies the counts (in [`Counted::index`] order) to a
+    /// free staging buffer, to be mapped at the next frame (skipped when all
+    /// are in flight).
+    pub fn end(&mut self, enc: &mut wgpu::CommandEncoder, counts: &[&wgpu::Buffer]) {
         if let Some((buf, slot)) = self.ring.iter_mut().find(|(_, s)| matches!(s, Slot::Free)) {
             for (k, c) in counts.iter().enumerate() {
                 enc.copy_buffer_to_buffer(c, 0, buf, k as u64 * 4, Some(4));
