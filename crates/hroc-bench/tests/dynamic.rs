@@ -50,10 +50,11 @@ fn ahead(s: &Session, k: usize, dist: f32, side: f32) -> Mat4 {
 ///   tree is rebuilt without them at frame 15;
 /// - frames 20–23: they turn static again, outside the tree until a
 ///   rebuild, and keep moving.
-fn scripted_walk(refit: Refit) {
+fn scripted_walk(refit: Refit, hroc_rounds: u32) {
     let scene = hroc_bench::scene::load("radial-city", Some(1500), 4).unwrap();
     let base: Vec<Mat4> = scene.objects.iter().map(|o| o.transform).collect();
     let mut s = Session::new(gpu(), scene, None, FRAMES, RES, Split::Sah).unwrap();
+    s.options.hroc_rounds = hroc_rounds;
     // Objects outside the tree stay there: the hybrid path is what is tested.
     s.culler.set_motion(MotionOptions { refit, rebuild_sah_growth: f64::INFINITY, rebuild_outside: 1.0 }).unwrap();
     let mut views: Vec<hroc::View> = METHODS.iter().map(|m| s.create(m).unwrap()).collect();
@@ -139,12 +140,13 @@ fn scripted_walk(refit: Refit) {
 
 #[test]
 fn every_change_stays_conservative_with_cpu_refit() {
-    scripted_walk(Refit::Cpu);
+    scripted_walk(Refit::Cpu, 1);
 }
 
 #[test]
 fn every_change_stays_conservative_with_gpu_refit() {
-    scripted_walk(Refit::Gpu);
+    // With HROC's front-to-back occludee rounds.
+    scripted_walk(Refit::Gpu, 3);
 }
 
 fn objects(n: usize) -> Vec<ObjectDesc> {

@@ -139,6 +139,65 @@ fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
 }
 
 #[test]
+fn conservative_with_occludee_rounds() {
+    // Every variant in front-to-back rounds, with the per-pixel test and on
+    // blocks, along the hard paths; rounds draw fewer objects than one.
+    for ((key, rounds), scale) in [("factory", 3), ("satellites", 2), ("radial-city", 4)].into_iter().zip([2, 1, 2]) {
+        let scene = hroc_bench::scene::load(key, Some(2000), 5).unwrap();
+        let path = paths::hard_path(&scene);
+        let mut s = Session::new(gpu(), scene, Some(path), 30, RES, Split::Sah).unwrap();
+        s.options = hroc::MethodOptions { hroc_test_scale: scale, ..Default::default() };
+        let one = assert_variants_conservative(&mut s, key);
+        s.options.hroc_rounds = rounds;
+        let more = assert_variants_conservative(&mut s, key);
+        assert!(more < one, "{key}: {rounds} rounds drew {more:.3} × the visible objects, one round {one:.3}");
+    }
+}
+
+#[test]
+fn gpu_late_test_matches_cpu_reference() {
+    // Round 0's late test re-tests U's objects not drawn in front, alone,
+    // against the depth V and the front list left: everything a shrunk
+    // per-pixel box test finds must go on, nothing a generous test of the
+    // GPU's blocks rejects may.
+    for ((key, n), scale) in [("factory", 1500), ("radial-city", 1500)].into_iter().zip([1, 2]) {
+        let scene = hroc_bench::scene::load(key, Some(n), 11).unwrap();
+        let path = paths::hard_path(&scene);
+        let mut s = Session::new(gpu(), scene, Some(path), 16, RES, Split::Sah).unwrap();
+        s.options = hroc::MethodOptions { hroc_test_scale: scale, hroc_rounds: 2, ..Default::default() };
+        let mut h = s.create("hroc-na").unwrap();
+        let aspect = s.renderer.aspect();
+        let (mut fronts, mut retested) = (0, 0);
+        for k in 0..s.cameras.len() {
+            s.run_frame(&mut h, k).unwrap();
+            let st = h.method_state::<Hroc>().unwrap();
+            let u = st.debug_state(s.gpu).unwrap().occludees;
+            let (front, next) = st.round_marks(s.gpu, 0).unwrap().unwrap();
+            let mut enc = s.gpu.encoder("late test depth");
+            s.renderer.clear(&mut enc);
+            s.renderer.draw(&mut enc, st.occluder_list(), None);
+            s.renderer.draw(&mut enc, st.front_list(0).unwrap(), None);
+            s.gpu.queue.submit([enc.finish()]);
+            let depth = s.read_depth().unwrap();
+            let cam = s.cameras[k];
+            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
+            let pixel = cpu::pixel_angle_xy(&g.ray_dirs, g.near, RES);
+            let rest: Vec<u32> = (0..u.len()).filter(|&o| u[o] && front[o] == 0).map(|o| s.bvh().leaf_of_object[o]).collect();
+            let strict = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, g.eye, RES, &depth, 1, None, -1e-3, -1e-6);
+            let loose = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5);
+            for o in 0..u.len() {
+                assert!(front[o] <= 1 && (front[o] == 0 || u[o]), "{key} frame {k}: object {o} drawn in front but not in U");
+                assert!(!strict[o] || next[o], "{key} frame {k}: object {o} is in front of the depth but left the rounds");
+                assert!(!next[o] || loose[o], "{key} frame {k}: object {o} went on without a box in front of the depth");
+            }
+            fronts += front.iter().filter(|&&f| f != 0).count();
+            retested += rest.len();
+        }
+        assert!(fronts > 0 && retested > 0, "{key}: the rounds drew {fronts} in front and re-tested {retested}");
+    }
+}
+
+#[test]
 fn box_winding_faces_outward() {
     // hroc_test.wgsl's CUBE table: counter-clockwise from outside, so the
     // rasterizer's back-face culling keeps exactly the near faces.

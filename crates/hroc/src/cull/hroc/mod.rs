@@ -646,6 +646,21 @@ impl Hroc {
     pub fn occluder_list(&self) -> &DrawList {
         &self.v_list
     }
+
+    /// The front list of occludee round `k` (all rounds but the last), if any.
+    pub fn front_list(&self, k: u32) -> Option<&DrawList> {
+        self.rounds.as_ref()?.fronts.get(k as usize).map(|(l, _)| l)
+    }
+
+    /// Debug read-back of the last frame's rounds, with more than one: per
+    /// object, the round it was drawn in front (k + 1, 0 if not), and
+    /// whether the late test of `round` made it a candidate of the next.
+    pub fn round_marks(&self, gpu: &Gpu, round: u32) -> Result<Option<(Vec<u32>, Vec<bool>)>> {
+        let Some(r) = &self.rounds else { return Ok(None) };
+        let front = gpu.read::<u32>(&r.front, 0, self.n as u64)?;
+        let next = gpu.read::<u32>(&r.alive[round as usize % 2], 0, self.n as u64)?.iter().map(|&x| x == round + 2).collect();
+        Ok(Some((front, next)))
+    }
 }
 
 /// Last frame's GPU state, for comparison with the [`cpu`] references.
