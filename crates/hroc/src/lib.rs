@@ -45,7 +45,9 @@
 //!   into a render pass on the view's depth attachment, before returning
 //!   ([`Draw::record`]). Object order within a list is kept; the host must
 //!   not reorder, split or skip a list, because the culler's next pass reads
-//!   the depth it left.
+//!   the depth it left. A phase may come several times in one frame (HROC's
+//!   occludee rounds, [`MethodOptions::hroc_rounds`]; the stall-free
+//!   overflow lists): draw every list when it comes.
 //! - **Depth.** Every occluding phase ([`Phase::occludes`]) writes depth with
 //!   the depth test of its [`DepthRange`] (`Less`/`LessEqual` standard,
 //!   `Greater`/`GreaterEqual` reversed), no depth bias, and only for
