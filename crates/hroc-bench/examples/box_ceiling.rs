@@ -5,7 +5,8 @@
 //! objects (`ref`), and the objects and C/R of that per-pixel test against
 //! the final depth with world-axis boxes (the BVH's, HROC's) and with each
 //! object's box in its own frame (its mesh or cluster box under its
-//! transform, an oriented box).
+//! transform, an oriented box). Beside them, `hroc-of`'s own frames: last
+//! frame's visible set V, drawn untested, and how much of it is hidden.
 //!
 //! `cargo run --release --example box_ceiling -- --scene satellites --objects 20000 [--clusters 256] [--frames 60]`
 
@@ -53,8 +54,17 @@ fn main() -> hroc_bench::Result<()> {
     let mut s = Session::new(&gpu, scene, None, a.frames, a.resolution, Split::Sah)?;
     let aspect = s.renderer.aspect();
     let (mut visible, mut world, mut oriented) = (0usize, 0usize, 0usize);
+    let mut hroc = s.create("hroc-of")?;
+    let (mut v, mut v_hidden, mut drawn) = (0usize, 0usize, 0usize);
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k)?;
+        let r = s.run_frame(&mut hroc, k)?;
+        drawn += s.check(&r, &truth)?.drawn;
+        let occluders = hroc.method_state::<hroc::cull::hroc::Hroc>().expect("hroc-of").debug_state(s.gpu)?.occluders;
+        let mut own_pixel = vec![false; n];
+        truth.visible.iter().for_each(|&o| own_pixel[o as usize] = true);
+        v += occluders.iter().filter(|&&x| x).count();
+        v_hidden += (0..n).filter(|&o| occluders[o] && !own_pixel[o]).count();
         let cam = s.cameras[k];
         let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry()?;
         let bvh = s.bvh();
@@ -117,5 +127,7 @@ fn main() -> hroc_bench::Result<()> {
     println!("| ref (objects that own a pixel) | {:.0} | 1.000 |", visible as f64 / f);
     println!("| world-axis boxes | {:.0} | {:.3} |", world as f64 / f, c_over_r(world));
     println!("| each object's own box (oriented) | {:.0} | {:.3} |", oriented as f64 / f, c_over_r(oriented));
+    println!("| hroc-of (its own occlusion maps) | {:.0} | {:.3} |", drawn as f64 / f, c_over_r(drawn));
+    println!("hroc-of: |V| {:.0} per frame, of which {:.0} own no pixel this frame", v as f64 / f, v_hidden as f64 / f);
     Ok(())
 }
