@@ -153,7 +153,7 @@ fn objects(n: usize) -> Vec<ObjectDesc> {
     (0..n)
         .map(|i| {
             let c = Vec3::new((i % 17) as f32 * 3.0, (i % 5) as f32, (i / 17) as f32 * 3.0);
-            ObjectDesc { bounds: Aabb::new(c, c + Vec3::new(1.0, 2.0, 1.5)), index_count: 3, first_index: 0, base_vertex: 0, flags: ObjectFlags::NONE }
+            ObjectDesc { bounds: Aabb::new(c, c + Vec3::new(1.0, 2.0, 1.5)), index_count: 3, first_index: 0, base_vertex: 0, flags: ObjectFlags::NONE, oriented: None }
         })
         .collect()
 }

@@ -271,6 +271,7 @@ fn bench_rows_carry_stats_and_woc_reports() {
         resolution: RES,
         split: Split::Sah,
         clusters: None,
+        oriented_boxes: true,
         camera_path: None,
         progress: false,
         moving: 0.0,

@@ -71,6 +71,11 @@ struct SceneArgs {
     /// off).
     #[arg(long, default_value = "auto", value_parser = parse_clusters)]
     clusters: Clusters,
+    /// Give the culler each rotated object's mesh (or cluster) box in its
+    /// own frame, which HROC tests where it meets the world box: `true` or
+    /// `false`.
+    #[arg(long, default_value_t = true, action = clap::ArgAction::Set)]
+    oriented_boxes: bool,
     /// JSON camera path file (keys of t, eye, target, up, fov_y_deg), or a
     /// built-in path of the scene: `hard` (cuts, the eye inside boxes,
     /// boxes across the near plane) or `cuts` (a cut every second to a
@@ -119,6 +124,11 @@ struct MethodArgs {
     /// occludees nearest in some block and testing the rest again).
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=cull::hroc::MAX_ROUNDS as i64))]
     hroc_rounds: u32,
+    /// hroc: draw V front to back too: the objects nearest in some block
+    /// first, then those still in front of them; the rest join the
+    /// occludees.
+    #[arg(long)]
+    hroc_occluder_rounds: bool,
     /// Degrees the view may turn between frames before the frame is culled
     /// as after a camera cut (`inf`: never).
     #[arg(long, default_value_t = 45.0)]
@@ -142,6 +152,7 @@ impl MethodArgs {
             hroc_test_scale: self.hroc_test_scale,
             hroc_filter_stride: self.hroc_filter_stride,
             hroc_rounds: self.hroc_rounds,
+            hroc_occluder_rounds: self.hroc_occluder_rounds,
             cut_turn_deg: self.cut_turn,
             cut_move: self.cut_move,
         }
@@ -325,6 +336,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         resolution: a.s.resolution,
         split: a.s.split,
         clusters,
+        oriented_boxes: a.s.oriented_boxes,
         method_options: a.s.m.options(),
         camera_path: a.s.camera_path,
         progress: true,
@@ -387,6 +399,7 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     let path = s.camera_path.as_deref().map(|p| bench::load_path(&scene, p)).transpose()?;
     let gpu = Gpu::new()?;
     let mut session = Session::new(&gpu, scene, path, s.frames, s.resolution, s.split)?;
+    session.set_oriented_boxes(s.oriented_boxes)?;
     session.options = s.m.options();
     let mut culler = session.create(method)?;
     let mut last = None;

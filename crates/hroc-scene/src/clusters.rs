@@ -122,6 +122,11 @@ impl Mesh {
         }
     }
 
+    /// Box of `cluster` (or of the whole mesh) in the mesh's space.
+    pub fn part_local_bounds(&self, cluster: Option<u32>) -> Aabb {
+        cluster.map_or(self.bounds, |c| self.clusters[c as usize].bounds)
+    }
+
     /// Tight world box of `cluster` (or of the whole mesh) under `m`, as
     /// [`Mesh::world_bounds`].
     pub fn part_bounds(&self, cluster: Option<u32>, m: &Mat4) -> Aabb {

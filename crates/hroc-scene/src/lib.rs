@@ -69,7 +69,7 @@ impl Mesh {
 
 /// True when `m` maps axes onto axes (scale, translation, quarter turns):
 /// it maps a box onto a box exactly.
-pub(crate) fn keeps_axes(m: &Mat4) -> bool {
+pub fn keeps_axes(m: &Mat4) -> bool {
     [m.x_axis, m.y_axis, m.z_axis].iter().all(|c| c.truncate().to_array().iter().filter(|v| **v != 0.0).count() <= 1)
 }
 

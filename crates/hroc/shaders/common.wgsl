@@ -131,10 +131,45 @@ fn padded_box(n: BvhNode, eye: vec3<f32>, pixel: f32) -> Box {
 
 // padded_box with `px` pixels of padding at the farthest corner.
 fn padded_box_px(n: BvhNode, eye: vec3<f32>, pixel: f32, px: f32) -> Box {
+    let pad = box_pad(n, eye, pixel, px);
+    return Box(n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
+}
+
+// The world distance padded_box_px grows a node's box by.
+fn box_pad(n: BvhNode, eye: vec3<f32>, pixel: f32, px: f32) -> f32 {
     let far = length(max(abs(n.min - eye), abs(n.max - eye)));
     let scale = max(max(abs(n.min.x), abs(n.min.y)), max(max(abs(n.min.z), abs(n.max.x)), max(abs(n.max.y), abs(n.max.z))));
-    let pad = px * pixel * far + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
-    return Box(n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
+    return px * pixel * far + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
+}
+
+// An object's box in its own frame (src/layout.rs OrientedBounds): rows x,
+// y, z map a world point p to the frame (dot(x.xyz, p) + x.w, ...).
+struct OrientedBounds {
+    x: vec4<f32>,
+    y: vec4<f32>,
+    z: vec4<f32>,
+    min: vec3<f32>,
+    valid: u32,   // 0: the object has none
+    max: vec3<f32>,
+    _pad: u32,
+}
+
+// The span of the ray eye + t * dir inside an object's own box grown so
+// that it holds the ball of radius `pad` (world units) around each of its
+// points: a world step of length r moves local coordinate i by at most
+// r * |row i|. An affine map keeps the ray parameter t, so the span compares
+// with world spans directly. Without a box: the whole ray.
+fn ray_oriented(o: OrientedBounds, eye: vec3<f32>, dir: vec3<f32>, pad: f32) -> vec2<f32> {
+    if o.valid == 0u {
+        return vec2<f32>(-3.0e38, 3.0e38);
+    }
+    let e = vec3<f32>(dot(o.x.xyz, eye) + o.x.w, dot(o.y.xyz, eye) + o.y.w, dot(o.z.xyz, eye) + o.z.w);
+    let d = vec3<f32>(dot(o.x.xyz, dir), dot(o.y.xyz, dir), dot(o.z.xyz, dir));
+    // Rounding of the map grows with the coordinates it carries.
+    let size = max(max(abs(o.min), abs(o.max)), abs(e));
+    let g = pad * vec3<f32>(length(o.x.xyz), length(o.y.xyz), length(o.z.xyz)) + 1e-4 * length(o.max - o.min) + 1e-6 * size;
+    let inv = vec3<f32>(safe_inv(d.x), safe_inv(d.y), safe_inv(d.z));
+    return ray_box(e, inv, o.min - g, o.max + g);
 }
 
 // HROC's occlusion test at a coarser resolution: one box fragment and one

@@ -6,6 +6,9 @@
 // of them, never stopping at the first hit. Visited marks (both children
 // done → parent done) prune repeated traversal. A group with LEAF_BIT in
 // its id is an object tested alone (§6's hybrid): its own box, no rays.
+// An object the host gave a box in its own frame (OrientedBounds) is marked
+// only where a ray also enters that box in front of the map: a leaf box
+// fragment then casts one ray, and the traversal clips its leaves' spans.
 // With TEST_SCALE > 1 the test runs on blocks of TEST_SCALE² pixels: boxes
 // are rasterized into a map holding each block's farthest depth (reduce_fs)
 // and padded for rays through block centres (block_pad_px in common.wgsl).
@@ -23,6 +26,7 @@ const STAT_SLOTS: u32 = 64u;
 @group(0) @binding(6) var<storage, read> bounds: array<ObjectBounds>;
 // The host's depth, which reduce_fs reduces to the test's blocks.
 @group(0) @binding(7) var host_depth: texture_depth_2d;
+@group(0) @binding(15) var<storage, read> oriented: array<OrientedBounds>;
 
 override TEST_SCALE: u32 = 1u;
 
@@ -73,6 +77,66 @@ fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) node: u32) -> 
     return out;
 }
 
+// The ray from the eye through the centre of the block at `clip` (in
+// blocks; frame.viewport is in pixels), t = 1 on the near plane, and the
+// deepest the test lets it reach there. Depth along the ray is compared in
+// depth-buffer space, where the occlusion map lives (distances unprojected
+// near z = 1 lose precision).
+struct BlockRay {
+    dir: vec3<f32>,
+    inv: vec3<f32>,
+    c0: vec4<f32>,
+    c1: vec4<f32>,
+    limit: f32,
+}
+
+fn block_ray(clip: vec2<f32>) -> BlockRay {
+    let centre = clip * f32(TEST_SCALE);
+    let ndc = vec2<f32>(centre.x * frame.viewport.z * 2.0 - 1.0, 1.0 - centre.y * frame.viewport.w * 2.0);
+    let dir = (frame.ray_dirs * vec4<f32>(ndc, 1.0, 0.0)).xyz;
+    var r: BlockRay;
+    r.dir = dir;
+    r.inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
+    r.c0 = frame.view_proj * vec4<f32>(frame.eye.xyz, 1.0);
+    r.c1 = frame.view_proj * vec4<f32>(dir, 0.0);
+    r.limit = std_depth(frame, textureLoad(occlusion_map, vec2<i32>(clip), 0)) + 4e-7;
+    return r;
+}
+
+// Whether the ray enters a span in front of the occlusion map.
+fn in_front(r: BlockRay, span: vec2<f32>) -> bool {
+    let t = max(span.x, 1.0); // nothing before the near plane is drawn
+    if span.y < t {
+        return false;
+    }
+    return std_depth(frame, (r.c0.z + t * r.c1.z) / (r.c0.w + t * r.c1.w)) <= r.limit;
+}
+
+// The span of the ray in a leaf's padded box, clipped to its object's own
+// box padded alike (both hold the geometry's padding balls).
+fn leaf_span(r: BlockRay, o: u32, n: BvhNode) -> vec2<f32> {
+    let eye = frame.eye.xyz;
+    let pad = box_pad(n, eye, pixel_angle_xy(frame), block_pad_px(TEST_SCALE));
+    let w = ray_box(eye, r.inv, n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
+    let l = ray_oriented(oriented[o], eye, r.dir, pad);
+    return vec2<f32>(max(w.x, l.x), min(w.y, l.y));
+}
+
+// A leaf box's fragment: its object is marked unless it has an own box
+// that the block's ray misses, or enters behind the map.
+fn mark_object(o: u32, n: BvhNode, clip: vec2<f32>) {
+    if occludees[o] != 0u {
+        return;
+    }
+    if oriented[o].valid != 0u {
+        let r = block_ray(clip);
+        if !in_front(r, leaf_span(r, o, n)) {
+            return;
+        }
+    }
+    occludees[o] = 1u;
+}
+
 // Marks a leaf and propagates "visited" up while the sibling is done too.
 fn mark_leaf(leaf: u32, group: u32) {
     occludees[nodes[leaf].child & ~LEAF_BIT] = 1u;
@@ -87,30 +151,21 @@ fn mark_leaf(leaf: u32, group: u32) {
 @fragment @early_depth_test(force)
 fn box_fs(in: BoxOut) {
     if (in.node & LEAF_BIT) != 0u {
-        occludees[in.node & ~LEAF_BIT] = 1u;
+        let o = in.node & ~LEAF_BIT;
+        mark_object(o, BvhNode(bounds[o].min, 0u, bounds[o].max, 0u), in.clip.xy);
         return;
     }
     let group = nodes[in.node];
     if (group.child & LEAF_BIT) != 0u {
-        occludees[group.child & ~LEAF_BIT] = 1u;
+        mark_object(group.child & ~LEAF_BIT, group, in.clip.xy);
         return;
     }
     if visited[in.node] != 0u {
         return;
     }
-    // The ray from the eye through this block's centre (in.clip is in
-    // blocks, frame.viewport in pixels): t = 1 on the near plane.
     let texel = vec2<i32>(in.clip.xy);
-    let centre = in.clip.xy * f32(TEST_SCALE);
-    let ndc = vec2<f32>(centre.x * frame.viewport.z * 2.0 - 1.0, 1.0 - centre.y * frame.viewport.w * 2.0);
+    let r = block_ray(in.clip.xy);
     let eye = frame.eye.xyz;
-    let dir = (frame.ray_dirs * vec4<f32>(ndc, 1.0, 0.0)).xyz;
-    let inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
-    // Depth along the ray, compared in depth-buffer space where the
-    // occlusion map lives (distances unprojected near z = 1 lose precision).
-    let c0 = frame.view_proj * vec4<f32>(eye, 1.0);
-    let c1 = frame.view_proj * vec4<f32>(dir, 0.0);
-    let limit = std_depth(frame, textureLoad(occlusion_map, texel, 0)) + 4e-7;
     let pixel = pixel_angle_xy(frame);
     let pad = block_pad_px(TEST_SCALE);
 
@@ -127,14 +182,14 @@ fn box_fs(in: BoxOut) {
         }
         steps += 1u;
         let node = nodes[n];
-        let b = padded_box_px(node, eye, pixel, pad);
-        let span = ray_box(eye, inv, b.min, b.max);
-        let t = max(span.x, 1.0); // nothing before the near plane is drawn
-        if span.y < t {
-            continue;
+        var span: vec2<f32>;
+        if (node.child & LEAF_BIT) != 0u {
+            span = leaf_span(r, node.child & ~LEAF_BIT, node);
+        } else {
+            let b = padded_box_px(node, eye, pixel, pad);
+            span = ray_box(eye, r.inv, b.min, b.max);
         }
-        let depth = std_depth(frame, (c0.z + t * c1.z) / (c0.w + t * c1.w));
-        if depth > limit {
+        if !in_front(r, span) {
             continue;
         }
         if (node.child & LEAF_BIT) != 0u {
@@ -243,10 +298,19 @@ fn front_fs(in: RoundOut) {
 }
 
 // Against the depth this round's draws left: a box still in front
-// somewhere makes its object a candidate of the next round.
+// somewhere (and the object's own box too, where it has one) makes its
+// object a candidate of the next round.
 @fragment @early_depth_test(force)
 fn late_fs(in: RoundOut) {
-    if candidates[in.object] == round.candidate && front_marks[in.object] != round.front {
-        round_marks[in.object] = round.alive;
+    let o = in.object;
+    if candidates[o] != round.candidate || front_marks[o] == round.front || round_marks[o] == round.alive {
+        return;
     }
+    if oriented[o].valid != 0u {
+        let r = block_ray(in.clip.xy);
+        if !in_front(r, leaf_span(r, o, BvhNode(bounds[o].min, 0u, bounds[o].max, 0u))) {
+            return;
+        }
+    }
+    round_marks[o] = round.alive;
 }

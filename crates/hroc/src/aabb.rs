@@ -1,6 +1,7 @@
-//! Axis-aligned boxes: object bounds, BVH nodes.
+//! Axis-aligned boxes (object bounds, BVH nodes) and oriented boxes (an
+//! object's box in its own frame).
 
-use glam::{Mat4, Vec3};
+use glam::{Affine3A, Mat4, Vec3};
 
 /// Axis-aligned box. `Aabb::EMPTY` has min > max and grows by `grow`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -81,5 +82,40 @@ impl Aabb {
             max += a.max(b);
         }
         Aabb { min, max }
+    }
+}
+
+/// A box in an object's own frame, placed in the world by an affine map:
+/// for rotated or sheared geometry, a much tighter bound than its world
+/// box. Points `to_world(p)` for `p` in `local` must hold everything the
+/// object's draw can rasterize, as [`Aabb`] bounds must.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OrientedBox {
+    /// The box in the object's frame.
+    pub local: Aabb,
+    /// Object frame to world (invertible).
+    pub to_world: Affine3A,
+}
+
+impl OrientedBox {
+    /// `local` placed by `to_world`.
+    pub fn new(local: Aabb, to_world: Affine3A) -> Self {
+        OrientedBox { local, to_world }
+    }
+    /// Its world-axis box.
+    pub fn world_bounds(&self) -> Aabb {
+        self.local.transformed(&Mat4::from(self.to_world))
+    }
+    /// World to object frame, when the map is invertible and the box and
+    /// the inverse are finite and non-empty; `None` otherwise.
+    pub fn to_local(&self) -> Option<Affine3A> {
+        let finite = |v: Vec3| v.is_finite();
+        let ok = finite(self.local.min) && finite(self.local.max) && !self.local.is_empty() && self.to_world.is_finite();
+        let det = self.to_world.matrix3.determinant();
+        if !ok || !det.is_normal() {
+            return None;
+        }
+        let inv = self.to_world.inverse();
+        inv.is_finite().then_some(inv)
     }
 }

@@ -6,8 +6,8 @@ use crate::cull::{compact::Compactor, CullMethod, DrawList, Frame, FrameBody, Me
 use crate::error::{Error, Result};
 use crate::frustum::{DepthRange, ViewDesc};
 use crate::gpu::{dispatch_size, Gpu, GpuTimer, InvocationCounter, Invocations, PassCount};
-use crate::layout::{DrawCommand, FrameUniform, ObjectBounds};
-use crate::{shaders, Aabb};
+use crate::layout::{DrawCommand, FrameUniform, ObjectBounds, OrientedBounds};
+use crate::{shaders, Aabb, OrientedBox};
 
 /// Per-object flags.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -58,6 +58,11 @@ pub struct ObjectDesc {
     pub base_vertex: i32,
     /// Flags.
     pub flags: ObjectFlags,
+    /// Optionally, a box in the object's own frame that also holds
+    /// everything the draw can rasterize. HROC tests an object against
+    /// where both boxes meet: for rotated panels, rings and beams, far less
+    /// than the world box alone.
+    pub oriented: Option<OrientedBox>,
 }
 
 /// What a culler needs of its objects before the first frame.
@@ -164,6 +169,8 @@ pub(crate) struct SharedObjects {
     /// pass covers them; empty slots draw nothing.
     pub count: u32,
     pub bounds: wgpu::Buffer,
+    /// `OrientedBounds` per slot (`valid` 0 where the host gave none).
+    pub oriented: wgpu::Buffer,
     pub commands: wgpu::Buffer,
     pub all_count: wgpu::Buffer,
     pub flags: Vec<ObjectFlags>,
@@ -191,6 +198,8 @@ pub struct Culler {
     gpu: Gpu,
     /// Every slot's box (empty slots: a point at the origin).
     boxes: Vec<Aabb>,
+    /// Every slot's own box, where the host gave one.
+    oriented: Vec<Option<OrientedBox>>,
     live: Vec<bool>,
     free: std::collections::BTreeSet<u32>,
     /// Bumped by every change of objects.
@@ -238,6 +247,7 @@ impl Culler {
         let objects = desc.objects;
         for (i, o) in objects.iter().enumerate() {
             check_box(i as u32, &o.bounds)?;
+            check_oriented(i as u32, &o.oriented)?;
             check_flags(i as u32, o.flags)?;
         }
         let m = desc.motion;
@@ -246,11 +256,12 @@ impl Culler {
         check_capacity(device, capacity)?;
         let n = capacity as usize;
         let mut boxes = vec![Aabb::new(glam::Vec3::ZERO, glam::Vec3::ZERO); n];
+        let mut oriented = vec![None; n];
         let mut live = vec![false; n];
         let mut flags = vec![ObjectFlags::NONE; n];
         let mut commands = vec![DrawCommand::default(); n];
         for (i, o) in objects.iter().enumerate() {
-            (boxes[i], live[i], flags[i], commands[i]) = (o.bounds, true, o.flags, command(o, i as u32));
+            (boxes[i], oriented[i], live[i], flags[i], commands[i]) = (o.bounds, o.oriented, true, o.flags, command(o, i as u32));
         }
         let marks_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc marks"), entries: &[marks_entry()] });
         let (shared, bvh_nodes, leaf_of_object) = allocate(&gpu, capacity as u32, &commands, flags);
@@ -264,6 +275,7 @@ impl Culler {
             gpu_refit: None,
             gpu,
             boxes,
+            oriented,
             live,
             free: (objects.len() as u32..capacity as u32).collect(),
             moves: 0,
@@ -278,6 +290,7 @@ impl Culler {
         };
         culler.rebuild_tree()?;
         culler.upload_bounds();
+        culler.upload_oriented(None);
         culler.update_always();
         Ok(culler)
     }
@@ -286,6 +299,8 @@ impl Culler {
     /// the next frame of every view. Static objects are refit into the BVH
     /// ([`MotionOptions::refit`]), which is rebuilt when the policy says
     /// so; [`ObjectFlags::DYNAMIC`] objects only change their own box.
+    /// A moved object's [`OrientedBox`] is dropped: give the new one with
+    /// [`Culler::set_oriented`].
     /// Errors on an object that is not live or a box that is not finite;
     /// nothing changes then. Views of methods that cannot follow motion
     /// ([`Method::takes_motion`]) refuse their next frame.
@@ -301,6 +316,9 @@ impl Culler {
         self.sync_boxes()?;
         for &(i, b) in moves {
             self.boxes[i as usize] = b;
+            if self.oriented[i as usize].take().is_some() {
+                self.upload_oriented(Some(i));
+            }
         }
         self.moves += 1;
         // Only objects outside the tree moved (HROC §6's hybrid): their
@@ -322,12 +340,17 @@ impl Culler {
     /// `encoder`, which the host submits after filling `boxes` and before
     /// the next frame. The CPU's copy of the boxes goes stale: a later
     /// rebuild, or [`Culler::set_bounds`], first reads the GPU's back.
+    /// Every [`OrientedBox`] is dropped, as any object may have moved.
     pub fn set_bounds_gpu(&mut self, encoder: &mut wgpu::CommandEncoder, boxes: &wgpu::Buffer) -> Result<()> {
         let need = self.objects.count as u64 * 32;
         if boxes.size() < need || !boxes.usage().contains(wgpu::BufferUsages::STORAGE) {
             return Err(Error::InvalidObject(format!("bounds buffer of {} bytes, usage {:?}: needs {need} bytes and STORAGE", boxes.size(), boxes.usage())));
         }
         let t = std::time::Instant::now();
+        if self.oriented.iter().any(Option::is_some) {
+            self.oriented.iter_mut().for_each(|o| *o = None);
+            self.upload_oriented(None);
+        }
         self.refit_on_gpu(encoder, Some(boxes));
         self.gpu_boxes = true;
         self.moves += 1;
@@ -344,6 +367,7 @@ impl Culler {
     pub fn add_objects(&mut self, objects: &[ObjectDesc]) -> Result<Vec<u32>> {
         for (k, o) in objects.iter().enumerate() {
             check_box(k as u32, &o.bounds)?;
+            check_oriented(k as u32, &o.oriented)?;
             check_flags(k as u32, o.flags)?;
         }
         if objects.is_empty() {
@@ -359,8 +383,9 @@ impl Culler {
         for o in objects {
             let i = self.free.pop_first().expect("grown to fit");
             let s = i as usize;
-            (self.boxes[s], self.live[s], self.objects.flags[s]) = (o.bounds, true, o.flags);
+            (self.boxes[s], self.oriented[s], self.live[s], self.objects.flags[s]) = (o.bounds, o.oriented, true, o.flags);
             self.objects.cpu_commands[s] = command(o, i);
+            self.upload_oriented(Some(i));
             ids.push(i);
         }
         self.upload_commands();
@@ -389,14 +414,36 @@ impl Culler {
         self.sync_boxes()?;
         for &i in objects {
             let s = i as usize;
-            (self.live[s], self.objects.flags[s]) = (false, ObjectFlags::NONE);
+            (self.live[s], self.objects.flags[s], self.oriented[s]) = (false, ObjectFlags::NONE, None);
             self.objects.cpu_commands[s] = DrawCommand::default();
+            self.upload_oriented(Some(i));
             self.free.insert(i);
         }
         self.upload_commands();
         self.moves += 1;
         self.update_always();
         self.changed(t)
+    }
+
+    /// Gives objects an [`OrientedBox`] (`Some`) or takes it away (`None`),
+    /// from the next frame of every view; their world boxes stay as they
+    /// are. Errors on an object that is not live, or a box that is not
+    /// finite and invertible; nothing changes then.
+    pub fn set_oriented(&mut self, boxes: &[(u32, Option<OrientedBox>)]) -> Result<()> {
+        for (i, b) in boxes {
+            self.check_live(*i)?;
+            check_oriented(*i, b)?;
+        }
+        for &(i, b) in boxes {
+            self.oriented[i as usize] = b;
+            self.upload_oriented(Some(i));
+        }
+        Ok(())
+    }
+
+    /// The object's [`OrientedBox`], if it has one.
+    pub fn oriented(&self, i: u32) -> Option<OrientedBox> {
+        self.oriented.get(i as usize).copied().flatten()
     }
 
     /// Rebuilds the BVH over the live static objects now (also done by the
@@ -507,6 +554,7 @@ impl Culler {
         self.bvh = bvh;
         self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
         self.gpu.queue.write_buffer(&self.leaf_of_object, 0, bytemuck::cast_slice(&self.bvh.leaf_of_object));
+        self.upload_oriented(None);
         self.generation += 1;
         Ok(())
     }
@@ -526,6 +574,17 @@ impl Culler {
     fn upload_bounds(&mut self) {
         let bounds: Vec<ObjectBounds> = (0..self.boxes.len()).map(|i| bounds_of(self.boxes[i], self.gpu_flags(i))).collect();
         self.gpu.queue.write_buffer(&self.objects.bounds, 0, bytemuck::cast_slice(&bounds));
+    }
+
+    /// Writes one slot's oriented box to the GPU, or every slot's.
+    fn upload_oriented(&self, slot: Option<u32>) {
+        match slot {
+            Some(i) => self.gpu.queue.write_buffer(&self.objects.oriented, i as u64 * ORIENTED_BYTES, bytemuck::bytes_of(&oriented_of(self.oriented[i as usize]))),
+            None => {
+                let all: Vec<OrientedBounds> = self.oriented.iter().map(|&o| oriented_of(o)).collect();
+                self.gpu.queue.write_buffer(&self.objects.oriented, 0, bytemuck::cast_slice(&all));
+            }
+        }
     }
 
     fn upload_commands(&mut self) {
@@ -560,6 +619,7 @@ impl Culler {
         check_capacity(&self.gpu.device, capacity)?;
         let (old, n) = (self.objects.count as usize, capacity as usize);
         self.boxes.resize(n, Aabb::new(glam::Vec3::ZERO, glam::Vec3::ZERO));
+        self.oriented.resize(n, None);
         self.live.resize(n, false);
         self.objects.cpu_commands.resize(n, DrawCommand::default());
         let mut flags = std::mem::take(&mut self.objects.flags);
@@ -729,6 +789,7 @@ impl Culler {
             bvh_nodes: &self.bvh_nodes,
             leaf_of_object: &self.leaf_of_object,
             bounds: &self.objects.bounds,
+            oriented: &self.objects.oriented,
             commands: &self.objects.commands,
             object_count: self.objects.count,
             node_capacity: node_capacity(self.objects.count),
@@ -757,6 +818,7 @@ fn allocate(gpu: &Gpu, slots: u32, commands: &[DrawCommand], flags: Vec<ObjectFl
     let shared = SharedObjects {
         count: slots,
         bounds: gpu.buffer("hroc object boxes", n * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC),
+        oriented: gpu.buffer("hroc oriented boxes", n * ORIENTED_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC),
         commands: gpu.buffer_init("hroc commands", bytemuck::cast_slice(commands), U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
         all_count: gpu.buffer_init("hroc all count", bytemuck::bytes_of(&slots), U::STORAGE | U::INDIRECT | U::COPY_SRC),
         flags,
@@ -772,7 +834,9 @@ fn allocate(gpu: &Gpu, slots: u32, commands: &[DrawCommand], flags: Vec<ObjectFl
 fn check_capacity(device: &wgpu::Device, n: u64) -> Result<()> {
     let limits = device.limits();
     let storage = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
-    for (what, need) in [("object boxes", n * 32), ("draw commands", n * 20), ("BVH nodes", (2 * n).saturating_sub(1) * 32), ("HROC groups", 3 * n * 16)] {
+    for (what, need) in
+        [("object boxes", n * 32), ("oriented boxes", n * ORIENTED_BYTES), ("draw commands", n * 20), ("BVH nodes", (2 * n).saturating_sub(1) * 32), ("HROC groups", 3 * n * 16)]
+    {
         if need > storage {
             return Err(Error::OverDeviceLimits(format!("{what} need {need} bytes, the device allows {storage}")));
         }
@@ -853,6 +917,25 @@ fn check_box(i: u32, b: &Aabb) -> Result<()> {
         return Err(Error::InvalidObject(format!("object {i}: bounds {b:?} are not a finite non-empty box")));
     }
     Ok(())
+}
+
+/// An oriented box must be finite, non-empty and invertible.
+fn check_oriented(i: u32, b: &Option<OrientedBox>) -> Result<()> {
+    match b {
+        Some(o) if o.to_local().is_none() => Err(Error::InvalidObject(format!("object {i}: oriented box {o:?} is not finite, non-empty and invertible"))),
+        _ => Ok(()),
+    }
+}
+
+const ORIENTED_BYTES: u64 = std::mem::size_of::<OrientedBounds>() as u64;
+
+fn oriented_of(b: Option<OrientedBox>) -> OrientedBounds {
+    let Some((o, inv)) = b.and_then(|o| Some((o, o.to_local()?))) else {
+        return OrientedBounds::default();
+    };
+    let m = glam::Mat4::from(inv).transpose();
+    let rows = [m.x_axis.to_array(), m.y_axis.to_array(), m.z_axis.to_array()];
+    OrientedBounds { rows, min: o.local.min.to_array(), valid: 1, max: o.local.max.to_array(), _pad: 0 }
 }
 
 fn bounds_of(b: Aabb, flags: u32) -> ObjectBounds {

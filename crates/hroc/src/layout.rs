@@ -41,6 +41,24 @@ pub struct ObjectBounds {
     pub _pad: u32,
 }
 
+/// An object's own box (`OrientedBounds` in WGSL): rows `x`, `y`, `z` map
+/// a world point `p` to the object's frame (`dot(x.xyz, p) + x.w`, ...),
+/// where the box spans `min` to `max`. `valid` 0: the object has none.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Pod, Zeroable)]
+pub struct OrientedBounds {
+    /// World-to-local rows.
+    pub rows: [[f32; 4]; 3],
+    /// Minimum local corner.
+    pub min: [f32; 3],
+    /// 1 when the object has an oriented box.
+    pub valid: u32,
+    /// Maximum local corner.
+    pub max: [f32; 3],
+    /// Unused.
+    pub _pad: u32,
+}
+
 /// One indexed indirect draw (`VkDrawIndexedIndirectCommand`, the layout of
 /// `wgpu::util::DrawIndexedIndirectArgs`); `first_instance` is the object
 /// index, so the host's vertex shader reads it as `@builtin(instance_index)`.
@@ -93,6 +111,7 @@ pub fn mirrored_sizes() -> Vec<(&'static str, usize)> {
     vec![
         ("Frame", size_of::<FrameUniform>()),
         ("ObjectBounds", size_of::<ObjectBounds>()),
+        ("OrientedBounds", size_of::<OrientedBounds>()),
         ("DrawCommand", size_of::<DrawCommand>()),
         ("DrawArgs", size_of::<DrawArgs>()),
         ("BvhNode", size_of::<crate::bvh::BvhNode>()),

@@ -142,7 +142,7 @@ pub mod layout;
 pub mod rng;
 pub mod shaders;
 
-pub use aabb::Aabb;
+pub use aabb::{Aabb, OrientedBox};
 pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Variant};
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc, ViewGeometry};

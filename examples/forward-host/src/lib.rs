@@ -95,7 +95,14 @@ impl HostScene {
             let glass = blended.contains(&i);
             instances.push(Instance { model: o.transform.to_cols_array_2d(), color: [o.color[0], o.color[1], o.color[2], if glass { 0.4 } else { 1.0 }] });
             let (first_index, base_vertex, index_count) = ranges[o.mesh as usize];
-            objects.push(ObjectDesc { bounds: o.bounds, index_count, first_index, base_vertex, flags: if glass { ObjectFlags::NOT_OCCLUDER } else { ObjectFlags::NONE } });
+            objects.push(ObjectDesc {
+                bounds: o.bounds,
+                index_count,
+                first_index,
+                base_vertex,
+                flags: if glass { ObjectFlags::NOT_OCCLUDER } else { ObjectFlags::NONE },
+                oriented: None,
+            });
         }
         HostScene { vertices, indices, instances, objects, local_bounds }
     }

@@ -31,6 +31,9 @@ pub struct BenchOptions {
     /// Split meshes into clusters of at most this many triangles, each a
     /// cullable object (`--clusters`; [`crate::scene::Scene::clustered`]).
     pub clusters: Option<u32>,
+    /// Give the culler the rotated objects' oriented boxes
+    /// (`--oriented-boxes`; [`Session::set_oriented_boxes`]).
+    pub oriented_boxes: bool,
     /// A camera path file, or a built-in path of the scene by name
     /// (`hard`, `cuts`: [`crate::scene::paths::builtin`]).
     pub camera_path: Option<PathBuf>,
@@ -241,6 +244,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     let frames = frame_count(o, path.as_ref().unwrap_or(&scene.path))?;
     let mut s = Session::new_timed(gpu, scene, path, frames, o.resolution, o.split, o.timestamps)?;
     s.culler.set_motion(o.motion)?;
+    s.set_oriented_boxes(o.oriented_boxes)?;
     if o.dynamic {
         let flags: Vec<(u32, hroc::ObjectFlags)> = movers.iter().map(|&i| (i, hroc::ObjectFlags::DYNAMIC)).collect();
         s.culler.set_many_flags(&flags)?;

@@ -26,6 +26,8 @@ pub struct Session<'g> {
     /// Parameters handed to the methods `create` builds.
     pub options: MethodOptions,
     noc: Option<View>,
+    /// The culler has the objects' oriented boxes ([`Session::set_oriented_boxes`]).
+    oriented_boxes: bool,
 }
 
 /// `noc`'s picture of one frame: the ground truth every method is checked against.
@@ -94,7 +96,7 @@ impl<'g> Session<'g> {
         let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, pipeline_statistics, ..CullerDesc::new(&descs) })?;
         let renderer = Renderer::new(gpu, &scene, w, h, culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
-        Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc) })
+        Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc), oriented_boxes: true })
     }
 
     pub fn load(gpu: &'g Gpu, spec: &str, objects: Option<usize>, camera_path: Option<&Path>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {
@@ -105,11 +107,12 @@ impl<'g> Session<'g> {
 
     /// Moves objects to new transforms: the scene's objects and their tight
     /// boxes (the host's work), the culler's boxes and BVH
-    /// ([`hroc::Culler::set_bounds`]), then the renderer's transforms.
+    /// ([`hroc::Culler::set_bounds`]) and their oriented boxes where the
+    /// session gives them, then the renderer's transforms.
     /// Returns the culler's part in ms: its CPU work plus the GPU's
     /// completion of its uploads (and refit), waited for here.
     pub fn move_objects(&mut self, moves: &[(u32, glam::Mat4)]) -> Result<f64> {
-        let mut boxes = Vec::with_capacity(moves.len());
+        let (mut boxes, mut oriented) = (Vec::with_capacity(moves.len()), Vec::new());
         for &(i, m) in moves {
             let Some(o) = self.scene.objects.get_mut(i as usize) else {
                 return Err(crate::Error::Arg(format!("object {i} out of range")));
@@ -117,17 +120,34 @@ impl<'g> Session<'g> {
             o.transform = m;
             o.bounds = self.scene.meshes[o.mesh as usize].part_bounds(o.cluster, &m);
             boxes.push((i, o.bounds));
+            if self.oriented_boxes {
+                let b = crate::render::oriented_box(&self.scene, &self.scene.objects[i as usize]);
+                oriented.extend(b.map(|b| (i, Some(b))));
+            }
         }
         self.gpu.queue.submit([]);
         self.gpu.wait()?;
         let t = std::time::Instant::now();
         self.culler.set_bounds(&boxes)?;
+        self.culler.set_oriented(&oriented)?;
         self.gpu.queue.submit([]);
         self.gpu.wait()?;
         let culler_ms = t.elapsed().as_secs_f64() * 1e3;
         let colors: Vec<[f32; 3]> = self.scene.objects.iter().map(|o| o.color).collect();
         self.renderer.set_transforms(self.gpu, moves, &colors);
         Ok(culler_ms)
+    }
+
+    /// Gives the culler every rotated object's box in its own frame
+    /// ([`crate::render::oriented_box`], the default), or takes them all
+    /// away, from the next frame on.
+    pub fn set_oriented_boxes(&mut self, on: bool) -> Result<()> {
+        let descs = crate::render::object_descs(&self.scene);
+        let boxes: Vec<(u32, Option<hroc::OrientedBox>)> =
+            (0..descs.len() as u32).filter(|&i| self.culler.is_live(i)).map(|i| (i, descs[i as usize].oriented.filter(|_| on))).collect();
+        self.culler.set_oriented(&boxes)?;
+        self.oriented_boxes = on;
+        Ok(())
     }
 
     /// Removes scene objects from the culler (their slots draw nothing,
@@ -141,16 +161,16 @@ impl<'g> Session<'g> {
     /// order after their removal get their own slots again, which is what
     /// the renderer's per-object data needs; anything else is an error.
     pub fn add_objects(&mut self, adds: &[(u32, glam::Mat4)]) -> Result<()> {
-        let mut descs = Vec::with_capacity(adds.len());
-        let all = crate::render::object_descs(&self.scene);
         for &(i, m) in adds {
             let Some(o) = self.scene.objects.get_mut(i as usize) else {
                 return Err(crate::Error::Arg(format!("object {i} out of range")));
             };
             o.transform = m;
             o.bounds = self.scene.meshes[o.mesh as usize].part_bounds(o.cluster, &m);
-            descs.push(hroc::ObjectDesc { bounds: o.bounds, ..all[i as usize] });
         }
+        let all = crate::render::object_descs(&self.scene);
+        let descs: Vec<hroc::ObjectDesc> =
+            adds.iter().map(|&(i, _)| hroc::ObjectDesc { oriented: all[i as usize].oriented.filter(|_| self.oriented_boxes), ..all[i as usize] }).collect();
         let got = self.culler.add_objects(&descs)?;
         let want: Vec<u32> = adds.iter().map(|a| a.0).collect();
         if got != want {

@@ -67,7 +67,9 @@ fn target(gpu: &Gpu, label: &str, w: u32, h: u32, format: wgpu::TextureFormat) -
 }
 
 /// Each object of `scene` as one indexed draw of the renderer's pool, in
-/// object order: what the renderer registers with [`hroc::Culler`].
+/// object order: what the renderer registers with [`hroc::Culler`]. An
+/// object whose transform turns its axes also gets its mesh's (or
+/// cluster's) box in its own frame ([`oriented_box`]).
 pub fn object_descs(scene: &Scene) -> Vec<hroc::ObjectDesc> {
     let (mut first_index, mut base_vertex, mut ranges) = (0u32, 0i32, Vec::new());
     for m in &scene.meshes {
@@ -81,9 +83,21 @@ pub fn object_descs(scene: &Scene) -> Vec<hroc::ObjectDesc> {
         .map(|o| {
             let (first_index, base_vertex, _) = ranges[o.mesh as usize];
             let (first, index_count) = scene.meshes[o.mesh as usize].range(o.cluster);
-            hroc::ObjectDesc { bounds: o.bounds, index_count, first_index: first_index + first, base_vertex, flags: hroc::ObjectFlags::NONE }
+            hroc::ObjectDesc { bounds: o.bounds, index_count, first_index: first_index + first, base_vertex, flags: hroc::ObjectFlags::NONE, oriented: oriented_box(scene, o) }
         })
         .collect()
+}
+
+/// The box of an object's mesh (or cluster) in the mesh's frame, placed by
+/// its transform, when the transform turns axes away from axes: otherwise
+/// that box is just the object's world box, and testing it twice gains
+/// nothing. `None` also for a transform that cannot be inverted.
+pub fn oriented_box(scene: &Scene, o: &hroc_scene::Object) -> Option<hroc::OrientedBox> {
+    if hroc_scene::keeps_axes(&o.transform) {
+        return None;
+    }
+    let b = hroc::OrientedBox::new(scene.meshes[o.mesh as usize].part_local_bounds(o.cluster), glam::Affine3A::from_mat4(o.transform));
+    b.to_local().map(|_| b)
 }
 
 /// The renderer's per-object data (`ObjectData` in `draw.wgsl`).

@@ -194,6 +194,8 @@ pub struct MethodContext<'a> {
     pub leaf_of_object: &'a wgpu::Buffer,
     /// Object boxes (`ObjectBounds`), shared by every view.
     pub bounds: &'a wgpu::Buffer,
+    /// Object boxes in their own frames (`OrientedBounds`), shared by every view.
+    pub oriented: &'a wgpu::Buffer,
     /// One command per object in object order, shared by every view.
     pub commands: &'a wgpu::Buffer,
     /// Object slots: every per-object buffer covers them.
@@ -292,6 +294,14 @@ pub struct MethodOptions {
     /// are then culled too. Rounds only change which of U are drawn, never
     /// what passes: every object they drop is behind drawn depth.
     pub hroc_rounds: u32,
+    /// `hroc`: draw the occlusion map in one front-to-back round too: the
+    /// objects of V whose box is nearest at some block first, then those
+    /// whose box is still in front of the depth they left. V holds last
+    /// frame's visible set, and on a moving camera many of them are hidden
+    /// this frame behind others of V; left out, they are not occluders,
+    /// and the batch test takes them with the other occludees. Only which
+    /// objects build the map changes, never what passes the test.
+    pub hroc_occluder_rounds: bool,
     /// A frame whose view direction turned more than this many degrees
     /// since the last frame is culled as after a camera cut (the host need
     /// not say so): 45° is an eighth of a turn, past which most of last
@@ -341,6 +351,7 @@ impl Default for MethodOptions {
             hroc_test_scale: 2,
             hroc_filter_stride: 1,
             hroc_rounds: 1,
+            hroc_occluder_rounds: false,
             cut_turn_deg: 45.0,
             cut_move: 0.1,
         }
@@ -638,6 +649,9 @@ named_enum!(
         Seed => "occluder seed",
         /// Drawing last frame's visible set (HROC §3.1).
         OcclusionMap => "occlusion map",
+        /// HROC's front-to-back round over V: nearest boxes, the re-test
+        /// and their lists ([`MethodOptions::hroc_occluder_rounds`]).
+        OccluderRounds => "occluder rounds",
         /// HROC's bottom-up group extraction (§3.2).
         GroupExtraction => "group extraction",
         /// Box rasterization, ray casting or Hi-Z tests (HROC §3.3).

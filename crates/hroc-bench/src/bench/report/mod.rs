@@ -336,6 +336,7 @@ impl Runner<'_> {
             resolution,
             split,
             clusters: None,
+            oriented_boxes: true,
             camera_path: None,
             progress: true,
             moving: 0.0,

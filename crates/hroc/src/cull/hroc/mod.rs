@@ -85,6 +85,8 @@ pub struct Hroc {
     sf: Option<StallFree>,
     /// Front-to-back occludee rounds, when more than one.
     rounds: Option<Rounds>,
+    /// V's front-to-back round, when asked for.
+    occluder_rounds: Option<Rounds>,
 }
 
 /// Front-to-back rounds of occludee rendering (step 4 with
@@ -112,6 +114,15 @@ struct Rounds {
     fronts: Vec<(DrawList, CompactJob)>,
     /// The last round's list: its candidates, all drawn.
     last: (DrawList, CompactJob),
+}
+
+/// Which list [`Hroc::rounds`] draws front to back.
+#[derive(Clone, Copy)]
+enum RoundsOf {
+    /// V, in step 1 ([`MethodOptions::hroc_occluder_rounds`](super::MethodOptions)).
+    Occluders,
+    /// U, in step 4 ([`MethodOptions::hroc_rounds`](super::MethodOptions)).
+    Occludees,
 }
 
 /// Cells of the occluder seed's ray grid (`seed` in `hroc_groups.wgsl`):
@@ -246,6 +257,7 @@ impl Hroc {
                 texture_entry(4, wgpu::TextureSampleType::Depth),
                 storage_entry(5, false),
                 storage_entry(6, true),
+                storage_entry(15, true),
             ],
         });
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
@@ -262,18 +274,23 @@ impl Hroc {
                 wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(occlusion_map) },
                 wgpu::BindGroupEntry { binding: 5, resource: ray_stats.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 6, resource: cx.bounds.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 15, resource: cx.oriented.as_entire_binding() },
             ],
         });
         let test_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc test"), bind_group_layouts: &[Some(&test_layout)], immediate_size: 0 });
         let test_depth = (blocks.as_ref().map_or(cx.targets.depth_format, |_| BLOCK_FORMAT), cx.targets.depth);
         let boxes = crate::shaders::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), test_depth, &[("TEST_SCALE", scale as f64)]);
         let round_count = cx.options.hroc_rounds.clamp(1, MAX_ROUNDS);
-        let rounds = (round_count > 1).then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, round_count, &occludees, &u_list, &compactor));
+        let rounds = (round_count > 1).then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, occlusion_map, round_count, &occludees, &u_list, &compactor));
+        let occluder_rounds = cx.options.hroc_occluder_rounds.then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, occlusion_map, 2, &visible, &v_list, &compactor));
         let words = |bytes: usize| (bytes / 4) as u32;
         let command_words = words(std::mem::size_of::<crate::layout::DrawCommand>());
         let sf = (variant.counters == Counters::StallFree).then(|| {
             let last = rounds.as_ref().map_or(&u_list, |r| &r.last.0);
             let mut lists = vec![(&v_list.commands, &v_list.count, n, command_words), (&groups, &group_count, nodes + n, 0), (&last.commands, &last.count, n, command_words)];
+            // V's two lists with occluder rounds (else V's again, unused).
+            let (v_front, v_rest) = occluder_rounds.as_ref().map_or((&v_list, &v_list), |r| (&r.fronts[0].0, &r.last.0));
+            lists.extend([(&v_front.commands, &v_front.count, n, command_words), (&v_rest.commands, &v_rest.count, n, command_words)]);
             for (l, _) in rounds.iter().flat_map(|r| &r.fronts) {
                 lists.push((&l.commands, &l.count, n, command_words));
             }
@@ -316,6 +333,7 @@ impl Hroc {
             seeded: false,
             sf,
             rounds,
+            occluder_rounds,
         })
     }
 
@@ -354,15 +372,27 @@ impl Hroc {
         }
     }
 
-    /// Step 4 in front-to-back rounds: in each round but the last, the
-    /// candidates whose box is nearest at some block are drawn, and the
-    /// others are tested again, alone, against the depth those draws left;
-    /// the last round draws all of its candidates. Round 0's candidates are
-    /// U, whose list (just compacted) instances every box pass.
-    fn occludee_rounds(&self, f: &mut Frame) -> Result<()> {
+    /// Front-to-back rounds over `r`'s candidates: in each round but the
+    /// last, the candidates whose box is nearest at some block are drawn,
+    /// and the others are tested again, alone, against the depth those
+    /// draws left; the last round draws all of its candidates. Round 0's
+    /// candidates are U in step 4 (or V in step 1), whose list (just
+    /// compacted) instances every box pass.
+    fn rounds(&self, f: &mut Frame, r: &Rounds, of: RoundsOf) -> Result<()> {
         let n = self.n;
-        let r = self.rounds.as_ref().expect("rounds");
-        f.stage(Stage::OccludeeRounds);
+        let (stage, draw_stage, phase, marks) = match of {
+            RoundsOf::Occluders => (Stage::OccluderRounds, Stage::OcclusionMap, Phase::Occluders, &self.marks_o),
+            RoundsOf::Occludees => (Stage::OccludeeRounds, Stage::OccludeeRendering, Phase::Occludees, &self.marks_d),
+        };
+        let front_counted = |k| match of {
+            RoundsOf::Occluders => Counted::OccluderFront,
+            RoundsOf::Occludees => Counted::Front(k),
+        };
+        let last_counted = match of {
+            RoundsOf::Occluders => Counted::OccluderRest,
+            RoundsOf::Occludees => Counted::U,
+        };
+        f.stage(stage);
         {
             let (enc, q) = f.counted();
             let mut pass = enc.begin_compute_pass(&Default::default());
@@ -394,7 +424,7 @@ impl Hroc {
             let (list, job) = &r.fronts[k as usize];
             // The nearest candidate boxes over the occlusion map, then the
             // candidates that own some of that depth.
-            f.stage(Stage::OccludeeRounds);
+            f.stage(stage);
             {
                 let (enc, q) = f.counted();
                 r.front_map.reduce(enc, &q);
@@ -404,12 +434,12 @@ impl Hroc {
             boxes(f, "hroc front", &r.front_map.view, false, &r.front_marks, bind);
             let (enc, q) = f.counted();
             self.compactor.record(enc, &q, job);
-            let max_count = self.max_count(f, Counted::Front(k), &list.count, n, Stage::OccludeeRounds)?;
-            f.stage(Stage::OccludeeRendering);
+            let max_count = self.max_count(f, front_counted(k), &list.count, n, stage)?;
+            f.stage(draw_stage);
             let drawn = DrawList { max_count, ..list.clone() };
-            self.draw_list(f, Phase::Occludees, Counted::Front(k), &drawn, &self.marks_d);
+            self.draw_list(f, phase, front_counted(k), &drawn, marks);
             // The other candidates against the depth just drawn.
-            f.stage(Stage::OccludeeRounds);
+            f.stage(stage);
             let targets = f.targets;
             if let Some(b) = &self.blocks {
                 let (enc, q) = f.counted();
@@ -421,9 +451,9 @@ impl Hroc {
         let (list, job) = &r.last;
         let (enc, q) = f.counted();
         self.compactor.record(enc, &q, job);
-        let max_count = self.max_count(f, Counted::U, &list.count, n, Stage::OccludeeRounds)?;
-        f.stage(Stage::OccludeeRendering);
-        self.draw_list(f, Phase::Occludees, Counted::U, &DrawList { max_count, ..list.clone() }, &self.marks_d);
+        let max_count = self.max_count(f, last_counted, &list.count, n, stage)?;
+        f.stage(draw_stage);
+        self.draw_list(f, phase, last_counted, &DrawList { max_count, ..list.clone() }, marks);
         Ok(())
     }
 
@@ -557,6 +587,7 @@ impl Rounds {
         module: &wgpu::ShaderModule,
         scale: u32,
         test_depth: (wgpu::TextureFormat, crate::DepthRange),
+        occlusion_map: &wgpu::TextureView,
         count: u32,
         occludees: &wgpu::Buffer,
         u_list: &DrawList,
@@ -569,8 +600,17 @@ impl Rounds {
         let (front, alive) = (flags("hroc front marks"), [flags("hroc round candidates"), flags("hroc round candidates")]);
         let unused = gpu.buffer("hroc unused", 4, U::STORAGE);
         let box_args = gpu.buffer_init("hroc round boxes", bytemuck::cast_slice(&[0u32, 1, 0, 0]), U::INDIRECT | U::STORAGE);
-        let round_entries =
-            [uniform_entry(0), storage_entry(6, true), uniform_entry(8), storage_entry(9, true), storage_entry(10, false), storage_entry(11, true), storage_entry(12, true)];
+        let round_entries = [
+            uniform_entry(0),
+            texture_entry(4, wgpu::TextureSampleType::Depth),
+            storage_entry(6, true),
+            uniform_entry(8),
+            storage_entry(9, true),
+            storage_entry(10, false),
+            storage_entry(11, true),
+            storage_entry(12, true),
+            storage_entry(15, true),
+        ];
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc rounds"), entries: &round_entries });
         let init_entries = [&round_entries[..], &[storage_entry(13, true), storage_entry(14, false)]].concat();
         let init_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc rounds init"), entries: &init_entries });
@@ -579,11 +619,14 @@ impl Rounds {
         for k in 0..count {
             let params = gpu.buffer_init("hroc round params", bytemuck::cast_slice(&[k + 1, k + 1, k + 2, 0]), U::UNIFORM);
             let bind = |layout: &wgpu::BindGroupLayout, marks: &wgpu::Buffer, front_in: &wgpu::Buffer, init: bool| {
-                let mut buffers = vec![(0, cx.frame), (6, cx.bounds), (8, &params), (9, &u_list.commands), (10, marks), (11, candidates(k)), (12, front_in)];
+                let mut buffers = vec![(0, cx.frame), (6, cx.bounds), (8, &params), (9, &u_list.commands), (10, marks), (11, candidates(k)), (12, front_in), (15, cx.oriented)];
                 if init {
                     buffers.extend([(13, &u_list.count), (14, &box_args)]);
                 }
-                let entries: Vec<_> = buffers.iter().map(|&(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }).collect();
+                // The late test reads the map it tests against (read-only
+                // there); the front passes write a map of their own.
+                let mut entries: Vec<_> = buffers.iter().map(|&(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }).collect();
+                entries.push(wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(occlusion_map) });
                 device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("hroc rounds"), layout, entries: &entries })
             };
             if k == 0 {
@@ -708,8 +751,13 @@ impl CullMethod for Hroc {
             let bytes = sf.begin(f.gpu);
             f.count_async_read(bytes);
         }
-        self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
-        self.draw_list(f, Phase::Occluders, Counted::V, &self.v_list, &self.marks_o);
+        if let Some(r) = &self.occluder_rounds {
+            r.clear(f.encoder());
+            self.rounds(f, r, RoundsOf::Occluders)?;
+        } else {
+            self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
+            self.draw_list(f, Phase::Occluders, Counted::V, &self.v_list, &self.marks_o);
+        }
         // 2. Occludee groups.
         f.stage(Stage::GroupExtraction);
         let enc = f.encoder();
@@ -756,8 +804,8 @@ impl CullMethod for Hroc {
         let (enc, q) = f.counted();
         enc.clear_buffer(&self.drawn, 0, None);
         self.compactor.record(enc, &q, &self.u_job);
-        if self.rounds.is_some() {
-            self.occludee_rounds(f)?;
+        if let Some(r) = &self.rounds {
+            self.rounds(f, r, RoundsOf::Occludees)?;
         } else {
             self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
             self.draw_list(f, Phase::Occludees, Counted::U, &self.u_list, &self.marks_d);
@@ -774,7 +822,9 @@ impl CullMethod for Hroc {
         }
         if let Some(sf) = self.sf.as_mut() {
             let last = self.rounds.as_ref().map_or(&self.u_list, |r| &r.last.0);
-            let mut counts = vec![&self.v_list.count, &self.group_count, &last.count];
+            let v_rounds = self.occluder_rounds.as_ref().map(|r| (&r.fronts[0].0.count, &r.last.0.count));
+            let (v_front, v_rest) = v_rounds.unwrap_or((&self.v_list.count, &self.v_list.count));
+            let mut counts = vec![&self.v_list.count, &self.group_count, &last.count, v_front, v_rest];
             counts.extend(self.rounds.iter().flat_map(|r| r.fronts.iter().map(|(l, _)| &l.count)));
             sf.end(f.encoder, &counts);
         }

@@ -23,6 +23,10 @@ pub enum Counted {
     G,
     /// The occludee list U (§3.4), or with rounds the last round's list.
     U,
+    /// With occluder rounds: V's front list.
+    OccluderFront,
+    /// With occluder rounds: V's other objects still in front of it.
+    OccluderRest,
     /// The front list of occludee round k (all rounds but the last).
     Front(u32),
 }
@@ -34,7 +38,9 @@ impl Counted {
             Counted::V => 0,
             Counted::G => 1,
             Counted::U => 2,
-            Counted::Front(k) => 3 + k as usize,
+            Counted::OccluderFront => 3,
+            Counted::OccluderRest => 4,
+            Counted::Front(k) => 5 + k as usize,
         }
     }
 }
