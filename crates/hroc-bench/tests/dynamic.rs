@@ -30,12 +30,14 @@ fn largest(t: &Truth) -> u32 {
     px.into_iter().max_by_key(|&(o, n)| (n, std::cmp::Reverse(o))).map(|(o, _)| o).expect("something is visible")
 }
 
-/// A transform `dist` metres ahead of camera k, `side` metres to its right.
+/// A transform `dist` metres ahead of camera k, `side` metres to its
+/// right, turned so that the object gets an oriented box.
 fn ahead(s: &Session, k: usize, dist: f32, side: f32) -> Mat4 {
     let c = s.cameras[k];
     let fwd = (c.target - c.eye).normalize();
     let right = fwd.cross(c.up).normalize();
-    Mat4::from_translation(c.eye + fwd * dist + right * side - Vec3::Y * 0.5) * Mat4::from_scale(Vec3::splat(0.4))
+    let turn = Mat4::from_rotation_y(0.4 + 0.3 * k as f32) * Mat4::from_rotation_x(0.3);
+    Mat4::from_translation(c.eye + fwd * dist + right * side - Vec3::Y * 0.5) * turn * Mat4::from_scale(Vec3::splat(0.4))
 }
 
 /// One scripted walk through every change a host makes, run with the
@@ -80,6 +82,10 @@ fn scripted_walk(refit: Refit, hroc_rounds: u32) {
         if k == 8 {
             moves.push((teleport, ahead(&s, k, 9.0, 0.0)));
         }
+        if (16..=19).contains(&k) {
+            // Turning in place: its oriented box follows it.
+            moves.push((teleport, ahead(&s, 8, 9.0, 0.0) * Mat4::from_rotation_z(0.5 * k as f32)));
+        }
         if k >= 14 {
             moves.extend(dynamic.iter().map(|&i| (i, Mat4::from_translation(Vec3::new(10.0 * (k as f32 * 0.5 + i as f32).sin(), 0.0, 8.0)) * base[i as usize])));
         }
@@ -101,6 +107,10 @@ fn scripted_walk(refit: Refit, hroc_rounds: u32) {
         }
         if k == 10 {
             s.add_objects(&[(appear, ahead(&s, k, 8.0, 0.5))]).unwrap();
+            assert!(s.culler.oriented(appear).is_some(), "an object added turned has an oriented box");
+        }
+        if k == 8 {
+            assert!(s.culler.oriented(teleport).is_some(), "a moved object that turned has an oriented box");
         }
         if k == 12 {
             let (_, t11) = s.truth(11).unwrap();
@@ -156,6 +166,49 @@ fn objects(n: usize) -> Vec<ObjectDesc> {
             ObjectDesc { bounds: Aabb::new(c, c + Vec3::new(1.0, 2.0, 1.5)), index_count: 3, first_index: 0, base_vertex: 0, flags: ObjectFlags::NONE, oriented: None }
         })
         .collect()
+}
+
+/// Oriented boxes: given at creation, by `add_objects` and `set_oriented`;
+/// dropped by `set_bounds` (the box moved, its own box did not), by
+/// `set_bounds_gpu` and by removal. Bad ones are refused, and nothing
+/// changes then.
+#[test]
+fn oriented_boxes_follow_their_objects() {
+    let g = gpu();
+    let turned = |b: Aabb| {
+        let local = Aabb::new(-b.extent() * 0.5, b.extent() * 0.5);
+        hroc::OrientedBox::new(local, glam::Affine3A::from_rotation_translation(glam::Quat::from_rotation_y(0.7), b.center()))
+    };
+    let mut objs = objects(30);
+    for o in objs.iter_mut().step_by(2) {
+        let ob = turned(o.bounds);
+        (o.bounds, o.oriented) = (ob.world_bounds(), Some(ob));
+    }
+    let mut c = Culler::new(&g.device, &g.queue, &CullerDesc { capacity: 32, ..CullerDesc::new(&objs) }).unwrap();
+    assert_eq!(c.oriented(4), objs[4].oriented);
+    assert_eq!(c.oriented(5), None);
+    c.set_bounds(&[(4, moved(objs[4].bounds, 4))]).unwrap();
+    assert_eq!(c.oriented(4), None, "set_bounds drops the old oriented box");
+    c.set_oriented(&[(4, objs[4].oriented), (5, Some(turned(objs[5].bounds)))]).unwrap();
+    assert!(c.oriented(4).is_some() && c.oriented(5).is_some());
+    let flat = hroc::OrientedBox::new(Aabb::new(Vec3::ZERO, Vec3::ONE), glam::Affine3A::from_scale(Vec3::new(1.0, 0.0, 1.0)));
+    let e = c.set_oriented(&[(9, Some(turned(objs[9].bounds))), (7, Some(flat))]).unwrap_err().to_string();
+    assert!(e.contains("object 7") && e.contains("invertible"), "{e}");
+    assert_eq!(c.oriented(9), None, "nothing changes on an error");
+    let e = Culler::new(&g.device, &g.queue, &CullerDesc::new(&[ObjectDesc { oriented: Some(flat), ..objs[0] }])).err().expect("a flat box is refused").to_string();
+    assert!(e.contains("invertible"), "{e}");
+    c.remove_objects(&[4]).unwrap();
+    assert_eq!(c.oriented(4), None);
+    assert!(c.set_oriented(&[(4, objs[4].oriented)]).unwrap_err().to_string().contains("removed"));
+    let id = c.add_objects(&objs[2..3]).unwrap()[0];
+    assert_eq!(c.oriented(id), objs[2].oriented);
+    use wgpu::util::DeviceExt;
+    let host: Vec<[f32; 8]> = (0..32).map(|i| [i as f32, 0.0, 0.0, 0.0, i as f32 + 1.0, 1.0, 1.0, 0.0]).collect();
+    let buf = g.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: None, contents: bytemuck::cast_slice(&host), usage: wgpu::BufferUsages::STORAGE });
+    let mut enc = g.device.create_command_encoder(&Default::default());
+    c.set_bounds_gpu(&mut enc, &buf).unwrap();
+    g.queue.submit([enc.finish()]);
+    assert!((0..32).all(|i| c.oriented(i).is_none()), "set_bounds_gpu drops every oriented box");
 }
 
 fn moved(b: Aabb, i: usize) -> Aabb {

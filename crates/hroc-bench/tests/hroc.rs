@@ -94,6 +94,11 @@ fn frame_with_occlusion_map(s: &mut Session, h: &mut hroc::View, k: usize) -> Ve
     s.read_depth().unwrap()
 }
 
+/// The oriented box the culler holds for every object.
+fn oriented_boxes(s: &Session) -> Vec<Option<hroc::OrientedBox>> {
+    (0..s.renderer.object_count).map(|o| s.culler.oriented(o)).collect()
+}
+
 #[test]
 fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
     // Test scales: the paper's per-pixel test, the default blocks of 2 × 2,
@@ -119,12 +124,13 @@ fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
             let pixel = cpu::pixel_angle_xy(&rays, g.near, RES);
             let scale = h.method_state::<Hroc>().unwrap().test_scale();
             let (groups, forced) = cpu::groups(s.bvh(), &state, &g.planes, g.near, g.eye, pixel, scale);
+            let obb = oriented_boxes(&s);
             assert_eq!(groups, dbg.groups, "{key} frame {k}: groups differ");
             // Ray marking: everything a slightly shrunk box test per pixel
             // finds must be marked, whatever the test's blocks; nothing
             // outside a generous test of the GPU's blocks may be.
-            let strict = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, 1, None, -1e-3, -1e-6);
-            let loose = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5);
+            let strict = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, 1, None, -1e-3, -1e-6, &obb);
+            let loose = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5, &obb);
             for o in 0..dbg.occludees.len() {
                 let forced_o = forced.binary_search(&(o as u32)).is_ok();
                 if strict[o] || forced_o {
@@ -155,12 +161,41 @@ fn conservative_with_occludee_rounds() {
 }
 
 #[test]
+fn conservative_with_occluder_rounds_and_oriented_boxes() {
+    // V drawn front to back, with and without occludee rounds, per pixel
+    // and on blocks, along the hard paths: every variant stays exact, and
+    // on the scenes of rotated props the oriented boxes and the occluder
+    // round each draw fewer objects.
+    for (key, scale) in [("satellites", 1), ("factory", 2), ("radial-city", 2)] {
+        let scene = hroc_bench::scene::load(key, Some(2000), 5).unwrap();
+        let path = paths::hard_path(&scene);
+        let mut s = Session::new(gpu(), scene, Some(path), 30, RES, Split::Sah).unwrap();
+        let has_oriented = oriented_boxes(&s).iter().any(Option::is_some);
+        assert!(has_oriented || key == "radial-city", "{key}: its rotated props get oriented boxes");
+        s.options = hroc::MethodOptions { hroc_test_scale: scale, hroc_rounds: 2, ..Default::default() };
+        let boxes = assert_variants_conservative(&mut s, key);
+        s.options.hroc_occluder_rounds = true;
+        let v_rounds = assert_variants_conservative(&mut s, key);
+        s.options.hroc_rounds = 1;
+        assert_variants_conservative(&mut s, key);
+        s.options = hroc::MethodOptions { hroc_test_scale: scale, hroc_rounds: 2, ..Default::default() };
+        s.set_oriented_boxes(false).unwrap();
+        let world = assert_variants_conservative(&mut s, key);
+        eprintln!("{key}: drawn/visible {world:.3} world boxes, {boxes:.3} oriented, {v_rounds:.3} with occluder rounds");
+        if has_oriented {
+            assert!(boxes < world, "{key}: oriented boxes drew {boxes:.3} × the visible objects, world boxes {world:.3}");
+        }
+        assert!(v_rounds < boxes, "{key}: the occluder round drew {v_rounds:.3} × the visible objects, without {boxes:.3}");
+    }
+}
+
+#[test]
 fn gpu_late_test_matches_cpu_reference() {
     // Round 0's late test re-tests U's objects not drawn in front, alone,
     // against the depth V and the front list left: everything a shrunk
     // per-pixel box test finds must go on, nothing a generous test of the
     // GPU's blocks rejects may.
-    for ((key, n), scale) in [("factory", 1500), ("radial-city", 1500)].into_iter().zip([1, 2]) {
+    for ((key, n), scale) in [("factory", 1500), ("radial-city", 1500), ("satellites", 1200)].into_iter().zip([1, 2, 2]) {
         let scene = hroc_bench::scene::load(key, Some(n), 11).unwrap();
         let path = paths::hard_path(&scene);
         let mut s = Session::new(gpu(), scene, Some(path), 16, RES, Split::Sah).unwrap();
@@ -182,9 +217,10 @@ fn gpu_late_test_matches_cpu_reference() {
             let cam = s.cameras[k];
             let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
             let pixel = cpu::pixel_angle_xy(&g.ray_dirs, g.near, RES);
+            let obb = oriented_boxes(&s);
             let rest: Vec<u32> = (0..u.len()).filter(|&o| u[o] && front[o] == 0).map(|o| s.bvh().leaf_of_object[o]).collect();
-            let strict = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, g.eye, RES, &depth, 1, None, -1e-3, -1e-6);
-            let loose = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5);
+            let strict = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, g.eye, RES, &depth, 1, None, -1e-3, -1e-6, &obb);
+            let loose = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5, &obb);
             for o in 0..u.len() {
                 assert!(front[o] <= 1 && (front[o] == 0 || u[o]), "{key} frame {k}: object {o} drawn in front but not in U");
                 assert!(!strict[o] || next[o], "{key} frame {k}: object {o} is in front of the depth but left the rounds");

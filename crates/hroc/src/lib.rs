@@ -40,14 +40,19 @@
 //!   `DrawIndexedIndirectArgs` with `first_instance = i` and
 //!   `instance_count` 1 or 0: the host's vertex shader reads its per-object
 //!   data (transform, material) at `@builtin(instance_index)`.
+//!   Optionally, an object also has a box in its own frame
+//!   ([`ObjectDesc::oriented`], an [`OrientedBox`]) that holds the same
+//!   geometry: HROC then tests where both boxes meet, which for rotated
+//!   panels, rings and beams is far less than the world box alone.
 //! - **Draws.** For each [`Draw`], in the order handed over, the host records
 //!   `multi_draw_indexed_indirect_count(commands, 0, count, 0, max_count)`
 //!   into a render pass on the view's depth attachment, before returning
 //!   ([`Draw::record`]). Object order within a list is kept; the host must
 //!   not reorder, split or skip a list, because the culler's next pass reads
 //!   the depth it left. A phase may come several times in one frame (HROC's
-//!   occludee rounds, [`MethodOptions::hroc_rounds`]; the stall-free
-//!   overflow lists): draw every list when it comes.
+//!   occludee rounds, [`MethodOptions::hroc_rounds`], and occluder rounds,
+//!   [`MethodOptions::hroc_occluder_rounds`]; the stall-free overflow
+//!   lists): draw every list when it comes.
 //! - **Depth.** Every occluding phase ([`Phase::occludes`]) writes depth with
 //!   the depth test of its [`DepthRange`] (`Less`/`LessEqual` standard,
 //!   `Greater`/`GreaterEqual` reversed), no depth bias, and only for
@@ -102,7 +107,9 @@
 //!   on every frame it is drawn: change boxes before the frame that draws
 //!   the new transforms, with [`Culler::set_bounds`] (from the CPU) or
 //!   [`Culler::set_bounds_gpu`] (from a buffer the host fills on the GPU,
-//!   recorded into the host's encoder). [`Culler::add_objects`] hands out
+//!   recorded into the host's encoder). Both drop the moved objects'
+//!   oriented boxes ([`Culler::set_bounds_gpu`] drops all of them): give
+//!   the new ones with [`Culler::set_oriented`]. [`Culler::add_objects`] hands out
 //!   slots (lowest free first; reserve room with [`CullerDesc::capacity`]),
 //!   and [`Culler::remove_objects`] empties them; an object's index is its
 //!   slot for as long as it lives. Static objects that move are refit into

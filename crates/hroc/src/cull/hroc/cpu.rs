@@ -5,7 +5,7 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::bvh::Bvh;
-use crate::{frustum::aabb_in_frustum, Aabb};
+use crate::{frustum::aabb_in_frustum, Aabb, OrientedBox};
 
 /// Node state: not reached from any occluder (paper Algorithm 1).
 pub const NIL: u32 = 0;
@@ -54,10 +54,28 @@ pub fn padded(b: Aabb, eye: Vec3, pixel: f32) -> Aabb {
 
 /// `padded_box_px` in common.wgsl: `px` pixels of padding at the farthest corner.
 pub fn padded_px(b: Aabb, eye: Vec3, pixel: f32, px: f32) -> Aabb {
+    let pad = box_pad(b, eye, pixel, px);
+    Aabb::new(b.min - Vec3::splat(pad), b.max + Vec3::splat(pad))
+}
+
+/// `box_pad` in common.wgsl: the world distance [`padded_px`] grows a box by.
+pub fn box_pad(b: Aabb, eye: Vec3, pixel: f32, px: f32) -> f32 {
     let far = (b.min - eye).abs().max((b.max - eye).abs()).length();
     let scale = b.min.abs().max(b.max.abs()).max_element();
-    let pad = px * pixel * far + 1e-4 * (b.max - b.min).length() + 1e-6 * (scale + eye.length()) + 1e-7;
-    Aabb::new(b.min - Vec3::splat(pad), b.max + Vec3::splat(pad))
+    px * pixel * far + 1e-4 * (b.max - b.min).length() + 1e-6 * (scale + eye.length()) + 1e-7
+}
+
+/// The span `(enter, exit)` of the ray `eye + t dir` in `o`'s local box
+/// grown by `grow` times its diagonal, and so that it holds the ball of
+/// radius `pad` around each of its points (`ray_oriented` in common.wgsl,
+/// without its rounding slack).
+pub fn oriented_span(o: &OrientedBox, eye: Vec3, dir: Vec3, pad: f32, grow: f32) -> (f32, f32) {
+    let Some(inv) = o.to_local() else { return (f32::NEG_INFINITY, f32::INFINITY) };
+    let (e, d) = (inv.transform_point3(eye), inv.transform_vector3(dir));
+    let rows = glam::Mat3::from(inv.matrix3).transpose();
+    let g = pad * Vec3::new(rows.x_axis.length(), rows.y_axis.length(), rows.z_axis.length()) + Vec3::splat(grow * (o.local.max - o.local.min).length());
+    let (t0, t1) = ((o.local.min - g - e) / d, (o.local.max + g - e) / d);
+    (t0.min(t1).max_element(), t0.max(t1).min_element())
 }
 
 /// `block_pad_px` in common.wgsl: the padding, in pixels, of boxes tested
@@ -110,7 +128,10 @@ pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3
 /// `pixel` is given, then grown by `grow` times their diagonal. With
 /// blocks of one pixel, no padding, a shrinking `grow` and a negative
 /// tolerance this is what the GPU must find at any test scale; with the
-/// GPU's blocks, padding and generous ones, all it may find.
+/// GPU's blocks, padding and generous ones, all it may find. A leaf whose
+/// object has an oriented box (`oriented[o]`, empty for none) is entered
+/// where the ray is inside both boxes, the oriented one padded and grown
+/// alike.
 #[allow(clippy::too_many_arguments)]
 pub fn ray_marked(
     bvh: &Bvh,
@@ -124,6 +145,7 @@ pub fn ray_marked(
     pixel: Option<f32>,
     grow: f32,
     tolerance: f32,
+    oriented: &[Option<OrientedBox>],
 ) -> Vec<bool> {
     let n_obj = bvh.leaf_of_object.len();
     let mut in_group = vec![false; bvh.nodes.len()];
@@ -149,11 +171,15 @@ pub fn ray_marked(
             let limit = farthest + tolerance;
             let mut stack = vec![0u32];
             while let Some(n) = stack.pop() {
+                let pad = pixel.map_or(0.0, |px| box_pad(bvh.aabb(n), eye, px, block_pad_px(s)));
                 let b = pixel.map_or(bvh.aabb(n), |px| padded_px(bvh.aabb(n), eye, px, block_pad_px(s)));
                 let g = Vec3::splat(grow * (b.max - b.min).length().max(1e-3));
                 let (t0, t1) = ((b.min - g - eye) / dir, (b.max + g - eye) / dir);
-                let enter = t0.min(t1).max_element();
-                let exit = t0.max(t1).min_element();
+                let (mut enter, mut exit) = (t0.min(t1).max_element(), t0.max(t1).min_element());
+                if let Some(o) = bvh.object(n).and_then(|o| oriented.get(o as usize).copied().flatten()) {
+                    let (e, x) = oriented_span(&o, eye, dir, pad, grow);
+                    (enter, exit) = (enter.max(e), exit.min(x));
+                }
                 let t = enter.max(1.0);
                 if exit < t || exit.is_nan() {
                     continue;

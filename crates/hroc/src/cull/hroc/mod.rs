@@ -1,10 +1,15 @@
 //! `hroc`: Hierarchical Raster Occlusion Culling (Lee et al., CGF 2021;
 //! the EOVC thesis). One frame, as the paper's Figure 2:
 //! 1. occlusion map — draw V (last frame's visible set, packed in object
-//!    order) with forced early-Z; fragments mark the effective occluders O;
+//!    order) with forced early-Z; fragments mark the effective occluders O.
+//!    With [`MethodOptions::hroc_occluder_rounds`](super::MethodOptions),
+//!    in one front-to-back round (as step 4's below): V's objects hidden
+//!    behind V's nearest are left for the test as occludees;
 //! 2. occludee groups — BVH walk up from every occluder (`hroc_groups.wgsl`);
 //! 3. batch occlusion test — rasterize group boxes, cast rays in their
 //!    subtrees (`hroc_test.wgsl`); marked objects are the occludees U.
+//!    A leaf whose object has an oriented box is entered only where the
+//!    ray is inside that box too;
 //!    With [`MethodOptions::hroc_test_scale`](super::MethodOptions) above 1
 //!    the test runs on blocks of pixels against their farthest depth;
 //! 4. occludee rendering — draw U with early-Z; passing objects are D.
