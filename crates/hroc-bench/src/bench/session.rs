@@ -112,7 +112,7 @@ impl<'g> Session<'g> {
     /// Returns the culler's part in ms: its CPU work plus the GPU's
     /// completion of its uploads (and refit), waited for here.
     pub fn move_objects(&mut self, moves: &[(u32, glam::Mat4)]) -> Result<f64> {
-        let (mut boxes, mut oriented) = (Vec::with_capacity(moves.len()), Vec::new());
+        let mut boxes = Vec::with_capacity(moves.len());
         for &(i, m) in moves {
             let Some(o) = self.scene.objects.get_mut(i as usize) else {
                 return Err(crate::Error::Arg(format!("object {i} out of range")));
@@ -120,11 +120,13 @@ impl<'g> Session<'g> {
             o.transform = m;
             o.bounds = self.scene.meshes[o.mesh as usize].part_bounds(o.cluster, &m);
             boxes.push((i, o.bounds));
-            if self.oriented_boxes {
-                let b = crate::render::oriented_box(&self.scene, &self.scene.objects[i as usize]);
-                oriented.extend(b.map(|b| (i, Some(b))));
-            }
         }
+        // From the final transforms: an object may move twice in one call.
+        let oriented: Vec<(u32, Option<hroc::OrientedBox>)> = if self.oriented_boxes {
+            moves.iter().map(|&(i, _)| (i, crate::render::oriented_box(&self.scene, &self.scene.objects[i as usize]))).filter(|(_, b)| b.is_some()).collect()
+        } else {
+            Vec::new()
+        };
         self.gpu.queue.submit([]);
         self.gpu.wait()?;
         let t = std::time::Instant::now();
