@@ -202,13 +202,24 @@ fn oriented_boxes_follow_their_objects() {
     assert!(c.set_oriented(&[(4, objs[4].oriented)]).unwrap_err().to_string().contains("removed"));
     let id = c.add_objects(&objs[2..3]).unwrap()[0];
     assert_eq!(c.oriented(id), objs[2].oriented);
+    // Past the capacity: new buffers, and every kept box goes up again.
+    let grown = c.add_objects(&objs[10..16]).unwrap();
+    assert_eq!(c.object_count(), 64);
+    assert_eq!(grown.iter().map(|&i| c.oriented(i)).collect::<Vec<_>>(), objs[10..16].iter().map(|o| o.oriented).collect::<Vec<_>>());
+    let on_gpu = c.read_oriented().unwrap();
+    assert_eq!(on_gpu.len(), 64);
+    for (i, g) in on_gpu.iter().enumerate() {
+        assert_eq!(g.valid == 1, c.oriented(i as u32).is_some(), "slot {i}: the GPU's oriented box after growing");
+    }
+    assert!(on_gpu[0].valid == 1 && on_gpu[5].valid == 1 && on_gpu[id as usize].valid == 1);
     use wgpu::util::DeviceExt;
-    let host: Vec<[f32; 8]> = (0..32).map(|i| [i as f32, 0.0, 0.0, 0.0, i as f32 + 1.0, 1.0, 1.0, 0.0]).collect();
+    let host: Vec<[f32; 8]> = (0..64).map(|i| [i as f32, 0.0, 0.0, 0.0, i as f32 + 1.0, 1.0, 1.0, 0.0]).collect();
     let buf = g.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: None, contents: bytemuck::cast_slice(&host), usage: wgpu::BufferUsages::STORAGE });
     let mut enc = g.device.create_command_encoder(&Default::default());
     c.set_bounds_gpu(&mut enc, &buf).unwrap();
     g.queue.submit([enc.finish()]);
-    assert!((0..32).all(|i| c.oriented(i).is_none()), "set_bounds_gpu drops every oriented box");
+    assert!((0..64).all(|i| c.oriented(i).is_none()), "set_bounds_gpu drops every oriented box");
+    assert!(c.read_oriented().unwrap().iter().all(|g| g.valid == 0), "and on the GPU");
 }
 
 fn moved(b: Aabb, i: usize) -> Aabb {

@@ -358,7 +358,9 @@ fn stall_free_overflow_draws_what_the_estimate_misses() {
 
 /// Work counters: hroc-cr+of (counter read-back) submits and waits three times a
 /// frame, reading 4 bytes each time; hroc-na never waits; hroc (sf+of) never
-/// waits either, yet its counts arrive (bytes read without a wait).
+/// waits either, yet its counts arrive (bytes read without a wait): |V|,
+/// |G| and |U|, 12 bytes a frame's counts, and no more (no lists of rounds
+/// it does not run).
 #[test]
 fn work_counters_count_submits_waits_and_bytes() {
     let scene = hroc_bench::scene::load("radial-city", Some(1200), 3).unwrap();
@@ -373,6 +375,9 @@ fn work_counters_count_submits_waits_and_bytes() {
             assert_eq!((get(hroc::Stat::Waits), get(hroc::Stat::Submits)), (waits, waits), "{m} frame {k}");
             if waits > 0.0 {
                 assert_eq!(get(hroc::Stat::BytesRead), 4.0 * waits, "{m} frame {k}");
+            }
+            if m == "hroc" {
+                assert_eq!(get(hroc::Stat::BytesRead) % 12.0, 0.0, "{m} frame {k}: whole frames of three counts");
             }
             bytes += get(hroc::Stat::BytesRead);
         }

@@ -205,16 +205,18 @@ fn box_fs(in: BoxOut) {
     atomicAdd(&ray_stats[2u * slot + 1u], steps);
 }
 
-// Front-to-back rounds of occludee rendering. The batch test marks U
-// against a map of last frame's occluders only; objects that came into view
-// this frame are missing from it, and whatever they hide passes the test.
-// Each round draws the occludees whose box is nearest at some block
-// (`front`), then tests the others' boxes again against the depth those
-// draws left, front to back as CHC++ interleaves its queries with drawing
+// Front-to-back rounds over one list: the occludees U in step 4, or the
+// occluder list V in step 1 (occluder rounds, two of them). The batch test
+// marks U against a map of last frame's occluders only; objects that came
+// into view this frame are missing from it, and whatever they hide passes
+// the test. V, last frame's visible set, holds objects that this frame's
+// view hides behind others of V. Each round draws the list's objects whose
+// box is nearest at some block (`front`), then tests the others' boxes
+// again against the depth those draws left, front to back as CHC++ interleaves its queries with drawing
 // (Mattausch et al. 2008), but with no read-back: the survivors are the
 // next round's candidates, and the last round draws all of its candidates.
 // Round k's candidates are the objects whose `candidates` flag equals
-// round.candidate (k + 1; U's marks in round 0); a pass never reads in its
+// round.candidate (k + 1; the list's own marks in round 0); a pass never reads in its
 // vertex stage what its fragments write, so the flags of round k + 1 and
 // the front marks are separate buffers, tagged by round instead of cleared.
 
@@ -226,7 +228,7 @@ struct RoundParams {
 }
 
 @group(0) @binding(8) var<uniform> round: RoundParams;
-// The compacted U list: vertices 36 i to 36 i + 35 are the box of its
+// The compacted list (U or V): vertices 36 i to 36 i + 35 are the box of its
 // i-th object (one draw, not instances: a CPU rasterizer pays per instance).
 @group(0) @binding(9) var<storage, read> occludee_list: array<DrawCommand>;
 // What the pass marks: front marks (front_fs) or next round's candidates (late_fs).
@@ -234,7 +236,7 @@ struct RoundParams {
 @group(0) @binding(11) var<storage, read> candidates: array<u32>;
 @group(0) @binding(12) var<storage, read> front_marks: array<u32>;
 
-// rounds_init only: the U list's count, and the box draw it sizes.
+// rounds_init only: the list's count, and the box draw it sizes.
 @group(0) @binding(13) var<storage, read> occludee_count: array<u32>;
 @group(0) @binding(14) var<storage, read_write> box_draw: array<u32>;
 
@@ -255,7 +257,7 @@ fn round_box(o: u32, v: u32, drawn: bool) -> RoundOut {
     return out;
 }
 
-// Round 0: an occludee whose test box crosses the near plane has no front
+// Round 0: an object whose test box crosses the near plane has no front
 // faces to rasterize, so it is drawn in front at once, as group extraction
 // draws such leaves untested.
 @compute @workgroup_size(256)
@@ -280,7 +282,7 @@ fn front_vs(@builtin(vertex_index) v: u32) -> RoundOut {
     return round_box(o, v % 36u, candidates[o] == round.candidate);
 }
 
-// Every box of U: the passes below test the round in the fragment stage
+// Every box of the list: the passes below test the round in the fragment stage
 // (a vertex stage that reads the state measured slower on lavapipe).
 @vertex
 fn round_vs(@builtin(vertex_index) v: u32) -> RoundOut {

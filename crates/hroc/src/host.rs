@@ -554,7 +554,6 @@ impl Culler {
         self.bvh = bvh;
         self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
         self.gpu.queue.write_buffer(&self.leaf_of_object, 0, bytemuck::cast_slice(&self.bvh.leaf_of_object));
-        self.upload_oriented(None);
         self.generation += 1;
         Ok(())
     }
@@ -630,6 +629,9 @@ impl Culler {
         self.bvh.leaf_of_object.resize(n, NO_LEAF);
         self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
         self.gpu.queue.write_buffer(&self.leaf_of_object, 0, bytemuck::cast_slice(&self.bvh.leaf_of_object));
+        // The new buffer is zeroed (no oriented boxes): the kept objects'
+        // boxes go up again.
+        self.upload_oriented(None);
         self.generation += 1;
         Ok(())
     }
@@ -654,6 +656,12 @@ impl Culler {
     /// tests of the GPU refit.
     pub fn read_nodes(&self) -> Result<Vec<BvhNode>> {
         self.gpu.read(&self.bvh_nodes, 0, self.bvh.nodes.len() as u64)
+    }
+
+    /// The oriented boxes the views read, read back from the GPU (one
+    /// wait): for tests that they follow their objects.
+    pub fn read_oriented(&self) -> Result<Vec<OrientedBounds>> {
+        self.gpu.read(&self.objects.oriented, 0, self.objects.count as u64)
     }
 
     /// Every object's draw command in object order (what `noc` draws).

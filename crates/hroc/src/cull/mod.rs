@@ -299,8 +299,9 @@ pub struct MethodOptions {
     /// whose box is still in front of the depth they left. V holds last
     /// frame's visible set, and on a moving camera many of them are hidden
     /// this frame behind others of V; left out, they are not occluders,
-    /// and the batch test takes them with the other occludees. Only which
-    /// objects build the map changes, never what passes the test.
+    /// and the batch test takes them with the other occludees. The hidden
+    /// ones it culls leave the occluder set O, so G and next frame's V
+    /// shrink too; every object that owns a pixel is still drawn.
     pub hroc_occluder_rounds: bool,
     /// A frame whose view direction turned more than this many degrees
     /// since the last frame is culled as after a camera cut (the host need

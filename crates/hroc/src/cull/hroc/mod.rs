@@ -36,6 +36,11 @@ use stall_free::{Counted, StallFree};
 
 /// The stacks in both shaders hold at most this many entries.
 pub const MAX_DEPTH: u32 = 62;
+/// V's rounds with [`MethodOptions::hroc_occluder_rounds`](super::MethodOptions):
+/// its front list, then the rest still in front of the depth that left.
+/// The stall-free counters count them as [`Counted::OccluderFront`] and
+/// [`Counted::OccluderRest`], so the number is fixed.
+pub const OCCLUDER_ROUNDS: u32 = 2;
 /// Most occludee rounds: each costs a reduce, three box passes over U and
 /// a compaction, and past four the rounds measured no further culling.
 pub const MAX_ROUNDS: u32 = 4;
@@ -90,14 +95,16 @@ pub struct Hroc {
     sf: Option<StallFree>,
     /// Front-to-back occludee rounds, when more than one.
     rounds: Option<Rounds>,
-    /// V's front-to-back round, when asked for.
+    /// V's front-to-back rounds, when asked for.
     occluder_rounds: Option<Rounds>,
 }
 
-/// Front-to-back rounds of occludee rendering (step 4 with
-/// [`MethodOptions::hroc_rounds`](super::MethodOptions) above 1). Round k's
-/// candidates are flagged k + 1: U's marks in round 0, then the late test's
-/// marks, in two buffers that take turns; front marks are k + 1 too.
+/// Front-to-back rounds over one list ([`RoundsOf`]): U in step 4 with
+/// [`MethodOptions::hroc_rounds`](super::MethodOptions) above 1, or V in
+/// step 1 with [`MethodOptions::hroc_occluder_rounds`](super::MethodOptions)
+/// ([`OCCLUDER_ROUNDS`] of them). Round k's candidates are flagged k + 1:
+/// the list's own marks in round 0, then the late test's marks, in two
+/// buffers that take turns; front marks are k + 1 too.
 struct Rounds {
     count: u32,
     /// Front marks, and round k + 1's candidates by the parity of k.
@@ -152,7 +159,9 @@ pub fn test_scale(wanted: u32, (w, h): (u32, u32)) -> u32 {
 /// Per-frame sizes of the paper's sets, read after the frame (untimed).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameCounts {
-    /// |V|: objects in the occluder list drawn for the occlusion map.
+    /// |V|: objects in the occluder list (last frame's visible set), drawn
+    /// for the occlusion map. With occluder rounds, those of V hidden
+    /// behind V's front list are not drawn there but tested as occludees.
     pub v: u32,
     /// |O|: effective occluders, objects of V with a fragment through early-Z (HROC §3.1).
     pub o: u32,
@@ -287,18 +296,21 @@ impl Hroc {
         let boxes = crate::shaders::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), test_depth, &[("TEST_SCALE", scale as f64)]);
         let round_count = cx.options.hroc_rounds.clamp(1, MAX_ROUNDS);
         let rounds = (round_count > 1).then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, occlusion_map, round_count, &occludees, &u_list, &compactor));
-        let occluder_rounds = cx.options.hroc_occluder_rounds.then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, occlusion_map, 2, &visible, &v_list, &compactor));
+        let occluder_rounds =
+            cx.options.hroc_occluder_rounds.then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, occlusion_map, OCCLUDER_ROUNDS, &visible, &v_list, &compactor));
         let words = |bytes: usize| (bytes / 4) as u32;
         let command_words = words(std::mem::size_of::<crate::layout::DrawCommand>());
         let sf = (variant.counters == Counters::StallFree).then(|| {
             let last = rounds.as_ref().map_or(&u_list, |r| &r.last.0);
-            let mut lists = vec![(&v_list.commands, &v_list.count, n, command_words), (&groups, &group_count, nodes + n, 0), (&last.commands, &last.count, n, command_words)];
-            // V's two lists with occluder rounds (else V's again, unused).
-            let (v_front, v_rest) = occluder_rounds.as_ref().map_or((&v_list, &v_list), |r| (&r.fronts[0].0, &r.last.0));
-            lists.extend([(&v_front.commands, &v_front.count, n, command_words), (&v_rest.commands, &v_rest.count, n, command_words)]);
-            for (l, _) in rounds.iter().flat_map(|r| &r.fronts) {
-                lists.push((&l.commands, &l.count, n, command_words));
+            fn of(l: &DrawList, n: u32, words: u32) -> Option<(&wgpu::Buffer, &wgpu::Buffer, u32, u32)> {
+                Some((&l.commands, &l.count, n, words))
             }
+            let counted = |l| of(l, n, command_words);
+            let mut lists = vec![counted(&v_list), Some((&groups, &group_count, nodes + n, 0)), counted(last)];
+            // V's two lists, with occluder rounds only.
+            let v_rounds = occluder_rounds.as_ref().map(|r| (&r.fronts[0].0, &r.last.0));
+            lists.extend([v_rounds.and_then(|v| counted(v.0)), v_rounds.and_then(|v| counted(v.1))]);
+            lists.extend(rounds.iter().flat_map(|r| &r.fronts).map(|(l, _)| counted(l)));
             StallFree::new(gpu, &lists)
         });
         Ok(Hroc {
@@ -362,7 +374,7 @@ impl Hroc {
                 f.stage(resume);
                 Ok(c)
             }
-            (Counters::StallFree, Some(sf)) => Ok(sf.estimates[which.index()]),
+            (Counters::StallFree, Some(sf)) => Ok(sf.estimate(which).unwrap_or(capacity)),
             _ => Ok(capacity),
         }
     }
@@ -594,10 +606,13 @@ impl Rounds {
         test_depth: (wgpu::TextureFormat, crate::DepthRange),
         occlusion_map: &wgpu::TextureView,
         count: u32,
-        occludees: &wgpu::Buffer,
-        u_list: &DrawList,
+        list_marks: &wgpu::Buffer,
+        list: &DrawList,
         compactor: &Compactor,
     ) -> Rounds {
+        // Each round but the last has a front list; the stall-free counters
+        // count V's as exactly two lists.
+        debug_assert!(count >= 2, "rounds over one list: at least a front round and the last");
         use wgpu::BufferUsages as U;
         let device = &gpu.device;
         let n = cx.object_count;
@@ -619,14 +634,14 @@ impl Rounds {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc rounds"), entries: &round_entries });
         let init_entries = [&round_entries[..], &[storage_entry(13, true), storage_entry(14, false)]].concat();
         let init_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc rounds init"), entries: &init_entries });
-        let candidates = |k: u32| if k == 0 { occludees } else { &alive[(k as usize - 1) % 2] };
+        let candidates = |k: u32| if k == 0 { list_marks } else { &alive[(k as usize - 1) % 2] };
         let (mut front_binds, mut late_binds, mut init_bind) = (Vec::new(), Vec::new(), None);
         for k in 0..count {
             let params = gpu.buffer_init("hroc round params", bytemuck::cast_slice(&[k + 1, k + 1, k + 2, 0]), U::UNIFORM);
             let bind = |layout: &wgpu::BindGroupLayout, marks: &wgpu::Buffer, front_in: &wgpu::Buffer, init: bool| {
-                let mut buffers = vec![(0, cx.frame), (6, cx.bounds), (8, &params), (9, &u_list.commands), (10, marks), (11, candidates(k)), (12, front_in), (15, cx.oriented)];
+                let mut buffers = vec![(0, cx.frame), (6, cx.bounds), (8, &params), (9, &list.commands), (10, marks), (11, candidates(k)), (12, front_in), (15, cx.oriented)];
                 if init {
-                    buffers.extend([(13, &u_list.count), (14, &box_args)]);
+                    buffers.extend([(13, &list.count), (14, &box_args)]);
                 }
                 // The late test reads the map it tests against (read-only
                 // there); the front passes write a map of their own.
@@ -647,7 +662,7 @@ impl Rounds {
         let constants = [("TEST_SCALE", scale as f64)];
         let block_depth = (BLOCK_FORMAT, cx.targets.depth);
         use crate::shaders::{box_pipeline, BoxDepth};
-        let list = |label: &str, flags: &wgpu::Buffer, select: u32| {
+        let make_list = |label: &str, flags: &wgpu::Buffer, select: u32| {
             let list = compactor.list(gpu, label);
             let job = compactor.job_selecting(gpu, flags, select, cx.commands, &list.commands, &list.count);
             (list, job)
@@ -660,8 +675,8 @@ impl Rounds {
             front_depth: box_pipeline(gpu, "hroc front depth", &pl, module, ("front_vs", None), block_depth, BoxDepth::Write, &constants),
             front_marks: box_pipeline(gpu, "hroc front", &pl, module, ("round_vs", Some("front_fs")), block_depth, BoxDepth::Test, &constants),
             late: box_pipeline(gpu, "hroc late test", &pl, module, ("round_vs", Some("late_fs")), test_depth, BoxDepth::Test, &constants),
-            fronts: (0..count - 1).map(|k| list("hroc front list", &front, k + 1)).collect(),
-            last: list("hroc last round list", candidates(count - 1), count),
+            fronts: (0..count - 1).map(|k| make_list("hroc front list", &front, k + 1)).collect(),
+            last: make_list("hroc last round list", candidates(count - 1), count),
             front,
             alive,
             box_args,
@@ -828,9 +843,8 @@ impl CullMethod for Hroc {
         if let Some(sf) = self.sf.as_mut() {
             let last = self.rounds.as_ref().map_or(&self.u_list, |r| &r.last.0);
             let v_rounds = self.occluder_rounds.as_ref().map(|r| (&r.fronts[0].0.count, &r.last.0.count));
-            let (v_front, v_rest) = v_rounds.unwrap_or((&self.v_list.count, &self.v_list.count));
-            let mut counts = vec![&self.v_list.count, &self.group_count, &last.count, v_front, v_rest];
-            counts.extend(self.rounds.iter().flat_map(|r| r.fronts.iter().map(|(l, _)| &l.count)));
+            let mut counts = vec![Some(&self.v_list.count), Some(&self.group_count), Some(&last.count), v_rounds.map(|v| v.0), v_rounds.map(|v| v.1)];
+            counts.extend(self.rounds.iter().flat_map(|r| r.fronts.iter().map(|(l, _)| Some(&l.count))));
             sf.end(f.encoder, &counts);
         }
         Ok(())

@@ -73,7 +73,8 @@ struct Job {
 /// Per-view state of the stall-free variant.
 pub struct StallFree {
     pipeline: wgpu::ComputePipeline,
-    jobs: Vec<Job>,
+    /// In [`Counted::index`] order; `None` for a list this view has not.
+    jobs: Vec<Option<Job>>,
     ring: Vec<(wgpu::Buffer, Slot)>,
     /// Last counts read back without waiting, in [`Counted::index`] order.
     known: Option<Vec<u32>>,
@@ -82,9 +83,12 @@ pub struct StallFree {
 }
 
 impl StallFree {
-    /// `lists`: (commands, count, capacity, u32 words per command) of V, G,
-    /// U and the front lists, in [`Counted::index`] order.
-    pub fn new(gpu: &Gpu, lists: &[(&wgpu::Buffer, &wgpu::Buffer, u32, u32)]) -> Self {
+    /// `lists`: (commands, count, capacity, u32 words per command) in
+    /// [`Counted::index`] order: V, G, U (or the last occludee round's
+    /// list), V's two occluder-round lists (`None` without occluder
+    /// rounds: nothing is allocated, copied or read back for them), and the
+    /// occludee rounds' front lists.
+    pub fn new(gpu: &Gpu, lists: &[Option<(&wgpu::Buffer, &wgpu::Buffer, u32, u32)>]) -> Self {
         let device = &gpu.device;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hroc overflow"),
@@ -93,9 +97,10 @@ impl StallFree {
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc overflow"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("overflow.wgsl", &crate::shaders::source("overflow.wgsl"));
         use wgpu::BufferUsages as U;
-        let jobs: Vec<Job> = lists
+        let jobs: Vec<Option<Job>> = lists
             .iter()
-            .map(|&(commands, count, capacity, stride)| {
+            .map(|l| {
+                let &(commands, count, capacity, stride) = l.as_ref()?;
                 let params = gpu.buffer("hroc overflow params", 16, U::UNIFORM | U::COPY_DST);
                 let list = DrawList {
                     // The groups' overflow is drawn from the groups buffer at an offset: no copy.
@@ -104,12 +109,12 @@ impl StallFree {
                     max_count: 0,
                 };
                 let bind = gpu.bind_buffers(&layout, &[&params, commands, count, &list.commands, &list.count]);
-                Job { params, bind, list, stride, capacity }
+                Some(Job { params, bind, list, stride, capacity })
             })
             .collect();
         let bytes = (lists.len() as u64 * 4).next_multiple_of(16);
         let ring = (0..RING).map(|_| (gpu.buffer("hroc counts staging", bytes, U::MAP_READ | U::COPY_DST), Slot::Free)).collect();
-        StallFree { pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]), jobs, ring, known: None, estimates: lists.iter().map(|l| l.2).collect() }
+        StallFree { pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]), jobs, ring, known: None, estimates: lists.iter().map(|l| l.map_or(0, |l| l.2)).collect() }
     }
 
     /// Starts a frame: maps the counts copied last frame, takes any that
@@ -137,13 +142,14 @@ impl StallFree {
                     buf.unmap();
                     *slot = Slot::Free;
                     if let Some(c) = counts {
-                        bytes += c.len() as u64 * 4;
+                        bytes += self.jobs.iter().flatten().count() as u64 * 4;
                         self.known = Some(c);
                     }
                 }
             }
         }
         for (k, job) in self.jobs.iter().enumerate() {
+            let Some(job) = job else { continue };
             self.estimates[k] = match &self.known {
                 Some(c) => ((c[k] as f64 * MARGIN).ceil() as u32).saturating_add(SLACK).min(job.capacity),
                 None => job.capacity,
@@ -152,11 +158,20 @@ impl StallFree {
         bytes
     }
 
+    /// This frame's estimate of `which`'s count; `None` for a list the view
+    /// has not (the caller then draws up to the capacity).
+    pub fn estimate(&self, which: Counted) -> Option<u32> {
+        self.jobs.get(which.index())?.as_ref()?;
+        Some(self.estimates[which.index()])
+    }
+
     /// Records the overflow pass of `which` and returns the overflow list
     /// (commands [estimate, count) at offset 0, or for G only the count),
-    /// `None` when the estimate is the capacity and nothing can overflow.
+    /// `None` when the estimate is the capacity and nothing can overflow,
+    /// or the view has no such list.
     pub fn overflow(&self, f: &mut Frame, which: Counted) -> Option<DrawList> {
-        let (k, job) = (which.index(), &self.jobs[which.index()]);
+        let k = which.index();
+        let job = self.jobs.get(k)?.as_ref()?;
         let est = self.estimates[k];
         if est >= job.capacity {
             return None;
@@ -175,12 +190,12 @@ impl StallFree {
         Some(DrawList { max_count: job.capacity - est, ..job.list.clone() })
     }
 
-    /// Ends a frame: copies the counts (in [`Counted::index`] order) to a
-    /// free staging buffer, to be mapped at the next frame (skipped when all
-    /// are in flight).
-    pub fn end(&mut self, enc: &mut wgpu::CommandEncoder, counts: &[&wgpu::Buffer]) {
+    /// Ends a frame: copies the counts (in [`Counted::index`] order, `None`
+    /// where [`StallFree::new`] had no list) to a free staging buffer, to
+    /// be mapped at the next frame (skipped when all are in flight).
+    pub fn end(&mut self, enc: &mut wgpu::CommandEncoder, counts: &[Option<&wgpu::Buffer>]) {
         if let Some((buf, slot)) = self.ring.iter_mut().find(|(_, s)| matches!(s, Slot::Free)) {
-            for (k, c) in counts.iter().enumerate() {
+            for (k, c) in counts.iter().enumerate().filter_map(|(k, c)| Some((k, (*c)?))) {
                 enc.copy_buffer_to_buffer(c, 0, buf, k as u64 * 4, Some(4));
             }
             *slot = Slot::Copied;
