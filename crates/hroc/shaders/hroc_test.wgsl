@@ -212,13 +212,14 @@ fn box_fs(in: BoxOut) {
 // the test. V, last frame's visible set, holds objects that this frame's
 // view hides behind others of V. Each round draws the list's objects whose
 // box is nearest at some block (`front`), then tests the others' boxes
-// again against the depth those draws left, front to back as CHC++ interleaves its queries with drawing
-// (Mattausch et al. 2008), but with no read-back: the survivors are the
-// next round's candidates, and the last round draws all of its candidates.
-// Round k's candidates are the objects whose `candidates` flag equals
-// round.candidate (k + 1; the list's own marks in round 0); a pass never reads in its
-// vertex stage what its fragments write, so the flags of round k + 1 and
-// the front marks are separate buffers, tagged by round instead of cleared.
+// again against the depth those draws left, front to back as CHC++
+// interleaves its queries with drawing (Mattausch et al. 2008), but with
+// no read-back: the survivors are the next round's candidates, and the
+// last round draws all of its candidates. Round k's candidates are the
+// objects whose `candidates` flag equals round.candidate (k + 1; the
+// list's own marks in round 0); a pass never reads in its vertex stage
+// what its fragments write, so the flags of round k + 1 and the front
+// marks are separate buffers, tagged by round instead of cleared.
 
 struct RoundParams {
     candidate: u32,
@@ -282,8 +283,8 @@ fn front_vs(@builtin(vertex_index) v: u32) -> RoundOut {
     return round_box(o, v % 36u, candidates[o] == round.candidate);
 }
 
-// Every box of the list: the passes below test the round in the fragment stage
-// (a vertex stage that reads the state measured slower on lavapipe).
+// Every box of the list: the passes below test the round in the fragment
+// stage (a vertex stage that reads the state measured slower on lavapipe).
 @vertex
 fn round_vs(@builtin(vertex_index) v: u32) -> RoundOut {
     let o = occludee_list[v / 36u].first_instance;

@@ -290,7 +290,7 @@ impl Culler {
         };
         culler.rebuild_tree()?;
         culler.upload_bounds();
-        culler.upload_oriented(None);
+        culler.upload_oriented(0..capacity as u32);
         culler.update_always();
         Ok(culler)
     }
@@ -314,12 +314,14 @@ impl Culler {
         }
         let t = std::time::Instant::now();
         self.sync_boxes()?;
+        let mut dropped = Vec::new();
         for &(i, b) in moves {
             self.boxes[i as usize] = b;
             if self.oriented[i as usize].take().is_some() {
-                self.upload_oriented(Some(i));
+                dropped.push(i);
             }
         }
+        self.upload_oriented(dropped);
         self.moves += 1;
         // Only objects outside the tree moved (HROC §6's hybrid): their
         // boxes are all that changes, with no refit and no policy check.
@@ -349,7 +351,7 @@ impl Culler {
         let t = std::time::Instant::now();
         if self.oriented.iter().any(Option::is_some) {
             self.oriented.iter_mut().for_each(|o| *o = None);
-            self.upload_oriented(None);
+            self.upload_oriented(0..self.objects.count);
         }
         self.refit_on_gpu(encoder, Some(boxes));
         self.gpu_boxes = true;
@@ -385,9 +387,9 @@ impl Culler {
             let s = i as usize;
             (self.boxes[s], self.oriented[s], self.live[s], self.objects.flags[s]) = (o.bounds, o.oriented, true, o.flags);
             self.objects.cpu_commands[s] = command(o, i);
-            self.upload_oriented(Some(i));
             ids.push(i);
         }
+        self.upload_oriented(ids.iter().copied());
         self.upload_commands();
         self.moves += 1;
         self.update_always();
@@ -416,9 +418,9 @@ impl Culler {
             let s = i as usize;
             (self.live[s], self.objects.flags[s], self.oriented[s]) = (false, ObjectFlags::NONE, None);
             self.objects.cpu_commands[s] = DrawCommand::default();
-            self.upload_oriented(Some(i));
             self.free.insert(i);
         }
+        self.upload_oriented(objects.iter().copied());
         self.upload_commands();
         self.moves += 1;
         self.update_always();
@@ -436,8 +438,8 @@ impl Culler {
         }
         for &(i, b) in boxes {
             self.oriented[i as usize] = b;
-            self.upload_oriented(Some(i));
         }
+        self.upload_oriented(boxes.iter().map(|b| b.0));
         Ok(())
     }
 
@@ -575,15 +577,16 @@ impl Culler {
         self.gpu.queue.write_buffer(&self.objects.bounds, 0, bytemuck::cast_slice(&bounds));
     }
 
-    /// Writes one slot's oriented box to the GPU, or every slot's.
-    fn upload_oriented(&self, slot: Option<u32>) {
-        match slot {
-            Some(i) => self.gpu.queue.write_buffer(&self.objects.oriented, i as u64 * ORIENTED_BYTES, bytemuck::bytes_of(&oriented_of(self.oriented[i as usize]))),
-            None => {
-                let all: Vec<OrientedBounds> = self.oriented.iter().map(|&o| oriented_of(o)).collect();
-                self.gpu.queue.write_buffer(&self.objects.oriented, 0, bytemuck::cast_slice(&all));
-            }
+    /// Writes the oriented boxes of `slots` to the GPU in one write: the
+    /// range from the lowest slot to the highest (a queue write per slot
+    /// costs a staging copy each, and the boxes between are current too).
+    fn upload_oriented(&self, slots: impl IntoIterator<Item = u32>) {
+        let (lo, hi) = slots.into_iter().fold((u32::MAX, 0), |(lo, hi), i| (lo.min(i), hi.max(i + 1)));
+        if lo >= hi {
+            return;
         }
+        let part: Vec<OrientedBounds> = self.oriented[lo as usize..hi as usize].iter().map(|&o| oriented_of(o)).collect();
+        self.gpu.queue.write_buffer(&self.objects.oriented, lo as u64 * ORIENTED_BYTES, bytemuck::cast_slice(&part));
     }
 
     fn upload_commands(&mut self) {
@@ -631,7 +634,7 @@ impl Culler {
         self.gpu.queue.write_buffer(&self.leaf_of_object, 0, bytemuck::cast_slice(&self.bvh.leaf_of_object));
         // The new buffer is zeroed (no oriented boxes): the kept objects'
         // boxes go up again.
-        self.upload_oriented(None);
+        self.upload_oriented(0..old as u32);
         self.generation += 1;
         Ok(())
     }

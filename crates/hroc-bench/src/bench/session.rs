@@ -144,9 +144,11 @@ impl<'g> Session<'g> {
     /// ([`crate::render::oriented_box`], the default), or takes them all
     /// away, from the next frame on.
     pub fn set_oriented_boxes(&mut self, on: bool) -> Result<()> {
-        let descs = crate::render::object_descs(&self.scene);
-        let boxes: Vec<(u32, Option<hroc::OrientedBox>)> =
-            (0..descs.len() as u32).filter(|&i| self.culler.is_live(i)).map(|i| (i, descs[i as usize].oriented.filter(|_| on))).collect();
+        let scene = &self.scene;
+        let boxes: Vec<(u32, Option<hroc::OrientedBox>)> = (0..scene.objects.len() as u32)
+            .filter(|&i| self.culler.is_live(i))
+            .map(|i| (i, on.then(|| crate::render::oriented_box(scene, &scene.objects[i as usize])).flatten()))
+            .collect();
         self.culler.set_oriented(&boxes)?;
         self.oriented_boxes = on;
         Ok(())

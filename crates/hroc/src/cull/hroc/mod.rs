@@ -397,17 +397,13 @@ impl Hroc {
     /// compacted) instances every box pass.
     fn rounds(&self, f: &mut Frame, r: &Rounds, of: RoundsOf) -> Result<()> {
         let n = self.n;
-        let (stage, draw_stage, phase, marks) = match of {
-            RoundsOf::Occluders => (Stage::OccluderRounds, Stage::OcclusionMap, Phase::Occluders, &self.marks_o),
-            RoundsOf::Occludees => (Stage::OccludeeRounds, Stage::OccludeeRendering, Phase::Occludees, &self.marks_d),
+        let (stage, draw_stage, phase, marks, last_counted) = match of {
+            RoundsOf::Occluders => (Stage::OccluderRounds, Stage::OcclusionMap, Phase::Occluders, &self.marks_o, Counted::OccluderRest),
+            RoundsOf::Occludees => (Stage::OccludeeRounds, Stage::OccludeeRendering, Phase::Occludees, &self.marks_d, Counted::U),
         };
         let front_counted = |k| match of {
             RoundsOf::Occluders => Counted::OccluderFront,
             RoundsOf::Occludees => Counted::Front(k),
-        };
-        let last_counted = match of {
-            RoundsOf::Occluders => Counted::OccluderRest,
-            RoundsOf::Occludees => Counted::U,
         };
         f.stage(stage);
         {
