@@ -148,30 +148,29 @@ fn mark_leaf(leaf: u32, group: u32) {
     }
 }
 
-@fragment @early_depth_test(force)
-fn box_fs(in: BoxOut) {
-    if (in.node & LEAF_BIT) != 0u {
-        let o = in.node & ~LEAF_BIT;
-        mark_object(o, BvhNode(bounds[o].min, 0u, bounds[o].max, 0u), in.clip.xy);
-        return;
-    }
-    let group = nodes[in.node];
-    if (group.child & LEAF_BIT) != 0u {
-        mark_object(group.child & ~LEAF_BIT, group, in.clip.xy);
-        return;
-    }
-    if visited[in.node] != 0u {
-        return;
-    }
-    let texel = vec2<i32>(in.clip.xy);
-    let r = block_ray(in.clip.xy);
+// The ray `r` into the subtree of interior group node `group`: marks every
+// leaf whose box it enters in front of the map (and, through `mark_leaf`,
+// the visited nodes). Returns the nodes it visited.
+//
+// Child index 0 ends a path: the root is nobody's child, so only a node
+// read as zeros points there. SIMD rasterizers run the lanes of a block
+// that failed coverage or the early depth test along with the live ones,
+// with their stores dropped, and llvmpipe gives such lanes zeros for
+// every storage load: followed, node 0's "children" 0 and 1 would cycle
+// until the driver's loop limiter (65,535 iterations) ends the loop, and
+// every live lane of the block would wait for it. `tests/shaders.rs` runs
+// this function on zeroed nodes.
+fn cast_ray(group: u32, r: BlockRay) -> u32 {
     let eye = frame.eye.xyz;
     let pixel = pixel_angle_xy(frame);
     let pad = block_pad_px(TEST_SCALE);
-
+    let first = nodes[group].child;
+    if first == 0u {
+        return 0u;
+    }
     var stack: array<u32, STACK>;
-    stack[0] = group.child;
-    stack[1] = group.child + 1u;
+    stack[0] = first;
+    stack[1] = first + 1u;
     var sp = 2u;
     var steps = 0u;
     while sp > 0u {
@@ -193,14 +192,34 @@ fn box_fs(in: BoxOut) {
             continue;
         }
         if (node.child & LEAF_BIT) != 0u {
-            mark_leaf(n, in.node);
-        } else if sp + 2u <= STACK {
+            mark_leaf(n, group);
+        } else if node.child != 0u && sp + 2u <= STACK {
             stack[sp] = node.child;
             stack[sp + 1u] = node.child + 1u;
             sp += 2u;
         }
     }
-    let slot = (u32(texel.x) + 7u * u32(texel.y)) % STAT_SLOTS;
+    return steps;
+}
+
+@fragment @early_depth_test(force)
+fn box_fs(in: BoxOut) {
+    if (in.node & LEAF_BIT) != 0u {
+        let o = in.node & ~LEAF_BIT;
+        mark_object(o, BvhNode(bounds[o].min, 0u, bounds[o].max, 0u), in.clip.xy);
+        return;
+    }
+    let group = nodes[in.node];
+    if (group.child & LEAF_BIT) != 0u {
+        mark_object(group.child & ~LEAF_BIT, group, in.clip.xy);
+        return;
+    }
+    if visited[in.node] != 0u {
+        return;
+    }
+    let steps = cast_ray(in.node, block_ray(in.clip.xy));
+    let texel = vec2<u32>(in.clip.xy);
+    let slot = (texel.x + 7u * texel.y) % STAT_SLOTS;
     atomicAdd(&ray_stats[2u * slot], 1u);
     atomicAdd(&ray_stats[2u * slot + 1u], steps);
 }
