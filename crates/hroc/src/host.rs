@@ -212,6 +212,11 @@ pub struct Culler {
     /// The GPU holds the boxes: set by [`Culler::set_bounds_gpu`], when
     /// `boxes` and the CPU tree's boxes are stale.
     gpu_boxes: bool,
+    /// Slots `lo..hi` whose oriented boxes the GPU has not yet: written in
+    /// one range before the next frame or read ([`Culler::flush_oriented`]).
+    /// Moving objects drop their boxes in [`Culler::set_bounds`] and get
+    /// new ones in [`Culler::set_oriented`]: one write of the range, not two.
+    oriented_dirty: std::cell::Cell<(u32, u32)>,
     bvh_nodes: wgpu::Buffer,
     leaf_of_object: wgpu::Buffer,
     gpu_refit: Option<GpuRefit>,
@@ -272,6 +277,7 @@ impl Culler {
             split: desc.split,
             built_cost: 0.0,
             gpu_boxes: false,
+            oriented_dirty: std::cell::Cell::new((u32::MAX, 0)),
             gpu_refit: None,
             gpu,
             boxes,
@@ -577,11 +583,27 @@ impl Culler {
         self.gpu.queue.write_buffer(&self.objects.bounds, 0, bytemuck::cast_slice(&bounds));
     }
 
-    /// Writes the oriented boxes of `slots` to the GPU in one write: the
-    /// range from the lowest slot to the highest (a queue write per slot
-    /// costs a staging copy each, and the boxes between are current too).
+    /// Writes the changes to objects that the GPU has not yet (queue
+    /// writes, applied with the next submit). [`View::cull`] does it
+    /// before every frame; a host that times its frames apart from its
+    /// updates calls it after them, so the writes count there.
+    pub fn flush(&self) {
+        self.flush_oriented();
+    }
+
+    /// Marks the oriented boxes of `slots` for the GPU: they go up with
+    /// the next [`Culler::flush_oriented`].
     fn upload_oriented(&self, slots: impl IntoIterator<Item = u32>) {
-        let (lo, hi) = slots.into_iter().fold((u32::MAX, 0), |(lo, hi), i| (lo.min(i), hi.max(i + 1)));
+        let (lo, hi) = slots.into_iter().fold(self.oriented_dirty.get(), |(lo, hi), i| (lo.min(i), hi.max(i + 1)));
+        self.oriented_dirty.set((lo, hi.min(self.objects.count)));
+    }
+
+    /// Writes the marked oriented boxes to the GPU in one write: the range
+    /// from the lowest marked slot to the highest (a queue write per slot
+    /// costs a staging copy each, and the boxes between are current too).
+    /// Every frame and read of them comes after it.
+    fn flush_oriented(&self) {
+        let (lo, hi) = self.oriented_dirty.replace((u32::MAX, 0));
         if lo >= hi {
             return;
         }
@@ -664,6 +686,7 @@ impl Culler {
     /// The oriented boxes the views read, read back from the GPU (one
     /// wait): for tests that they follow their objects.
     pub fn read_oriented(&self) -> Result<Vec<OrientedBounds>> {
+        self.flush_oriented();
         self.gpu.read(&self.objects.oriented, 0, self.objects.count as u64)
     }
 
@@ -1249,6 +1272,7 @@ impl View {
             return Err(Error::InvalidView(format!("view depth {:?} differs from the targets' {:?}", input.view.depth, self.targets.depth)));
         }
         let g = input.view.geometry()?;
+        culler.flush_oriented();
         let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32, self.targets.depth);
         culler.gpu.queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniform));
         let cut = self.detect_cut(culler, &input.view) || input.cut;

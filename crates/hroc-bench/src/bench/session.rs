@@ -132,6 +132,7 @@ impl<'g> Session<'g> {
         let t = std::time::Instant::now();
         self.culler.set_bounds(&boxes)?;
         self.culler.set_oriented(&oriented)?;
+        self.culler.flush();
         self.gpu.queue.submit([]);
         self.gpu.wait()?;
         let culler_ms = t.elapsed().as_secs_f64() * 1e3;

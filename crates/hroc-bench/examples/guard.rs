@@ -1,0 +1,206 @@
+//! The guard: re-runs the accepted headline figure of every capability and
+//! prints each against its limit, one line per figure, with the `hroc`
+//! command that measures it; exits non-zero when one fails. Run it with
+//! `scripts/guard.sh` (which also writes BENCHMARKS.guard.txt), never in
+//! CI: it takes minutes and its times are this machine's.
+//!
+//! Times are compared only as ratios within one run. Counts (objects and
+//! triangles drawn, C/R, false negatives) do not depend on the machine's
+//! noise; their limits are the accepted figures of BENCHMARKS.md with a
+//! small margin.
+//!
+//! `cargo run --release -p hroc-bench --example guard [-- --quick]`
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use hroc_bench::bench::{self, BenchOptions, BenchReport, MethodRow};
+use hroc_bench::bvh::{Bvh, Split};
+use hroc_bench::cull::{Method, MethodOptions};
+use hroc_bench::gpu::Gpu;
+use hroc_bench::scene::Aabb;
+
+/// `hroc bench`'s defaults (crates/hroc-cli) for `scene`, `objects` and `methods`.
+fn options(scene: &str, objects: Option<usize>, methods: &str) -> BenchOptions {
+    BenchOptions {
+        scene: scene.to_string(),
+        objects,
+        methods: bench::parse_methods(methods).expect("known methods"),
+        frames: 60,
+        fps: None,
+        resolution: (640, 360),
+        split: Split::Sah,
+        clusters: None,
+        oriented_boxes: true,
+        camera_path: None,
+        progress: false,
+        moving: 0.0,
+        dynamic: false,
+        motion: hroc::MotionOptions::default(),
+        method_options: MethodOptions::default(),
+        timestamps: false,
+    }
+}
+
+fn row<'r>(r: &'r BenchReport, method: &str) -> &'r MethodRow {
+    let m: Method = method.parse().expect("known method");
+    r.rows.iter().find(|row| row.method.parse::<Method>().ok() == Some(m)).unwrap_or_else(|| panic!("no {method} row"))
+}
+
+/// One figure against its limit.
+struct Guard {
+    failed: usize,
+    lines: usize,
+}
+
+#[derive(Clone, Copy)]
+enum Limit {
+    AtMost(f64),
+    AtLeast(f64),
+}
+
+impl Guard {
+    fn check(&mut self, figure: &str, value: f64, limit: Limit, command: &str) {
+        let (ok, text) = match limit {
+            Limit::AtMost(l) => (value <= l, format!("<= {l}")),
+            Limit::AtLeast(l) => (value >= l, format!(">= {l}")),
+        };
+        self.lines += 1;
+        if !ok {
+            self.failed += 1;
+        }
+        println!("{} {figure:<58} {value:>10.3} {text:<10} {command}", if ok { "ok  " } else { "FAIL" });
+    }
+
+    /// Every row of a run: 0 false negatives and 0 missing pixels, but
+    /// `woc`, which is not conservative.
+    fn conservative(&mut self, what: &str, r: &BenchReport, command: &str) {
+        for row in &r.rows {
+            if row.method.parse::<Method>().ok() == Some(Method::Woc) {
+                continue;
+            }
+            self.check(&format!("{what}: {} false negatives + missing px", row.method), (row.false_negatives + row.missing_pixels) as f64, Limit::AtMost(0.0), command);
+        }
+    }
+}
+
+fn run(gpu: &Gpu, o: &BenchOptions) -> BenchReport {
+    bench::run(gpu, o).unwrap_or_else(|e| panic!("{}: {e}", o.scene))
+}
+
+/// SplitMix64 boxes as `examples/bvh_build.rs --dist uniform` draws them.
+fn random_boxes(n: usize) -> Vec<Aabb> {
+    let mut s = 1u64;
+    let mut next = || {
+        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = s;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
+    };
+    // bvh_build draws 64 cluster centres first.
+    (0..192).for_each(|_| {
+        next();
+    });
+    (0..n)
+        .map(|_| {
+            let c = glam::Vec3::new(next(), next(), next()) * 100.0;
+            let h = glam::Vec3::new(0.1 + 1.9 * next(), 0.1 + 1.9 * next(), 0.1 + 1.9 * next()) * 0.5;
+            Aabb::new(c - h, c + h)
+        })
+        .collect()
+}
+
+fn main() {
+    let quick = std::env::args().any(|a| a == "--quick");
+    let gpu = Gpu::new().expect("a Vulkan device (scripts/ensure-vulkan.sh)");
+    let out = PathBuf::from(std::env::var("GUARD_DIR").unwrap_or_else(|_| "target/guard".into()));
+    std::fs::create_dir_all(&out).expect("guard folder");
+    println!("# hroc guard | {} | {} cores", gpu.adapter_name(), std::thread::available_parallelism().map_or(1, |n| n.get()));
+    let mut g = Guard { failed: 0, lines: 0 };
+
+    // The default table and hroc's peers on the default scene (README's first command, with the peers).
+    let cmd = "hroc bench --methods noc,vfc,ref,roc,hzb,hroc";
+    let r = run(&gpu, &options("radial-city", None, "noc,vfc,ref,roc,hzb,hroc"));
+    g.conservative("default scene", &r, cmd);
+    g.check("default scene: ref C/R", row(&r, "ref").c_over_r, Limit::AtLeast(1.0), cmd);
+    g.check("default scene: vfc drawn/frame (6,347)", row(&r, "vfc").drawn_mean, Limit::AtMost(6347.0 * 1.01), cmd);
+    g.check("default scene: hroc drawn/frame (236)", row(&r, "hroc").drawn_mean, Limit::AtMost(236.0 * 1.03), cmd);
+    g.check("default scene: hroc C/R (0.991)", row(&r, "hroc").c_over_r, Limit::AtLeast(0.988), cmd);
+    g.check("default scene: hroc C/R - hzb C/R", row(&r, "hroc").c_over_r - row(&r, "hzb").c_over_r, Limit::AtLeast(0.0), cmd);
+    g.check("default scene: hroc ms / hzb ms", row(&r, "hroc").ms_mean / row(&r, "hzb").ms_mean, Limit::AtMost(1.25), cmd);
+    g.check("default scene: hroc ms / roc ms", row(&r, "hroc").ms_mean / row(&r, "roc").ms_mean, Limit::AtMost(0.6), cmd);
+
+    // Motion against static (issues 11 and 23).
+    let cmd = "hroc bench --scene radial-city --objects 20000 --moving 0,0.1,1 --methods noc,roc,hzb,hroc";
+    let motion: Vec<BenchReport> = [0.0, 0.1, 1.0].iter().map(|&moving| run(&gpu, &BenchOptions { moving, ..options("radial-city", Some(20000), "noc,roc,hzb,hroc") })).collect();
+    for r in &motion {
+        g.conservative(&format!("moving {:.0} %", r.moving * 100.0), r, cmd);
+    }
+    let (still, ten, all) = (row(&motion[0], "hroc"), row(&motion[1], "hroc"), row(&motion[2], "hroc"));
+    g.check("moving 10 %: hroc (frame + update) / static frame", (ten.ms_mean + motion[1].update_ms_mean) / still.ms_mean, Limit::AtMost(1.2), cmd);
+    g.check("moving 10 %: hroc p95 / static p95", ten.ms_p95 / still.ms_p95, Limit::AtMost(1.5), cmd);
+    g.check("moving 100 %: hroc ms / roc ms", all.ms_mean / row(&motion[2], "roc").ms_mean, Limit::AtMost(1.0), cmd);
+
+    // C/R per scene with the defaults (hroc = hroc-sf+of).
+    for (scene, objects, limit) in [("factory", 20000, 0.94), ("satellites", 20000, 0.94)] {
+        let cmd = format!("hroc bench --scene {scene} --objects {objects} --methods noc,ref,hroc");
+        let r = run(&gpu, &options(scene, Some(objects), "noc,ref,hroc"));
+        g.conservative(scene, &r, &cmd);
+        g.check(&format!("{scene} {objects}: hroc C/R, defaults"), row(&r, "hroc").c_over_r, Limit::AtLeast(limit), &cmd);
+    }
+
+    // C/R with the opt-in rounds and clusters (issue 13: >= 0.98).
+    let rounds = |rounds: u32, occluder_rounds: bool| MethodOptions { hroc_rounds: rounds, hroc_test_scale: 1, hroc_occluder_rounds: occluder_rounds, ..MethodOptions::default() };
+    for (scene, clusters, opts, flags) in [
+        ("factory", 256, rounds(3, false), "--clusters 256 --hroc-rounds 3 --hroc-test-scale 1"),
+        ("satellites", 512, rounds(3, true), "--clusters 512 --hroc-rounds 3 --hroc-test-scale 1 --hroc-occluder-rounds"),
+    ] {
+        if quick {
+            break;
+        }
+        let cmd = format!("hroc bench --scene {scene} --objects 20000 --methods noc,ref,hroc-of {flags}");
+        let o = BenchOptions { clusters: Some(clusters), method_options: opts, ..options(scene, Some(20000), "noc,ref,hroc-of") };
+        let r = run(&gpu, &o);
+        g.conservative(scene, &r, &cmd);
+        g.check(&format!("{scene} 20000, clusters {clusters}: hroc-of C/R, rounds"), row(&r, "hroc-of").c_over_r, Limit::AtLeast(0.98), &cmd);
+    }
+
+    // Clusters in a one-mesh interior (issue 13: <= 30 % of its triangles).
+    let rooms = hroc_bench::scene::load("rooms", None, 0).expect("rooms").merged();
+    let (obj, path) = (out.join("rooms.obj"), out.join("rooms-path.json"));
+    hroc_bench::scene::export::write(&rooms, &obj).expect("write rooms.obj");
+    hroc_bench::scene::export::write_path(&rooms.path, &path).expect("write rooms path");
+    let file = |p: &Path| p.to_string_lossy().into_owned();
+    let cmd = format!("hroc bench --scene {} --camera-path {} --methods noc,hroc --clusters 256", file(&obj), file(&path));
+    let o = BenchOptions { clusters: Some(256), camera_path: Some(path.clone()), ..options(&file(&obj), None, "noc,hroc") };
+    let r = run(&gpu, &o);
+    g.conservative("one-mesh interior", &r, &cmd);
+    g.check("one-mesh interior, clusters 256: hroc triangles drawn", row(&r, "hroc").triangles_fraction, Limit::AtMost(0.30), &cmd);
+
+    // A 2M-triangle glTF loads in under 2 s.
+    let big = out.join("big.glb");
+    let sat = hroc_bench::scene::load("satellites", Some(20000), 0).expect("satellites").merged();
+    hroc_bench::scene::export::write(&sat, &big).expect("write big.glb");
+    let t = Instant::now();
+    let loaded = hroc_bench::scene::load(&file(&big), None, 0).expect("load big.glb");
+    let load_s = t.elapsed().as_secs_f64();
+    let cmd = format!("hroc scene export satellites --objects 20000 --single-mesh --out {0} && hroc scene info {0}", file(&big));
+    g.check("big glTF: million triangles (>= 2)", loaded.stats().unique_triangles as f64 / 1e6, Limit::AtLeast(2.0), &cmd);
+    g.check("big glTF: load s", load_s, Limit::AtMost(2.0), &cmd);
+
+    // The BVH: 4M boxes (accepted 1.12 s on this 2-core machine), median of 3 builds after one.
+    let boxes = random_boxes(if quick { 1_000_000 } else { 4_000_000 });
+    let mut times: Vec<f64> = (0..4).map(|_| Bvh::build(&boxes, Split::Sah).build_ms / 1e3).skip(1).collect();
+    times.sort_by(f64::total_cmp);
+    let limit = if quick { 0.32 } else { 1.25 };
+    g.check(
+        &format!("BVH build, {} uniform boxes: s (median)", boxes.len()),
+        times[1],
+        Limit::AtMost(limit),
+        &format!("cargo run --release --example bvh_build -- --objects {} --split sah", boxes.len()),
+    );
+
+    println!("# {} figures, {} failed", g.lines, g.failed);
+    std::process::exit(if g.failed == 0 { 0 } else { 1 });
+}
