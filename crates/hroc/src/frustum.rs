@@ -151,10 +151,11 @@ impl ViewDesc {
         // NaN fails both comparisons, so it is refused too.
         let valid = near > 0.0 && far > near;
         if !valid {
-            return Err(Error::InvalidView(format!(
-                "projection does not match {:?} depth (near {near}, far {far}): a reversed-Z projection needs DepthRange::Reversed",
-                self.depth
-            )));
+            let hint = match self.depth {
+                DepthRange::Standard => "a reversed-Z projection (near plane at depth 1) needs DepthRange::Reversed",
+                DepthRange::Reversed => "a standard projection (near plane at depth 0) needs DepthRange::Standard, or build a reversed-Z one",
+            };
+            return Err(Error::InvalidView(format!("projection does not match {:?} depth (near {near}, far {far}): {hint}", self.depth)));
         }
         // A finite far plane from the near plane's normal: the far plane of
         // a standard projection, r3 - r2, cancels and tilts at large far/near.

@@ -222,6 +222,8 @@ pub struct Culler {
     gpu_refit: Option<GpuRefit>,
     objects: SharedObjects,
     marks_layout: wgpu::BindGroupLayout,
+    /// [`Culler::sink_marks`]: 16 bytes, which every write lands in or misses.
+    sink_marks: wgpu::BindGroup,
     options: MethodOptions,
     motion: MotionOptions,
     last_update: UpdateStats,
@@ -268,9 +270,11 @@ impl Culler {
         for (i, o) in objects.iter().enumerate() {
             (boxes[i], oriented[i], live[i], flags[i], commands[i]) = (o.bounds, o.oriented, true, o.flags, command(o, i as u32));
         }
-        let marks_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc marks"), entries: &[marks_entry()] });
+        let marks_layout = marks_layout(device);
         let (shared, bvh_nodes, leaf_of_object) = allocate(&gpu, capacity as u32, &commands, flags);
+        let sink_marks = gpu.bind_buffers(&marks_layout, &[&gpu.buffer("hroc marks sink", 16, wgpu::BufferUsages::STORAGE)]);
         let mut culler = Culler {
+            sink_marks,
             bvh_nodes,
             leaf_of_object,
             bvh: Bvh::default(),
@@ -695,11 +699,17 @@ impl Culler {
         &self.objects.commands
     }
 
-    /// Layout of the marks bind group of every [`Draw`]: one
-    /// `array<u32>` storage buffer at binding 0, fragment stage. Put it in
-    /// the host's pipeline layout at the group [`marks_wgsl`] names.
+    /// Layout of the marks bind group of every [`Draw`]: the culler's
+    /// copy of [`marks_layout`] (which needs no culler).
     pub fn marks_layout(&self) -> &wgpu::BindGroupLayout {
         &self.marks_layout
+    }
+
+    /// A marks bind group that takes every write and keeps none: bind it
+    /// to draw the host's own objects (not the culler's) through the same
+    /// pipelines, with any `instance_index`.
+    pub fn sink_marks(&self) -> &wgpu::BindGroup {
+        &self.sink_marks
     }
 
     /// The flags of object `i`; `None` when it is not live.
@@ -980,6 +990,16 @@ fn command(o: &ObjectDesc, i: u32) -> DrawCommand {
     DrawCommand { index_count: o.index_count, instance_count: 1, first_index: o.first_index, base_vertex: o.base_vertex, first_instance: i }
 }
 
+/// The layout of every [`Draw::marks`] bind group, from the device alone:
+/// one `array<u32>` storage buffer at binding 0, fragment stage, as
+/// [`marks_wgsl`] declares it. Put it in the host's pipeline layout at the
+/// group [`marks_wgsl`] names; pipelines can so be built before the
+/// [`Culler`], and take the bind groups of every culler on the device
+/// (wgpu treats layouts with the same entries as one).
+pub fn marks_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc marks"), entries: &[marks_entry()] })
+}
+
 fn marks_entry() -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding: 0,
@@ -1226,10 +1246,11 @@ impl View {
 
     /// Culls one frame: writes the view's uniform, records the method's
     /// passes into `encoder` and hands `host` every list to draw, in phase
-    /// order. The host has cleared its targets before; it submits
-    /// `encoder` after. Methods with counter read-back (`hroc`, `hroc-cr`,
-    /// `ioc`, the query methods) submit `encoder` mid-frame and continue in
-    /// a new one, which this call leaves in `*encoder`.
+    /// order. The host has cleared its targets before (the crate docs'
+    /// clearing rule); it submits `encoder` after. Methods with counter
+    /// read-back (`hroc-cr`, `hroc-cr+of`, `ioc`, `oq`, `soq`, `chc++`)
+    /// submit `encoder` mid-frame and continue in a new one, which this
+    /// call leaves in `*encoder`; the default `hroc` never submits or waits.
     pub fn cull(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost) -> Result<()> {
         self.record(culler, encoder, input, host, None)
     }

@@ -57,13 +57,24 @@
 //!   the depth test of its [`DepthRange`] (`Less`/`LessEqual` standard,
 //!   `Greater`/`GreaterEqual` reversed), no depth bias, and only for
 //!   geometry inside the object's box. The depth texture has usage
-//!   `RENDER_ATTACHMENT | TEXTURE_BINDING`, one sample, and is cleared by the
-//!   host before [`View::cull`]; the culler binds it read-only between the
-//!   host's draws (box tests) and samples it in compute passes (Hi-Z).
+//!   `RENDER_ATTACHMENT | TEXTURE_BINDING`, one sample; the culler binds
+//!   it read-only between the host's draws (box tests) and samples it in
+//!   compute passes (Hi-Z).
+//! - **Clearing.** Clear the depth target (and the ID target) once per
+//!   frame, before [`View::cull`]: in a pass of its own, or with
+//!   `LoadOp::Clear` in any pass recorded into the encoder before the
+//!   call. Every [`Draw`]'s pass loads (`LoadOp::Load`): a phase may come
+//!   several times in a frame, each list draws over the depth the one
+//!   before left, and the query methods test boxes against the depth
+//!   before their first list, so a clear inside the frame makes the
+//!   culler's next test cull what it would have hidden.
 //! - **Marks and forced early-Z.** The fragment shader of every occluding
 //!   phase is declared `@early_depth_test(force)` and calls `hroc_mark(object)`
 //!   from [`marks_wgsl`] when [`Draw::mark`] is set, with the [`Draw::marks`]
-//!   bind group at the group it names ([`Culler::marks_layout`]). Forced
+//!   bind group at the group it names ([`marks_layout`], from the device
+//!   alone: pipelines come before the culler). To draw its own objects
+//!   through the same pipelines, the host binds [`Culler::sink_marks`]
+//!   there, which keeps no mark. Forced
 //!   early-Z keeps hidden fragments from running at all, so a mark means
 //!   "owns a fragment that passed" (HROC §3.1). A shader that discards
 //!   (alpha testing) cannot force early-Z: flag such objects
@@ -154,6 +165,6 @@ pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Var
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc, ViewGeometry};
 pub use host::{
-    marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets,
+    marks_layout, marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets,
     PIPELINE_STATISTICS_FEATURES, REQUIRED_FEATURES, TIMESTAMP_FEATURES,
 };

@@ -23,9 +23,13 @@ fn views_in_every_convention_give_the_same_rays_and_planes() {
     }
     assert!(infinite.far.is_infinite() && rev_inf.far.is_infinite());
     assert!((reversed.far - far).abs() < 0.1 && (standard.far - far).abs() < 0.1);
-    // A reversed projection declared standard (or the other way) is refused.
-    assert!(ViewDesc { view, proj: Mat4::perspective_infinite_reverse_rh(fov, aspect, near), depth: DepthRange::Standard }.geometry().is_err());
-    assert!(ViewDesc { view, proj: Mat4::perspective_rh(fov, aspect, near, far), depth: DepthRange::Reversed }.geometry().is_err());
+    // A reversed projection declared standard (or the other way) is
+    // refused, and the error names the fix for the one declared.
+    let err = |proj, depth| ViewDesc { view, proj, depth }.geometry().unwrap_err().to_string();
+    let e = err(Mat4::perspective_infinite_reverse_rh(fov, aspect, near), DepthRange::Standard);
+    assert!(e.contains("needs DepthRange::Reversed"), "{e}");
+    let e = err(Mat4::perspective_rh(fov, aspect, near, far), DepthRange::Reversed);
+    assert!(e.contains("needs DepthRange::Standard") && !e.contains("needs DepthRange::Reversed"), "{e}");
     // Left-handed and mirrored views are refused: the box tests would keep
     // the back faces.
     assert!(ViewDesc { view: Mat4::look_at_lh(eye, target, Vec3::Y), proj: Mat4::perspective_lh(fov, aspect, near, far), depth: DepthRange::Standard }.geometry().is_err());

@@ -1,0 +1,164 @@
+//! A host that builds its pipelines before the culler exists
+//! ([`hroc::marks_layout`] from the device alone), draws the culler's lists
+//! through them and its own object through the same pipeline with
+//! [`hroc::Culler::sink_marks`], on lavapipe. wgpu panics on a validation
+//! error, so a layout the culler's bind groups do not fit fails the test;
+//! the marks the host's fragment shader leaves must reach the culler.
+
+use glam::{Mat4, Vec3};
+use hroc::{Aabb, Culler, CullerDesc, DepthRange, Draw, FrameInput, Method, ObjectDesc, ObjectFlags, Stat, ViewDesc, ViewTargets};
+use wgpu::util::DeviceExt;
+
+const SIZE: u32 = 64;
+
+fn device() -> (wgpu::Device, wgpu::Queue) {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    desc.backends = wgpu::Backends::VULKAN;
+    let instance = wgpu::Instance::new(desc);
+    pollster::block_on(async {
+        let adapter = instance.request_adapter(&wgpu::RequestAdapterOptions::default()).await.expect("a Vulkan adapter: install lavapipe (scripts/ensure-vulkan.sh)");
+        let desc = wgpu::DeviceDescriptor { required_features: hroc::REQUIRED_FEATURES, required_limits: adapter.limits(), ..Default::default() };
+        adapter.request_device(&desc).await.expect("a device with hroc's features")
+    })
+}
+
+/// Two unit quads facing the eye (+z): object 0 at z = 0, object 1 behind
+/// it at z = -4; and the host's own quad (not the culler's) at z = -8.
+fn quad(z: f32) -> [[f32; 3]; 4] {
+    [[-1.0, -1.0, z], [1.0, -1.0, z], [1.0, 1.0, z], [-1.0, 1.0, z]]
+}
+
+/// A depth-only pass of the host on `depth`.
+fn pass<'e>(encoder: &'e mut wgpu::CommandEncoder, depth: &wgpu::TextureView, load: wgpu::LoadOp<f32>) -> wgpu::RenderPass<'e> {
+    encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("host"),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: depth,
+            depth_ops: Some(wgpu::Operations { load, store: wgpu::StoreOp::Store }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+#[test]
+fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
+    let (device, queue) = device();
+    // The host's pipeline first: camera at group 0, hroc's marks at group 1.
+    let marks = hroc::marks_layout(&device);
+    let camera_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("camera"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        }],
+    });
+    let source = format!(
+        "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\
+         struct Out {{ @builtin(position) clip: vec4<f32>, @location(0) @interpolate(flat) object: u32 }}\n\
+         @vertex fn vs(@location(0) p: vec3<f32>, @builtin(instance_index) i: u32) -> Out {{ return Out(view_proj * vec4<f32>(p, 1.0), i); }}\n\
+         @fragment @early_depth_test(force) fn fs(in: Out) {{ hroc_mark(in.object); }}\n",
+        hroc::marks_wgsl(1)
+    );
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("host"), source: wgpu::ShaderSource::Wgsl(source.into()) });
+    let layout =
+        device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("host"), bind_group_layouts: &[Some(&camera_layout), Some(&marks)], immediate_size: 0 });
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("host"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 12, step_mode: wgpu::VertexStepMode::Vertex, attributes: &wgpu::vertex_attr_array![0 => Float32x3] })],
+        },
+        primitive: Default::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs"), compilation_options: Default::default(), targets: &[] }),
+        multiview_mask: None,
+        cache: None,
+    });
+
+    // Geometry, targets and camera.
+    let vertices: Vec<[f32; 3]> = [0.0, -4.0, -8.0].iter().flat_map(|&z| quad(z)).collect();
+    let indices: Vec<u32> = (0..3u32).flat_map(|q| [0, 1, 2, 0, 2, 3].map(|i| 4 * q + i)).collect();
+    let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+    let vertex_buf = init("vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX);
+    let index_buf = init("indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX);
+    let view = ViewDesc { view: Mat4::look_at_rh(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y), proj: Mat4::perspective_rh(1.2, 1.0, 0.1, 100.0), depth: DepthRange::Standard };
+    let camera_buf = init("camera", bytemuck::bytes_of(&(view.proj * view.view)), wgpu::BufferUsages::UNIFORM);
+    let camera = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &camera_layout,
+        entries: &[wgpu::BindGroupEntry { binding: 0, resource: camera_buf.as_entire_binding() }],
+    });
+    let depth = device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("depth"),
+        size: wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Depth32Float,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let depth_view = depth.create_view(&Default::default());
+
+    // Then the culler, over the first two quads.
+    let object = |k: u32, z: f32| ObjectDesc {
+        bounds: Aabb::new(Vec3::new(-1.0, -1.0, z), Vec3::new(1.0, 1.0, z)),
+        index_count: 6,
+        first_index: 6 * k,
+        base_vertex: 0,
+        flags: ObjectFlags::NONE,
+        oriented: None,
+    };
+    let objects = [object(0, 0.0), object(1, -4.0)];
+    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let targets = ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None };
+    let mut v = culler.view(Method::Hroc(hroc::Variant::NA), &targets).unwrap();
+    for frame in 0..3 {
+        let mut encoder = device.create_command_encoder(&Default::default());
+        drop(pass(&mut encoder, &depth_view, wgpu::LoadOp::Clear(1.0)));
+        let input = FrameInput { view, targets: ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None }, cut: false, time: frame as f32 };
+        v.cull(&culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
+            let mut pass = pass(enc, &depth_view, wgpu::LoadOp::Load);
+            pass.set_pipeline(&pipeline);
+            pass.set_bind_group(0, &camera, &[]);
+            pass.set_vertex_buffer(0, vertex_buf.slice(..));
+            pass.set_index_buffer(index_buf.slice(..), wgpu::IndexFormat::Uint32);
+            draw.record(&mut pass, 1);
+        })
+        .unwrap();
+        // The host's own quad, through the same pipeline, marking nothing.
+        let mut pass = pass(&mut encoder, &depth_view, wgpu::LoadOp::Load);
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &camera, &[]);
+        pass.set_bind_group(1, culler.sink_marks(), &[]);
+        pass.set_vertex_buffer(0, vertex_buf.slice(..));
+        pass.set_index_buffer(index_buf.slice(..), wgpu::IndexFormat::Uint32);
+        pass.draw_indexed(12..18, 0, 7..8);
+        drop(pass);
+        queue.submit([encoder.finish()]);
+        // The host's fragments marked object 0 (in front) as an occluder;
+        // object 1, behind it, was not drawn after the first frame.
+        let stats = v.stats(&culler).unwrap();
+        let stat = |s: Stat| stats.iter().find(|x| x.0 == s).map(|x| x.1);
+        if frame > 0 {
+            assert_eq!(stat(Stat::O), Some(1.0), "frame {frame}: {stats:?}");
+            assert_eq!(stat(Stat::D), Some(0.0), "frame {frame}: {stats:?}");
+        }
+    }
+}
