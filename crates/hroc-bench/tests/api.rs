@@ -99,3 +99,49 @@ fn never_culled_objects_are_drawn_once_every_frame() {
         }
     }
 }
+
+/// Objects drawn (with repeats) and their triangles, from the lists of a
+/// frame read back after it.
+fn drawn_of(s: &Session, r: &FrameResult) -> (u32, u32) {
+    let (mut objects, mut triangles) = (0, 0);
+    for l in &r.lists {
+        for c in s.gpu.read_list(&l.commands, &l.count, l.max_count).unwrap() {
+            if c.instance_count > 0 && c.index_count > 0 {
+                objects += 1;
+                triangles += c.index_count / 3;
+            }
+        }
+    }
+    (objects, triangles)
+}
+
+/// `View::frame_stats` comes back without a wait, a frame late, and counts
+/// what the lists of that frame drew: for every method family, with
+/// stall-free overflow lists, mid-frame submits (read-backs, queries) and
+/// flagged objects.
+#[test]
+fn frame_stats_count_what_every_method_drew() {
+    let mut s = session();
+    let n = s.renderer.object_count;
+    for o in (0..n).step_by(89) {
+        s.culler.set_flags(o, ObjectFlags::NEVER_CULL).unwrap();
+    }
+    for o in (5..n).step_by(101) {
+        s.culler.set_flags(o, ObjectFlags::NOT_OCCLUDER).unwrap();
+    }
+    for method in ["noc", "vfc", "hzb", "roc", "hroc", "hroc-cr", "ioc", "oq", "chc++"] {
+        let mut v = s.create(method).unwrap();
+        assert_eq!(v.frame_stats(&s.culler), None, "{method}: no frame yet");
+        let mut drawn = Vec::new();
+        for k in 0..FRAMES {
+            let r = s.run_frame(&mut v, k).unwrap();
+            drawn.push(drawn_of(&s, &r));
+            // run_frame waited for the frame: the one before has come back.
+            if k > 0 {
+                let st = v.frame_stats(&s.culler).unwrap_or_else(|| panic!("{method} frame {k}: no statistics"));
+                assert_eq!(st.frame, k as u64 - 1, "{method}");
+                assert_eq!((st.objects, st.triangles), drawn[k - 1], "{method} frame {}", k - 1);
+            }
+        }
+    }
+}

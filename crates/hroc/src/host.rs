@@ -7,6 +7,7 @@ use crate::error::{Error, Result};
 use crate::frustum::{DepthRange, ViewDesc};
 use crate::gpu::{dispatch_size, Gpu, GpuTimer, InvocationCounter, Invocations, PassCount};
 use crate::layout::{DrawCommand, FrameUniform, ObjectBounds, OrientedBounds};
+use crate::tally::{DrawTally, FrameStats};
 use crate::{shaders, Aabb, OrientedBox};
 
 /// Per-object flags.
@@ -823,6 +824,8 @@ impl Culler {
             last_pose: None,
             last_cut: false,
             work: WorkCounts::default(),
+            tally: DrawTally::new(&self.gpu),
+            frames: 0,
         })
     }
 
@@ -1236,6 +1239,10 @@ pub struct View {
     last_cut: bool,
     /// The last frame's submits, waits and bytes read back.
     work: WorkCounts,
+    /// Objects and triangles drawn, per frame, read back without waiting.
+    tally: DrawTally,
+    /// Frames culled so far.
+    frames: u64,
 }
 
 impl View {
@@ -1275,7 +1282,8 @@ impl View {
         let rebuilt = self.generation != culler.generation && self.method.keeps_tree();
         if !self.targets.same(&input.targets) || regrown || rebuilt {
             let fresh = culler.view_with(self.method, &input.targets, &self.options)?;
-            *self = fresh;
+            // Frames keep their numbers across the rebuild.
+            *self = View { frames: self.frames, ..fresh };
         }
         if culler.moves > 0 && !self.method.takes_motion() {
             return Err(Error::InvalidScene(format!("{} keeps its own copy of the BVH and takes static scenes only; objects have moved", self.method)));
@@ -1316,7 +1324,9 @@ impl View {
             s.begin(encoder, &culler.objects);
         }
         self.work = WorkCounts::default();
+        self.tally.begin(&culler.gpu, encoder);
         let mut f = Frame {
+            tally: &mut self.tally,
             work: &mut self.work,
             gpu: &culler.gpu,
             geometry: g,
@@ -1337,6 +1347,7 @@ impl View {
             let statistics = f.pass_count();
             let d = Draw { phase: Phase::Always, commands: &always.commands, count: &always.count, max_count: always.max_count, marks: f.sink, mark: false, statistics };
             f.host.draw(f.encoder, &d);
+            f.tally.count(f.gpu, f.encoder, always);
         }
         match body {
             Some(body) => body(&mut f)?,
@@ -1349,6 +1360,7 @@ impl View {
             let statistics = f.pass_count();
             let d = Draw { phase: Phase::NonOccluders, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: f.sink, mark: false, statistics };
             f.host.draw(f.encoder, &d);
+            f.tally.count(f.gpu, f.encoder, &list);
         }
         if let Some(t) = f.timer.take() {
             t.end(f.encoder);
@@ -1356,7 +1368,20 @@ impl View {
         if let Some(c) = f.counter.take() {
             c.end(f.encoder);
         }
+        let w = *f.work;
+        let stats = FrameStats { frame: self.frames, cut, submits: w.submits, waits: w.waits, bytes_read: w.bytes_read, ..Default::default() };
+        f.tally.end(f.gpu, f.encoder, stats);
+        self.frames += 1;
         Ok(())
+    }
+
+    /// The statistics every method shares ([`FrameStats`]: objects and
+    /// triangles drawn, cut, submits, waits, bytes read back) of the
+    /// newest frame whose counts have come back, without waiting: a
+    /// frame's arrive a frame or more after it, tagged with its number.
+    /// `None` before the first arrives.
+    pub fn frame_stats(&mut self, culler: &Culler) -> Option<FrameStats> {
+        self.tally.latest(&culler.gpu)
     }
 
     /// True when the view turned or moved past the options' cut thresholds
@@ -1393,8 +1418,10 @@ impl View {
         Ok(v)
     }
 
-    /// The method's statistics of the last frame (set sizes, rays, ...).
-    /// Reads back: call after the frame's work was submitted.
+    /// The method's own statistics of the last frame (set sizes, rays,
+    /// ...), for benchmarks and debugging: reads back with a wait, so call
+    /// it after the frame's work was submitted. What every method shares
+    /// comes without a wait from [`View::frame_stats`].
     pub fn stats(&mut self, culler: &Culler) -> Result<Vec<(Stat, f64)>> {
         let mut s = self.imp.stats(&culler.gpu)?;
         s.push((Stat::Cut, self.last_cut as u32 as f64));

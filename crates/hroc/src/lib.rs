@@ -159,6 +159,7 @@ mod host;
 pub mod layout;
 pub mod rng;
 pub mod shaders;
+mod tally;
 
 pub use aabb::{Aabb, OrientedBox};
 pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Variant};
@@ -168,3 +169,4 @@ pub use host::{
     marks_layout, marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets,
     PIPELINE_STATISTICS_FEATURES, REQUIRED_FEATURES, TIMESTAMP_FEATURES,
 };
+pub use tally::FrameStats;

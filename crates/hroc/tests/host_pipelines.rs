@@ -3,7 +3,8 @@
 //! through them and its own object through the same pipeline with
 //! [`hroc::Culler::sink_marks`], on lavapipe. wgpu panics on a validation
 //! error, so a layout the culler's bind groups do not fit fails the test;
-//! the marks the host's fragment shader leaves must reach the culler.
+//! the marks the host's fragment shader leaves must reach the culler, and
+//! the view's [`hroc::FrameStats`] count what the host drew.
 
 use glam::{Mat4, Vec3};
 use hroc::{Aabb, Culler, CullerDesc, DepthRange, Draw, FrameInput, Method, ObjectDesc, ObjectFlags, Stat, ViewDesc, ViewTargets};
@@ -161,4 +162,10 @@ fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
             assert_eq!(stat(Stat::D), Some(0.0), "frame {frame}: {stats:?}");
         }
     }
+    // The statistics every method shares come back without a wait, tagged:
+    // frame 1's were mapped when frame 2 began. Frame 1 drew object 0
+    // alone (two triangles).
+    device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+    let s = v.frame_stats(&culler).expect("frame 1's statistics");
+    assert_eq!((s.frame, s.objects, s.triangles, s.cut, s.waits), (1, 1, 2, false, 0), "{s:?}");
 }

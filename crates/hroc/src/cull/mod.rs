@@ -66,6 +66,7 @@ pub struct Frame<'a> {
     pub(crate) split: Option<&'a mut FlagSplit>,
     pub(crate) sink: &'a wgpu::BindGroup,
     pub(crate) work: &'a mut WorkCounts,
+    pub(crate) tally: &'a mut crate::tally::DrawTally,
 }
 
 /// Work of one frame that does not depend on how busy the machine is:
@@ -126,11 +127,13 @@ impl<'a> Frame<'a> {
         let statistics = self.pass_count();
         let draw = Draw { phase, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: marks.unwrap_or(self.sink), mark: marks.is_some(), statistics };
         self.host.draw(self.encoder, &draw);
+        self.tally.count(self.gpu, self.encoder, list);
     }
 
     /// Submits what is recorded so far and continues in a fresh encoder (for
     /// methods that read back mid-frame).
     pub fn flush(&mut self) {
+        self.tally.write_limits(self.gpu);
         let enc = std::mem::replace(self.encoder, self.gpu.encoder("hroc frame"));
         self.gpu.queue.submit([enc.finish()]);
         self.work.submits += 1;
