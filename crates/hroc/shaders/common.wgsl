@@ -1,3 +1,5 @@
+// STACK and STAT_SLOTS come before this header, written from their Rust
+// constants (src/shaders.rs).
 // Shared layouts, prepended to every pass (src/layout.rs mirrors them;
 // tests/shaders.rs checks the sizes).
 

@@ -10,7 +10,6 @@
 const NIL: u32 = 0u;
 const UNKNOWN: u32 = 1u;
 const VISIBLE: u32 = 2u;
-const STACK: u32 = 64u; // >= BVH depth + 1, checked on the host
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;

@@ -13,8 +13,6 @@
 // are rasterized into a map holding each block's farthest depth (reduce_fs)
 // and padded for rays through block centres (block_pad_px in common.wgsl).
 
-const STACK: u32 = 64u;
-const STAT_SLOTS: u32 = 64u;
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;

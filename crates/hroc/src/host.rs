@@ -1327,6 +1327,7 @@ impl View {
         self.tally.begin(&culler.gpu, encoder);
         let mut f = Frame {
             tally: &mut self.tally,
+            group_open: false,
             work: &mut self.work,
             gpu: &culler.gpu,
             geometry: g,
@@ -1349,9 +1350,14 @@ impl View {
             f.host.draw(f.encoder, &d);
             f.tally.count(f.gpu, f.encoder, always);
         }
-        match body {
-            Some(body) => body(&mut f)?,
-            None => self.imp.frame(&mut f)?,
+        let recorded = match body {
+            Some(body) => body(&mut f),
+            None => self.imp.frame(&mut f),
+        };
+        if let Err(e) = recorded {
+            // Leave the host's encoder balanced.
+            f.end_group();
+            return Err(e);
         }
         if let Some(s) = f.split.take() {
             f.stage(Stage::FlaggedObjects);
@@ -1368,6 +1374,7 @@ impl View {
         if let Some(c) = f.counter.take() {
             c.end(f.encoder);
         }
+        f.end_group();
         let w = *f.work;
         let stats = FrameStats { frame: self.frames, cut, submits: w.submits, waits: w.waits, bytes_read: w.bytes_read, ..Default::default() };
         f.tally.end(f.gpu, f.encoder, stats);

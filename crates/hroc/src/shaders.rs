@@ -27,11 +27,26 @@ pub const SHADERS: &[(&str, &str)] = &[
 /// commands and the box helpers.
 pub const COMMON_WGSL: &str = include_str!("../shaders/common.wgsl");
 
-/// The full source of a pass: the shared header, then the pass. Panics on a
-/// name not in [`SHADERS`] (a programming error, caught by the tests).
+/// Entries of the BVH traversal stacks (`STACK` in the WGSL, a
+/// function-scope array size, which cannot be an override constant): a
+/// depth-first walk that pushes both children holds at most depth + 2.
+pub const STACK: u32 = 64;
+
+/// Slots the occlusion test spreads its ray counters over (`STAT_SLOTS`),
+/// against atomic contention.
+pub const STAT_SLOTS: u32 = 64;
+
+/// The constants the WGSL shares with Rust, written from the Rust ones.
+fn constants() -> String {
+    format!("const STACK: u32 = {STACK}u;\nconst STAT_SLOTS: u32 = {STAT_SLOTS}u;\n")
+}
+
+/// The full source of a pass: the constants shared with Rust, the shared
+/// header, then the pass. Panics on a name not in [`SHADERS`] (a
+/// programming error, caught by the tests).
 pub fn source(name: &str) -> String {
     let body = SHADERS.iter().find(|(n, _)| *n == name).map(|(_, s)| *s).unwrap_or_else(|| panic!("no shader {name}"));
-    format!("{COMMON_WGSL}\n{body}")
+    format!("{}{COMMON_WGSL}\n{body}", constants())
 }
 
 /// The raster occlusion test's pipeline, shared by every box-testing

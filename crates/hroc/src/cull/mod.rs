@@ -67,6 +67,9 @@ pub struct Frame<'a> {
     pub(crate) sink: &'a wgpu::BindGroup,
     pub(crate) work: &'a mut WorkCounts,
     pub(crate) tally: &'a mut crate::tally::DrawTally,
+    /// A debug group named after the current stage is open on the encoder,
+    /// so a GPU profiler groups the passes as the paper's steps.
+    pub(crate) group_open: bool,
 }
 
 /// Work of one frame that does not depend on how busy the machine is:
@@ -90,6 +93,9 @@ impl<'a> Frame<'a> {
     /// Begins GPU stage `stage` here (ends the previous one).
     pub fn stage(&mut self, stage: Stage) {
         self.current = stage;
+        self.end_group();
+        self.encoder.push_debug_group(stage.name());
+        self.group_open = true;
         if let Some(t) = self.timer.as_deref_mut() {
             t.mark(self.encoder, stage);
         }
@@ -134,9 +140,22 @@ impl<'a> Frame<'a> {
     /// methods that read back mid-frame).
     pub fn flush(&mut self) {
         self.tally.write_limits(self.gpu);
+        let open = self.group_open;
+        self.end_group();
         let enc = std::mem::replace(self.encoder, self.gpu.encoder("hroc frame"));
         self.gpu.queue.submit([enc.finish()]);
         self.work.submits += 1;
+        if open {
+            self.encoder.push_debug_group(self.current.name());
+            self.group_open = true;
+        }
+    }
+
+    /// Closes the current stage's debug group, if one is open.
+    pub(crate) fn end_group(&mut self) {
+        if std::mem::take(&mut self.group_open) {
+            self.encoder.pop_debug_group();
+        }
     }
 
     /// Reads `count` u32s of `buf` mid-frame: submits and waits (a stall,

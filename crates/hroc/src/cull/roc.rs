@@ -168,10 +168,10 @@ impl Roc {
         }
     }
 
-    fn dispatch(&self, f: &mut Frame, pipeline: &wgpu::ComputePipeline) {
+    fn dispatch(&self, f: &mut Frame, label: &str, pipeline: &wgpu::ComputePipeline) {
         let (x, y) = dispatch_size(self.n, 256);
         let (enc, q) = f.counted();
-        let mut pass = enc.begin_compute_pass(&Default::default());
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind, &[]);
@@ -217,10 +217,10 @@ impl CullMethod for Roc {
         let enc = f.encoder();
         enc.clear_buffer(&self.tested, 0, None);
         enc.clear_buffer(&self.args, 0, None);
-        self.dispatch(f, &self.select);
+        self.dispatch(f, "roc select", &self.select);
         self.boxes.record(f, &self.box_bind, BoxCount::Indirect(&self.args));
         if self.all {
-            self.dispatch(f, &self.split);
+            self.dispatch(f, "roc split", &self.split);
         }
         // 3. The newly visible objects.
         f.stage(Stage::OccludeeRendering);

@@ -46,7 +46,7 @@ impl CullMethod for FrustumCuller {
         let n = f.object_count();
         {
             let (enc, q) = f.counted();
-            let mut pass = enc.begin_compute_pass(&Default::default());
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("vfc frustum test"), timestamp_writes: None });
             let (x, y) = dispatch_size(n, 256);
             q.around(&mut pass, |pass| {
                 pass.set_pipeline(&self.pipeline);

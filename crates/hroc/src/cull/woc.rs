@@ -115,9 +115,9 @@ impl Woc {
         }
     }
 
-    fn dispatch(&self, f: &mut Frame, pipeline: &wgpu::ComputePipeline) {
+    fn dispatch(&self, f: &mut Frame, label: &str, pipeline: &wgpu::ComputePipeline) {
         let (enc, q) = f.counted();
-        let mut pass = enc.begin_compute_pass(&Default::default());
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind, &[]);
@@ -142,7 +142,7 @@ impl CullMethod for Woc {
             let m = view_proj64(&f.geometry.view_proj) * view_proj64(&prev).inverse();
             let m = Mat4::from_cols_array(&m.to_cols_array().map(|x| x as f32));
             f.gpu.queue.write_buffer(&self.reproject, 0, bytemuck::cast_slice(&m.to_cols_array()));
-            self.dispatch(f, &self.splat);
+            self.dispatch(f, "woc warp", &self.splat);
         }
         // 2. Pyramid of the warped depth.
         f.stage(Stage::HiZBuild);
@@ -159,7 +159,7 @@ impl CullMethod for Woc {
         f.draw(Phase::Visible, &self.list, None);
         f.stage(Stage::SaveDepth);
         f.encoder().clear_buffer(&self.holes, 0, None);
-        self.dispatch(f, &self.save);
+        self.dispatch(f, "woc save depth", &self.save);
         self.prev = Some(f.geometry.view_proj);
         Ok(())
     }

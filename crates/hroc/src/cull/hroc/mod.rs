@@ -34,8 +34,9 @@ use crate::layout::DrawArgs;
 use crate::shaders::source as shader_source;
 use stall_free::{Counted, StallFree};
 
-/// The stacks in both shaders hold at most this many entries.
-pub const MAX_DEPTH: u32 = 62;
+/// The deepest BVH HROC walks: its traversal stacks hold depth + 2
+/// entries ([`crate::shaders::STACK`]).
+pub const MAX_DEPTH: u32 = crate::shaders::STACK - 2;
 /// V's rounds with [`MethodOptions::hroc_occluder_rounds`](super::MethodOptions):
 /// its front list, then the rest still in front of the depth that left.
 /// The stall-free counters count them as [`Counted::OccluderFront`] and
@@ -44,7 +45,7 @@ pub const OCCLUDER_ROUNDS: u32 = 2;
 /// Most occludee rounds: each costs a reduce, three box passes over U and
 /// a compaction, and past four the rounds measured no further culling.
 pub const MAX_ROUNDS: u32 = 4;
-const STAT_SLOTS: u64 = 64;
+const STAT_SLOTS: u64 = crate::shaders::STAT_SLOTS as u64;
 
 pub use super::Variant;
 
@@ -354,9 +355,9 @@ impl Hroc {
         })
     }
 
-    fn dispatch(&self, f: &mut Frame, pipeline: &wgpu::ComputePipeline, (x, y): (u32, u32)) {
+    fn dispatch(&self, f: &mut Frame, label: &str, pipeline: &wgpu::ComputePipeline, (x, y): (u32, u32)) {
         let (enc, q) = f.counted();
-        let mut pass = enc.begin_compute_pass(&Default::default());
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.group_bind, &[]);
@@ -408,7 +409,7 @@ impl Hroc {
         f.stage(stage);
         {
             let (enc, q) = f.counted();
-            let mut pass = enc.begin_compute_pass(&Default::default());
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc rounds init"), timestamp_writes: None });
             q.around(&mut pass, |pass| {
                 pass.set_pipeline(&r.init);
                 pass.set_bind_group(0, &r.init_bind, &[]);
@@ -756,7 +757,7 @@ impl CullMethod for Hroc {
         };
         if self.seeded {
             f.stage(Stage::Seed);
-            self.dispatch(f, &self.seed, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
+            self.dispatch(f, "hroc seed", &self.seed, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
         }
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);
@@ -783,8 +784,8 @@ impl CullMethod for Hroc {
         if let Some(r) = &self.rounds {
             r.clear(enc);
         }
-        self.dispatch(f, &self.extract, (ox, oy));
-        self.dispatch(f, &self.collect, dispatch_size(nodes, 256));
+        self.dispatch(f, "hroc extract groups", &self.extract, (ox, oy));
+        self.dispatch(f, "hroc collect groups", &self.collect, dispatch_size(nodes, 256));
         let max_groups = self.max_count(f, Counted::G, &self.group_count, nodes + n, Stage::GroupExtraction)?;
         let over = self.sf.as_ref().and_then(|sf| sf.overflow(f, Counted::G));
         // 3. Batch occlusion test against the occlusion map (read-only depth).
@@ -832,9 +833,9 @@ impl CullMethod for Hroc {
             let (w, h) = f.size();
             f.encoder().clear_buffer(&self.visible, 0, None);
             let s = self.filter_stride;
-            self.dispatch(f, &self.filter, (w.div_ceil(s).div_ceil(16), h.div_ceil(s).div_ceil(16)));
+            self.dispatch(f, "hroc occluder filtering", &self.filter, (w.div_ceil(s).div_ceil(16), h.div_ceil(s).div_ceil(16)));
         } else {
-            self.dispatch(f, &self.merge, (ox, oy));
+            self.dispatch(f, "hroc next occluders", &self.merge, (ox, oy));
         }
         if let Some(sf) = self.sf.as_mut() {
             let last = self.rounds.as_ref().map_or(&self.u_list, |r| &r.last.0);

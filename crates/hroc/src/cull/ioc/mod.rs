@@ -244,7 +244,8 @@ impl CullMethod for Ioc {
             let (enc, pq) = f.counted();
             enc.clear_buffer(&self.counts[o], 0, None);
             {
-                let mut pass = enc.begin_compute_pass(&Default::default());
+                let mut pass =
+                    enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(if bottom { "ioc expand bottom" } else { "ioc expand" }), timestamp_writes: None });
                 let (x, y) = dispatch_size(count, 256);
                 pq.around(&mut pass, |pass| {
                     pass.set_pipeline(if bottom { &self.expand_bottom } else { &self.expand });
