@@ -54,7 +54,7 @@ fn main() -> hroc_bench::Result<()> {
     let mut s = Session::new(&gpu, scene, None, a.frames, a.resolution, Split::Sah)?;
     let aspect = s.renderer.aspect();
     let (mut visible, mut world, mut oriented) = (0usize, 0usize, 0usize);
-    let mut hroc = s.create("hroc-of")?;
+    let mut hroc = s.create("hroc-of".parse().unwrap())?;
     let (mut v, mut v_hidden, mut drawn) = (0usize, 0usize, 0usize);
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k)?;

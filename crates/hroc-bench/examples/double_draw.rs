@@ -7,7 +7,7 @@ fn main() -> hroc_bench::Result<()> {
     let scene = hroc_bench::scene::load("radial-city", Some(2000), 3)?;
     let mut s = Session::new(&gpu, scene, None, 16, (160, 96), Split::Sah)?;
     for m in ["hroc", "hroc-na", "hzb", "roc"] {
-        let mut v = s.create(m)?;
+        let mut v = s.create(m.parse()?)?;
         let (mut twice, mut drawn) = (0, 0);
         for k in 0..16 {
             let r = s.run_frame(&mut v, k)?;

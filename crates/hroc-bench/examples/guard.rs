@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use hroc_bench::bench::{self, BenchOptions, BenchReport, MethodRow};
 use hroc_bench::bvh::{Bvh, Split};
-use hroc_bench::cull::{Method, MethodOptions};
+use hroc_bench::cull::{Method, MethodOptions, Variant};
 use hroc_bench::gpu::Gpu;
 use hroc_bench::scene::Aabb;
 
@@ -42,9 +42,8 @@ fn options(scene: &str, objects: Option<usize>, methods: &str) -> BenchOptions {
     }
 }
 
-fn row<'r>(r: &'r BenchReport, method: &str) -> &'r MethodRow {
-    let m: Method = method.parse().expect("known method");
-    r.rows.iter().find(|row| row.method.parse::<Method>().ok() == Some(m)).unwrap_or_else(|| panic!("no {method} row"))
+fn row(r: &BenchReport, method: Method) -> &MethodRow {
+    r.rows.iter().find(|row| row.method == method).unwrap_or_else(|| panic!("no {method} row"))
 }
 
 /// One figure against its limit.
@@ -76,7 +75,7 @@ impl Guard {
     /// `woc`, which is not conservative.
     fn conservative(&mut self, what: &str, r: &BenchReport, command: &str) {
         for row in &r.rows {
-            if row.method.parse::<Method>().ok() == Some(Method::Woc) {
+            if row.method == Method::Woc {
                 continue;
             }
             self.check(&format!("{what}: {} false negatives + missing px", row.method), (row.false_negatives + row.missing_pixels) as f64, Limit::AtMost(0.0), command);
@@ -123,13 +122,13 @@ fn main() {
     let cmd = "hroc bench --methods noc,vfc,ref,roc,hzb,hroc";
     let r = run(&gpu, &options("radial-city", None, "noc,vfc,ref,roc,hzb,hroc"));
     g.conservative("default scene", &r, cmd);
-    g.check("default scene: ref C/R", row(&r, "ref").c_over_r, Limit::AtLeast(1.0), cmd);
-    g.check("default scene: vfc drawn/frame (6,347)", row(&r, "vfc").drawn_mean, Limit::AtMost(6347.0 * 1.01), cmd);
-    g.check("default scene: hroc drawn/frame (236)", row(&r, "hroc").drawn_mean, Limit::AtMost(236.0 * 1.03), cmd);
-    g.check("default scene: hroc C/R (0.991)", row(&r, "hroc").c_over_r, Limit::AtLeast(0.988), cmd);
-    g.check("default scene: hroc C/R - hzb C/R", row(&r, "hroc").c_over_r - row(&r, "hzb").c_over_r, Limit::AtLeast(0.0), cmd);
-    g.check("default scene: hroc ms / hzb ms", row(&r, "hroc").ms_mean / row(&r, "hzb").ms_mean, Limit::AtMost(1.25), cmd);
-    g.check("default scene: hroc ms / roc ms", row(&r, "hroc").ms_mean / row(&r, "roc").ms_mean, Limit::AtMost(0.6), cmd);
+    g.check("default scene: ref C/R", row(&r, Method::Ref).c_over_r, Limit::AtLeast(1.0), cmd);
+    g.check("default scene: vfc drawn/frame (6,347)", row(&r, Method::Vfc).drawn_mean, Limit::AtMost(6347.0 * 1.01), cmd);
+    g.check("default scene: hroc drawn/frame (236)", row(&r, Method::HROC).drawn_mean, Limit::AtMost(236.0 * 1.03), cmd);
+    g.check("default scene: hroc C/R (0.991)", row(&r, Method::HROC).c_over_r, Limit::AtLeast(0.988), cmd);
+    g.check("default scene: hroc C/R - hzb C/R", row(&r, Method::HROC).c_over_r - row(&r, Method::Hzb).c_over_r, Limit::AtLeast(0.0), cmd);
+    g.check("default scene: hroc ms / hzb ms", row(&r, Method::HROC).ms_mean / row(&r, Method::Hzb).ms_mean, Limit::AtMost(1.25), cmd);
+    g.check("default scene: hroc ms / roc ms", row(&r, Method::HROC).ms_mean / row(&r, Method::Roc).ms_mean, Limit::AtMost(0.6), cmd);
 
     // Motion against static (issues 11 and 23).
     let cmd = "hroc bench --scene radial-city --objects 20000 --moving 0,0.1,1 --methods noc,roc,hzb,hroc";
@@ -137,17 +136,17 @@ fn main() {
     for r in &motion {
         g.conservative(&format!("moving {:.0} %", r.moving * 100.0), r, cmd);
     }
-    let (still, ten, all) = (row(&motion[0], "hroc"), row(&motion[1], "hroc"), row(&motion[2], "hroc"));
+    let (still, ten, all) = (row(&motion[0], Method::HROC), row(&motion[1], Method::HROC), row(&motion[2], Method::HROC));
     g.check("moving 10 %: hroc (frame + update) / static frame", (ten.ms_mean + motion[1].update_ms_mean) / still.ms_mean, Limit::AtMost(1.2), cmd);
     g.check("moving 10 %: hroc p95 / static p95", ten.ms_p95 / still.ms_p95, Limit::AtMost(1.5), cmd);
-    g.check("moving 100 %: hroc ms / roc ms", all.ms_mean / row(&motion[2], "roc").ms_mean, Limit::AtMost(1.0), cmd);
+    g.check("moving 100 %: hroc ms / roc ms", all.ms_mean / row(&motion[2], Method::Roc).ms_mean, Limit::AtMost(1.0), cmd);
 
     // C/R per scene with the defaults (hroc = hroc-sf+of).
     for (scene, objects, limit) in [("factory", 20000, 0.94), ("satellites", 20000, 0.94)] {
         let cmd = format!("hroc bench --scene {scene} --objects {objects} --methods noc,ref,hroc");
         let r = run(&gpu, &options(scene, Some(objects), "noc,ref,hroc"));
         g.conservative(scene, &r, &cmd);
-        g.check(&format!("{scene} {objects}: hroc C/R, defaults"), row(&r, "hroc").c_over_r, Limit::AtLeast(limit), &cmd);
+        g.check(&format!("{scene} {objects}: hroc C/R, defaults"), row(&r, Method::HROC).c_over_r, Limit::AtLeast(limit), &cmd);
     }
 
     // C/R with the opt-in rounds and clusters (issue 13: >= 0.98).
@@ -163,7 +162,7 @@ fn main() {
         let o = BenchOptions { clusters: Some(clusters), method_options: opts, ..options(scene, Some(20000), "noc,ref,hroc-of") };
         let r = run(&gpu, &o);
         g.conservative(scene, &r, &cmd);
-        g.check(&format!("{scene} 20000, clusters {clusters}: hroc-of C/R, rounds"), row(&r, "hroc-of").c_over_r, Limit::AtLeast(0.98), &cmd);
+        g.check(&format!("{scene} 20000, clusters {clusters}: hroc-of C/R, rounds"), row(&r, Method::Hroc(Variant::OF)).c_over_r, Limit::AtLeast(0.98), &cmd);
     }
 
     // Clusters in a one-mesh interior (issue 13: <= 30 % of its triangles).
@@ -176,7 +175,7 @@ fn main() {
     let o = BenchOptions { clusters: Some(256), camera_path: Some(path.clone()), ..options(&file(&obj), None, "noc,hroc") };
     let r = run(&gpu, &o);
     g.conservative("one-mesh interior", &r, &cmd);
-    g.check("one-mesh interior, clusters 256: hroc triangles drawn", row(&r, "hroc").triangles_fraction, Limit::AtMost(0.30), &cmd);
+    g.check("one-mesh interior, clusters 256: hroc triangles drawn", row(&r, Method::HROC).triangles_fraction, Limit::AtMost(0.30), &cmd);
 
     // A 2M-triangle glTF loads in under 2 s.
     let big = out.join("big.glb");

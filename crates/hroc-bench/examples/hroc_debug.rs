@@ -19,7 +19,7 @@ fn main() -> hroc_bench::Result<()> {
     }
     let gpu = Gpu::new()?;
     let mut s = Session::new(&gpu, scene, None, frames, (640, 360), Split::Sah)?;
-    let mut h = s.create(variant)?;
+    let mut h = s.create(variant.parse()?)?;
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k)?;
         let noc_ids: Vec<u32> = gpu.read_texture(&s.renderer.targets.id, wgpu::TextureAspect::All)?;

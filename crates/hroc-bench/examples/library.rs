@@ -10,7 +10,7 @@ fn main() -> hroc_bench::Result<()> {
     let scene = hroc_bench::scene::load("radial-city", Some(5_000), 0)?;
     let gpu = Gpu::new()?;
     let mut s = Session::new(&gpu, scene, None, 30, (640, 360), Split::Sah)?;
-    let mut vfc = s.create("vfc")?;
+    let mut vfc = s.create("vfc".parse().unwrap())?;
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k)?; // noc's visible set and depth
         let frame = s.run_frame(&mut vfc, k)?;

@@ -11,7 +11,7 @@ fn main() -> hroc_bench::Result<()> {
     let scene = hroc_bench::scene::load(key, Some(n), 0)?;
     let gpu = Gpu::new()?;
     let mut s = Session::new(&gpu, scene, None, frames, (640, 360), Split::Sah)?;
-    let mut r = s.create("ref")?;
+    let mut r = s.create("ref".parse().unwrap())?;
     r.set_oracle(&s.culler, &[obj])?;
     s.run_frame(&mut r, k)?;
     let ids: Vec<u32> = gpu.read_texture(&s.renderer.targets.id, wgpu::TextureAspect::All)?;

@@ -11,7 +11,7 @@ fn main() -> hroc_bench::Result<()> {
     let scene = hroc_bench::scene::load(key, Some(10000), 0)?;
     let gpu = Gpu::new()?;
     let mut s = Session::new(&gpu, scene, None, 150, (640, 360), Split::Sah)?;
-    let mut h = s.create("hroc-of")?;
+    let mut h = s.create("hroc-of".parse().unwrap())?;
     let mut waste: BTreeMap<String, (u32, u32)> = BTreeMap::new();
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k)?;

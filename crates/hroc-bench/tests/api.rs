@@ -50,11 +50,11 @@ fn views_of_one_culler_keep_their_own_state() {
     let mut s = session();
     for method in ["hroc", "hzb", "roc"] {
         // One view alone along the path...
-        let mut solo = s.create(method).unwrap();
+        let mut solo = s.create(method.parse().unwrap()).unwrap();
         let alone: Vec<Vec<u32>> = (0..FRAMES).map(|k| checked(&mut s, &mut solo, k, false)).collect();
         // ...and the same method again, interleaved with a second view that
         // flies the path backwards: its frames must not change.
-        let (mut a, mut b) = (s.create(method).unwrap(), s.create(method).unwrap());
+        let (mut a, mut b) = (s.create(method.parse().unwrap()).unwrap(), s.create(method.parse().unwrap()).unwrap());
         for (k, alone) in alone.iter().enumerate() {
             let drawn = checked(&mut s, &mut a, k, false);
             assert_eq!(&drawn, alone, "{method} frame {k}: a second view changed the first one's result");
@@ -67,14 +67,14 @@ fn views_of_one_culler_keep_their_own_state() {
 fn a_camera_cut_starts_the_view_over() {
     let mut s = session();
     for method in ["hroc", "hzb", "roc", "chc++"] {
-        let mut warm = s.create(method).unwrap();
+        let mut warm = s.create(method.parse().unwrap()).unwrap();
         for k in 0..FRAMES / 2 {
             checked(&mut s, &mut warm, k, false);
         }
         // After a cut to the last camera, the warm view culls exactly as a
         // fresh view's first frame there.
         let cut = checked(&mut s, &mut warm, FRAMES - 1, true);
-        let mut fresh = s.create(method).unwrap();
+        let mut fresh = s.create(method.parse().unwrap()).unwrap();
         let first = checked(&mut s, &mut fresh, FRAMES - 1, false);
         assert_eq!(cut, first, "{method}: a cut did not reset the view");
     }
@@ -90,7 +90,7 @@ fn never_culled_objects_are_drawn_once_every_frame() {
     }
     assert!(s.culler.set_flags(n, ObjectFlags::NEVER_CULL).is_err(), "an object out of range is an error");
     for method in ["hroc", "hzb", "chc++", "vfc", "noc"] {
-        let mut v = s.create(method).unwrap();
+        let mut v = s.create(method.parse().unwrap()).unwrap();
         for k in 0..FRAMES {
             let drawn = checked(&mut s, &mut v, k, false);
             for &o in &never {
@@ -130,7 +130,7 @@ fn frame_stats_count_what_every_method_drew() {
         s.culler.set_flags(o, ObjectFlags::NOT_OCCLUDER).unwrap();
     }
     for method in ["noc", "vfc", "hzb", "roc", "hroc", "hroc-cr", "ioc", "oq", "chc++"] {
-        let mut v = s.create(method).unwrap();
+        let mut v = s.create(method.parse().unwrap()).unwrap();
         assert_eq!(v.frame_stats(&s.culler), None, "{method}: no frame yet");
         let mut drawn = Vec::new();
         for k in 0..FRAMES {

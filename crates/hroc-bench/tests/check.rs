@@ -20,7 +20,7 @@ fn real_misses_count_and_strays_do_not() {
     let scene = hroc_bench::scene::load("satellites", Some(10_000), 0).unwrap();
     let mut s = Session::new(&gpu, scene, None, 600, (640, 360), Split::Sah).unwrap();
     let (_, truth) = s.truth(FRAME).unwrap();
-    let mut r = s.create("ref").unwrap();
+    let mut r = s.create("ref".parse().unwrap()).unwrap();
 
     // Drop one ordinary visible object (the one owning the most pixels): a real miss.
     let mut owned = vec![0usize; s.scene.objects.len()];

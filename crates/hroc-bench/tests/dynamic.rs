@@ -59,8 +59,8 @@ fn scripted_walk(refit: Refit, hroc_rounds: u32) {
     s.options.hroc_rounds = hroc_rounds;
     // Objects outside the tree stay there: the hybrid path is what is tested.
     s.culler.set_motion(MotionOptions { refit, rebuild_sah_growth: f64::INFINITY, rebuild_outside: 1.0 }).unwrap();
-    let mut views: Vec<hroc::View> = METHODS.iter().map(|m| s.create(m).unwrap()).collect();
-    let mut ioc = s.create("ioc").unwrap();
+    let mut views: Vec<hroc::View> = METHODS.iter().map(|m| s.create(m.parse().unwrap()).unwrap()).collect();
+    let mut ioc = s.create("ioc".parse().unwrap()).unwrap();
     let n = s.renderer.object_count;
     let dynamic: Vec<u32> = (3..n).step_by(7).collect();
     let (_, t0) = s.truth(0).unwrap();

@@ -21,7 +21,7 @@ fn scene(key: &str, n: usize) -> Scene {
 
 /// Runs `method` over every frame, checking each against noc.
 fn assert_conservative(s: &mut Session, method: &str) -> (usize, usize) {
-    let mut c = s.create(method).unwrap();
+    let mut c = s.create(method.parse().unwrap()).unwrap();
     let (mut drawn, mut visible) = (0, 0);
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k).unwrap();
@@ -42,7 +42,7 @@ fn assert_conservative(s: &mut Session, method: &str) -> (usize, usize) {
 fn ref_matches_noc_pixel_for_pixel() {
     let gpu = gpu();
     let mut s = Session::new(gpu, scene("radial-city", 3000), None, 8, RES, Split::Sah).unwrap();
-    let mut r = s.create("ref").unwrap();
+    let mut r = s.create("ref".parse().unwrap()).unwrap();
     let mut any_culled = false;
     for k in 0..s.cameras.len() {
         s.truth(k).unwrap();
@@ -105,7 +105,7 @@ fn gpu_frustum_culling_matches_cpu_reference() {
     let sc = scene("satellites", 4000);
     let path = paths::hard_path(&sc);
     let mut s = Session::new(gpu, sc, Some(path), 10, RES, Split::Sah).unwrap();
-    let mut vfc = s.create("vfc").unwrap();
+    let mut vfc = s.create("vfc".parse().unwrap()).unwrap();
     for k in 0..s.cameras.len() {
         let r = s.run_frame(&mut vfc, k).unwrap();
         let gpu_set = s.drawn(&r.lists).unwrap();

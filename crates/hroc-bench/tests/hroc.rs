@@ -20,7 +20,7 @@ fn gpu() -> &'static Gpu {
 /// Runs every variant side by side over the session's path; every frame
 /// must have 0 false negatives and 0 missing pixels. Returns drawn/visible.
 fn assert_variants_conservative(s: &mut Session, label: &str) -> f64 {
-    let mut cullers: Vec<hroc::View> = VARIANTS.iter().map(|v| s.create(v).unwrap()).collect();
+    let mut cullers: Vec<hroc::View> = VARIANTS.iter().map(|v| s.create(v.parse().unwrap()).unwrap()).collect();
     let (mut drawn, mut visible) = (0usize, 0usize);
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k).unwrap();
@@ -68,7 +68,7 @@ fn conservative_with_every_split_and_fast_rotation() {
 fn culls_close_to_ref_with_occluder_filtering() {
     let scene = hroc_bench::scene::load("radial-city", Some(4000), 0).unwrap();
     let mut s = Session::new(gpu(), scene, None, 20, (320, 180), Split::Sah).unwrap();
-    let mut h = s.create("hroc-of").unwrap();
+    let mut h = s.create("hroc-of".parse().unwrap()).unwrap();
     let n = s.renderer.object_count as usize;
     let (mut culled, mut ref_culled) = (0, 0);
     for k in 0..s.cameras.len() {
@@ -108,7 +108,7 @@ fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
         let path = paths::hard_path(&scene);
         let mut s = Session::new(gpu(), scene, Some(path), 16, RES, Split::Sah).unwrap();
         s.options = hroc::MethodOptions { hroc_test_scale: test_scale, ..Default::default() };
-        let mut h = s.create("hroc-na").unwrap();
+        let mut h = s.create("hroc-na".parse().unwrap()).unwrap();
         assert_eq!(h.method_state::<Hroc>().unwrap().test_scale(), test_scale);
         let aspect = s.renderer.aspect();
         for k in 0..s.cameras.len() {
@@ -200,7 +200,7 @@ fn gpu_late_test_matches_cpu_reference() {
         let path = paths::hard_path(&scene);
         let mut s = Session::new(gpu(), scene, Some(path), 16, RES, Split::Sah).unwrap();
         s.options = hroc::MethodOptions { hroc_test_scale: scale, hroc_rounds: 2, ..Default::default() };
-        let mut h = s.create("hroc-na").unwrap();
+        let mut h = s.create("hroc-na".parse().unwrap()).unwrap();
         let aspect = s.renderer.aspect();
         let (mut fronts, mut retested) = (0, 0);
         for k in 0..s.cameras.len() {
@@ -282,7 +282,7 @@ fn gpu_seed_matches_cpu_reference() {
         let scene = hroc_bench::scene::load(key, Some(n), 2).unwrap();
         let path = paths::cut_path(&scene, 5);
         let mut s = Session::new(gpu(), scene, Some(path), 12, RES, Split::Sah).unwrap();
-        let mut h = s.create("hroc-na").unwrap();
+        let mut h = s.create("hroc-na".parse().unwrap()).unwrap();
         let aspect = s.renderer.aspect();
         let mut seeded = 0;
         for k in 0..s.cameras.len() {
@@ -314,7 +314,7 @@ fn cuts_are_detected_from_the_view() {
         s.run_frame(v, k).unwrap();
         v.stats(&s.culler).unwrap().iter().find(|x| x.0 == hroc::Stat::Cut).unwrap().1
     };
-    let mut h = s.create("hroc").unwrap();
+    let mut h = s.create("hroc".parse().unwrap()).unwrap();
     // 8 frames per path second: 90° turns within the even seconds, small
     // steps within the odd ones, a new eye at every second.
     let diagonal = s.bvh().aabb(0).extent().length();
@@ -330,7 +330,7 @@ fn cuts_are_detected_from_the_view() {
     }
     assert!(cuts >= 40 && steps >= 30, "{cuts} cuts, {steps} steps");
     s.options = hroc::MethodOptions { cut_turn_deg: f32::INFINITY, cut_move: f32::INFINITY, ..Default::default() };
-    let mut off = s.create("hroc").unwrap();
+    let mut off = s.create("hroc".parse().unwrap()).unwrap();
     for k in 0..20 {
         assert_eq!(cut_of(&mut s, &mut off, k), 0.0, "frame {k} with detection off");
     }
@@ -344,8 +344,8 @@ fn stall_free_overflow_draws_what_the_estimate_misses() {
     let scene = hroc_bench::scene::load("radial-city", Some(2000), 4).unwrap();
     let path = paths::cut_path(&scene, 2);
     let mut s = Session::new(gpu(), scene, Some(path), 31, RES, Split::Sah).unwrap();
-    let mut sf = s.create("hroc-sf").unwrap();
-    let mut na = s.create("hroc-na").unwrap();
+    let mut sf = s.create("hroc-sf".parse().unwrap()).unwrap();
+    let mut na = s.create("hroc-na".parse().unwrap()).unwrap();
     let mut overflowed = 0;
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k).unwrap();
@@ -372,7 +372,7 @@ fn work_counters_count_submits_waits_and_bytes() {
     let scene = hroc_bench::scene::load("radial-city", Some(1200), 3).unwrap();
     let mut s = Session::new(gpu(), scene, None, 8, RES, Split::Sah).unwrap();
     for (m, waits) in [("hroc-cr+of", 3.0), ("hroc-na", 0.0), ("hroc", 0.0)] {
-        let mut v = s.create(m).unwrap();
+        let mut v = s.create(m.parse().unwrap()).unwrap();
         let mut bytes = 0.0;
         for k in 0..s.cameras.len() {
             s.run_frame(&mut v, k).unwrap();
@@ -411,13 +411,13 @@ fn pipeline_statistics_count_every_stage() {
     let (n, nodes) = (s.renderer.object_count, s.bvh().nodes.len() as u32);
     let get = |r: &[(Stage, Invocations)], st: Stage| r.iter().find(|x| x.0 == st).map(|x| x.1).unwrap_or_else(|| panic!("no {st} in {r:?}"));
     for k in 0..s.cameras.len() {
-        let mut vfc = s.create("vfc").unwrap();
+        let mut vfc = s.create("vfc".parse().unwrap()).unwrap();
         let r = s.run_frame(&mut vfc, k).unwrap();
         assert_eq!(get(&r.invocations, Stage::FrustumCull).compute, threads(n), "frame {k}");
         let draw = get(&r.invocations, Stage::Draw);
         assert!(draw.vertex > 0 && draw.fragment > 0 && draw.compute == 0, "frame {k}: {draw:?}");
         // hroc-na: no stall-free overflow pass joins the extraction.
-        let mut h = s.create("hroc-na").unwrap();
+        let mut h = s.create("hroc-na".parse().unwrap()).unwrap();
         let r = s.run_frame(&mut h, k).unwrap();
         let ge = get(&r.invocations, Stage::GroupExtraction);
         assert_eq!((ge.compute, ge.vertex, ge.fragment), (threads(n) + threads(nodes), 0, 0), "frame {k}");
@@ -428,7 +428,7 @@ fn pipeline_statistics_count_every_stage() {
     // Without timestamps the session counts nothing.
     let scene = hroc_bench::scene::load("radial-city", Some(300), 3).unwrap();
     let mut quiet = Session::new_timed(gpu, scene, None, 2, RES, Split::Sah, false).unwrap();
-    let mut v = quiet.create("hroc").unwrap();
+    let mut v = quiet.create("hroc".parse().unwrap()).unwrap();
     assert!(quiet.run_frame(&mut v, 0).unwrap().invocations.is_empty());
 }
 
@@ -448,7 +448,7 @@ fn conservative_with_clusters() {
         for scene in [whole, clustered] {
             let mut s = Session::new(gpu(), scene, Some(path.clone()), 24, RES, Split::Sah).unwrap();
             assert_variants_conservative(&mut s, key);
-            let mut h = s.create("hroc").unwrap();
+            let mut h = s.create("hroc".parse().unwrap()).unwrap();
             let mut t = 0u64;
             for k in 0..s.cameras.len() {
                 let (_, truth) = s.truth(k).unwrap();
@@ -471,7 +471,7 @@ fn occluder_filtering_samples_every_stride() {
     for stride in [1u32, 3] {
         let mut s = Session::new(gpu(), scene.clone(), Some(path.clone()), 12, RES, Split::Sah).unwrap();
         s.options = hroc::MethodOptions { hroc_filter_stride: stride, ..Default::default() };
-        let mut h = s.create("hroc-of").unwrap();
+        let mut h = s.create("hroc-of".parse().unwrap()).unwrap();
         let (w, ht) = RES;
         for k in 0..s.cameras.len() {
             s.run_frame(&mut h, k).unwrap();

@@ -42,8 +42,8 @@ fn moving_objects_stay_conservative() {
     let scene = hroc_bench::scene::load("radial-city", Some(1500), 4).unwrap();
     let base: Vec<Mat4> = scene.objects.iter().map(|o| o.transform).collect();
     let mut s = Session::new(gpu(), scene, None, FRAMES, RES, Split::Sah).unwrap();
-    let mut views: Vec<hroc::View> = MOVING.iter().map(|m| s.create(m).unwrap()).collect();
-    let mut chc = s.create("chc++").unwrap();
+    let mut views: Vec<hroc::View> = MOVING.iter().map(|m| s.create(m.parse().unwrap()).unwrap()).collect();
+    let mut chc = s.create("chc++".parse().unwrap()).unwrap();
     let n = s.renderer.object_count as usize;
     let (mut drawn, mut visible) = (0, 0);
     for k in 0..FRAMES {
@@ -110,7 +110,7 @@ fn motion_on_hard_paths_stays_conservative() {
         let flags: Vec<(u32, hroc::ObjectFlags)> = movers.iter().step_by(2).map(|&i| (i, hroc::ObjectFlags::DYNAMIC)).collect();
         s.culler.set_many_flags(&flags).unwrap();
         let leaving: Vec<u32> = (1..n as u32).step_by(10).collect();
-        let mut views: Vec<hroc::View> = METHODS.iter().map(|m| s.create(m).unwrap()).collect();
+        let mut views: Vec<hroc::View> = METHODS.iter().map(|m| s.create(m.parse().unwrap()).unwrap()).collect();
         let mut drawn = 0;
         for k in 0..FRAMES {
             let t = s.times[k];

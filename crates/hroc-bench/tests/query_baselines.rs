@@ -25,7 +25,7 @@ fn gpu() -> &'static Gpu {
 /// must have 0 false negatives and 0 missing pixels. Returns per method the
 /// objects drawn and the sums of its statistics over the path.
 fn assert_conservative(s: &mut Session, label: &str) -> Vec<(usize, BTreeMap<&'static str, f64>)> {
-    let mut cullers: Vec<hroc::View> = METHODS.iter().map(|m| s.create(m).unwrap()).collect();
+    let mut cullers: Vec<hroc::View> = METHODS.iter().map(|m| s.create(m.parse().unwrap()).unwrap()).collect();
     let mut out = vec![(0usize, BTreeMap::new()); METHODS.len()];
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k).unwrap();
@@ -87,7 +87,7 @@ fn conservative_with_options_far_from_the_defaults() {
     assert!(r[1].1["rendered_unqueried"] > 0.0, "soq never skipped a query: {:?}", r[1].1);
     assert!(r[2].1["multiqueries"] > 0.0, "chc++ never grouped queries: {:?}", r[2].1);
     s.options = MethodOptions { chc_dmax: 0, ..MethodOptions::default() };
-    let mut c = s.create("chc++").unwrap();
+    let mut c = s.create("chc++".parse().unwrap()).unwrap();
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k).unwrap();
         let r = s.run_frame(&mut c, k).unwrap();
@@ -272,7 +272,7 @@ fn query_batches_chain_query_sets() {
     let mut s = Session::new(gpu(), scene, None, 4, RES, Split::Sah).unwrap();
     let nodes = s.bvh().nodes.len() as u32;
     let bvh = s.bvh().clone();
-    let mut v = s.create("noc").unwrap();
+    let mut v = s.create("noc".parse().unwrap()).unwrap();
     let mut q = QueryRenderer::new(&v.method_context(&s.culler)).unwrap();
     let (mut big, mut small, mut testable) = (Vec::new(), Vec::new(), Vec::new());
     let mut body = |f: &mut hroc::cull::Frame| -> hroc::Result<()> {

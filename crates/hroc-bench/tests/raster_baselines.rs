@@ -24,7 +24,7 @@ fn gpu() -> &'static Gpu {
 /// path: every frame of the conservative ones must have 0 false negatives
 /// and 0 missing pixels. Returns woc's (false negatives, missing pixels).
 fn assert_conservative(s: &mut Session, label: &str) -> (usize, usize) {
-    let mut cullers: Vec<hroc::View> = CONSERVATIVE.iter().chain(&["woc"]).map(|m| s.create(m).unwrap()).collect();
+    let mut cullers: Vec<hroc::View> = CONSERVATIVE.iter().chain(&["woc"]).map(|m| s.create(m.parse().unwrap()).unwrap()).collect();
     let mut woc = (0, 0);
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k).unwrap();
@@ -76,7 +76,7 @@ fn ioc_conservative_over_depth_ranges() {
     let depth = s.bvh().depth();
     for range in [(0, 0), (0, 3), (3, 3), (depth + 2, depth + 4), (2, depth)] {
         s.options.ioc_range = Some(range);
-        let mut view = s.create("ioc").unwrap();
+        let mut view = s.create("ioc".parse().unwrap()).unwrap();
         for k in 0..s.cameras.len() {
             let (_, truth) = s.truth(k).unwrap();
             let r = s.run_frame(&mut view, k).unwrap();
@@ -141,7 +141,7 @@ fn ioc_level_queues_match_cpu_reference() {
         s.options.ioc_range = range;
         // V is read before each frame: a detected cut would clear it inside the frame.
         (s.options.cut_turn_deg, s.options.cut_move) = (f32::INFINITY, f32::INFINITY);
-        let mut view = s.create("ioc").unwrap();
+        let mut view = s.create("ioc".parse().unwrap()).unwrap();
         view.method_state_mut::<Ioc>().unwrap().set_debug(true);
         let (start, bottom) = ioc(&view).range();
         let mut deeper = 0;
@@ -232,7 +232,7 @@ fn hzb_object_test_matches_cpu_reference() {
         let scene = hroc_bench::scene::load(key, Some(1500), 6).unwrap();
         let path = paths::hard_path(&scene);
         let mut s = Session::new(gpu(), scene, Some(path), 12, res, Split::Sah).unwrap();
-        let mut view = s.create("hzb").unwrap();
+        let mut view = s.create("hzb".parse().unwrap()).unwrap();
         let boxes: Vec<Aabb> = s.scene.objects.iter().map(|o| o.bounds).collect();
         let (mut occluded, mut tested) = (0, 0);
         for k in 0..s.cameras.len() {
@@ -265,7 +265,7 @@ fn bench_rows_carry_stats_and_woc_reports() {
     let o = BenchOptions {
         scene: "downtown".into(),
         objects: Some(1200),
-        methods: ["noc", "roc", "roc-all", "ioc", "hzb", "woc"].map(String::from).to_vec(),
+        methods: hroc::Method::parse_list("noc,roc,roc-all,ioc,hzb,woc").unwrap(),
         frames: 8,
         fps: None,
         resolution: RES,
@@ -281,7 +281,7 @@ fn bench_rows_carry_stats_and_woc_reports() {
         timestamps: true,
     };
     let report = bench::run(gpu(), &o).unwrap();
-    let row = |m: &str| report.rows.iter().find(|r| r.method == m).unwrap();
+    let row = |m: &str| report.rows.iter().find(|r| r.method == m.parse().unwrap()).unwrap();
     for m in CONSERVATIVE {
         assert_eq!((row(m).false_negatives, row(m).missing_pixels), (0, 0), "{m}");
         assert!(row(m).c_over_n > 0.0, "{m} culled nothing");

@@ -4,9 +4,10 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
-use hroc_bench::bench::{self, parse_resolution, BenchOptions, Session};
+use hroc_bench::bench::{self, parse_resolution, BenchOptions, MethodList, Session};
 use hroc_bench::bvh::{Bvh, Split};
 use hroc_bench::cull;
+use hroc_bench::cull::Method;
 use hroc_bench::gpu::Gpu;
 use hroc_bench::render::views::{self, View};
 use hroc_bench::{Error, Result};
@@ -15,7 +16,6 @@ mod viewer;
 
 /// The default bench: sized to finish in about a minute on a 2-core CPU with lavapipe.
 const DEFAULT_SCENE: &str = "radial-city";
-const DEFAULT_METHODS: &str = "noc,vfc,ref,hroc";
 
 #[derive(Parser)]
 #[command(name = "hroc", version, about = "GPU occlusion culling of massive scenes: benchmark, render, inspect")]
@@ -171,8 +171,8 @@ struct BenchArgs {
     #[command(flatten)]
     s: SceneArgs,
     /// Comma-separated methods, or `all`.
-    #[arg(long, default_value = DEFAULT_METHODS)]
-    methods: String,
+    #[arg(long, default_value_t = MethodList(Method::DEFAULT_TABLE.to_vec()))]
+    methods: MethodList,
     /// Writes the report as JSON.
     #[arg(long)]
     json: Option<PathBuf>,
@@ -215,8 +215,8 @@ fn parse_refit(s: &str) -> std::result::Result<hroc::Refit, String> {
 struct RenderArgs {
     #[command(flatten)]
     s: SceneArgs,
-    #[arg(long, default_value = "noc")]
-    method: String,
+    #[arg(long, default_value_t = Method::Noc)]
+    method: Method,
     /// Frame of the path to render (earlier frames run first: methods use temporal coherence).
     #[arg(long, default_value_t = 0)]
     frame: usize,
@@ -324,7 +324,7 @@ fn check_frames(frames: usize) -> Result<()> {
 
 fn bench_cmd(a: BenchArgs) -> Result<()> {
     check_frames(a.s.frames)?;
-    let methods = hroc_bench::bench::parse_methods(&a.methods)?;
+    let methods = a.methods.0.clone();
     // Load and check the inputs before touching the GPU: bad files fail fast.
     let clusters = a.s.clusters.triangles(&a.s.scene);
     let opts = BenchOptions {
@@ -384,10 +384,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
 
 fn render_cmd(a: RenderArgs) -> Result<()> {
     check_frames(a.s.frames)?;
-    let methods = hroc_bench::bench::parse_methods(&a.method)?;
-    let [method] = methods.as_slice() else {
-        return Err(Error::Arg("render takes one method".into()));
-    };
+    let method = a.method;
     if a.frame >= a.s.frames {
         return Err(Error::Arg(format!("--frame {} is past the last frame ({} frames)", a.frame, a.s.frames)));
     }

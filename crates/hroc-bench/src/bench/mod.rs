@@ -7,10 +7,11 @@ pub mod session;
 pub mod table;
 
 use serde::Serialize;
-use std::collections::BTreeMap;
+use std::collections::{BTreeMap, HashMap};
 use std::path::PathBuf;
 
 use crate::bvh::Split;
+use crate::cull::Method;
 use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::scene::{CameraPath, Scene};
@@ -20,7 +21,7 @@ pub use session::{Check, FrameResult, Session, Truth};
 pub struct BenchOptions {
     pub scene: String,
     pub objects: Option<usize>,
-    pub methods: Vec<String>,
+    pub methods: Vec<Method>,
     pub frames: usize,
     /// Frames per second of camera path (`--fps`): replaces `frames` with
     /// `fps × duration + 1`, so runs at 5, 30 and 60 sample the same path
@@ -58,7 +59,9 @@ pub struct BenchOptions {
 /// One row of the table. Later methods add fields; these names never change.
 #[derive(Clone, Debug, Serialize)]
 pub struct MethodRow {
-    pub method: String,
+    /// By its name in the JSON.
+    #[serde(serialize_with = "method_name")]
+    pub method: Method,
     pub ms_mean: f64,
     pub ms_p95: f64,
     /// Summed stage times; `None` without timestamps.
@@ -234,7 +237,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         return Err(crate::Error::Arg(format!("--moving {} is not a fraction from 0 to 1", o.moving)));
     }
     if o.moving > 0.0 {
-        if let Some(m) = o.methods.iter().find(|m| m.parse::<hroc::Method>().is_ok_and(|m| !m.takes_motion())) {
+        if let Some(m) = o.methods.iter().find(|m| !m.takes_motion()) {
             return Err(crate::Error::Arg(format!("{m} keeps its own copy of the BVH and takes static scenes only: drop it, or use --moving 0")));
         }
     }
@@ -251,7 +254,7 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     }
     let (mut update_ms, mut refit_ms, mut host_ms, mut rebuilds, mut growth) = (Vec::new(), Vec::new(), Vec::new(), 0, Some(1.0));
     s.options = o.method_options.clone();
-    let mut cullers = o.methods.iter().filter(|m| *m != "noc").map(|m| Ok((m.clone(), s.create(m)?))).collect::<Result<Vec<_>>>()?;
+    let mut cullers = o.methods.iter().filter(|&&m| m != Method::Noc).map(|&m| Ok((m, s.create(m)?))).collect::<Result<Vec<_>>>()?;
     let n = s.renderer.object_count as u64;
     let scene_triangles = s.scene.stats().triangles;
     let frames = s.cameras.len();
@@ -261,10 +264,10 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         indicatif::ProgressStyle::with_template("{msg} [{bar:40}] {pos}/{len} frames, {elapsed} (eta {eta})").unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
     bar.set_message(format!("bench {}", s.scene.name));
-    let mut accs: BTreeMap<String, Acc> = BTreeMap::new();
+    let mut accs: HashMap<Method, Acc> = HashMap::new();
     let mut ref_culled = 0u64;
-    let mut record = |name: &str, k: usize, r: &FrameResult, c: Check, stats: Vec<(hroc::Stat, f64)>, update: Option<f64>| {
-        let a = accs.entry(name.to_string()).or_default();
+    let mut record = |method: Method, k: usize, r: &FrameResult, c: Check, stats: Vec<(hroc::Stat, f64)>, update: Option<f64>| {
+        let a = accs.entry(method).or_default();
         for (st, v) in stats {
             *a.stats.entry(st).or_default() += v;
         }
@@ -307,18 +310,18 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         let update = update_ms.last().copied().filter(|_| !movers.is_empty());
         let (r, truth) = s.truth(k)?;
         ref_culled += n - truth.visible.len() as u64;
-        if o.methods.iter().any(|m| m == "noc") {
+        if o.methods.contains(&Method::Noc) {
             let c = s.check(&r, &truth)?;
-            record("noc", k, &r, c, Vec::new(), update);
+            record(Method::Noc, k, &r, c, Vec::new(), update);
         }
-        for (name, c) in cullers.iter_mut() {
+        for (method, c) in cullers.iter_mut() {
             if c.wants_oracle() {
                 c.set_oracle(&s.culler, &truth.visible)?;
             }
             let r = s.run_frame(c, k)?;
             let chk = s.check(&r, &truth)?;
             let stats = c.stats(&s.culler)?;
-            record(name, k, &r, chk, stats, update);
+            record(*method, k, &r, chk, stats, update);
         }
         bar.inc(1);
     }
@@ -327,11 +330,11 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
         .methods
         .iter()
         .map(|m| {
-            let a = &accs[m.as_str()];
+            let a = &accs[m];
             let timed = &a.wall[warm.min(a.wall.len().saturating_sub(1))..];
             let timed_frames = a.gpu.len().max(1) as f64;
             MethodRow {
-                method: m.clone(),
+                method: *m,
                 ms_mean: mean(timed),
                 ms_p95: percentile(timed, 0.95),
                 gpu_ms_mean: o.timestamps.then(|| mean(&a.gpu)),
@@ -392,9 +395,32 @@ pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraP
     })
 }
 
-/// Parses `a,b,c` or `all` into method names ([`hroc::Method::parse_names`]).
-pub fn parse_methods(spec: &str) -> Result<Vec<String>> {
-    Ok(hroc::Method::parse_names(spec)?.into_iter().map(String::from).collect())
+/// Methods on the command line: `a,b,c` or `all` ([`Method::parse_list`]),
+/// written back as their names.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct MethodList(pub Vec<Method>);
+
+impl std::str::FromStr for MethodList {
+    type Err = crate::Error;
+    fn from_str(s: &str) -> Result<MethodList> {
+        Ok(MethodList(Method::parse_list(s)?))
+    }
+}
+
+impl std::fmt::Display for MethodList {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0.iter().map(|m| m.name()).collect::<Vec<_>>().join(","))
+    }
+}
+
+/// Parses `a,b,c` or `all` into methods ([`Method::parse_list`]).
+pub fn parse_methods(spec: &str) -> Result<Vec<Method>> {
+    Ok(Method::parse_list(spec)?)
+}
+
+/// A method by its name in the JSON rows.
+fn method_name<S: serde::Serializer>(m: &Method, s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.serialize_str(m.name())
 }
 
 /// Year, month, day of a day count since 1970-01-01 (H. Hinnant's `civil_from_days`).

@@ -196,11 +196,9 @@ impl<'g> Session<'g> {
         self.culler.bvh()
     }
 
-    /// A view of the scene culled by `method` (a name from [`Method::names`]),
-    /// with [`Session::options`].
-    pub fn create(&self, method: &str) -> Result<View> {
-        let m: Method = method.parse()?;
-        Ok(self.culler.view_with(m, &self.renderer.view_targets(), &self.options)?)
+    /// A view of the scene culled by `method`, with [`Session::options`].
+    pub fn create(&self, method: Method) -> Result<View> {
+        Ok(self.culler.view_with(method, &self.renderer.view_targets(), &self.options)?)
     }
 
     /// Runs one frame of `view` at camera `k`, timed from the camera

@@ -1,7 +1,7 @@
 //! Plain-text and Markdown tables of a bench report.
 
 use super::{BenchReport, InvocationsMean, MethodRow};
-use hroc::{Stage, Stat};
+use hroc::{Method, Stage, Stat};
 use std::collections::BTreeSet;
 use std::fmt::Write;
 
@@ -52,7 +52,7 @@ pub fn breakdown(r: &BenchReport, markdown: bool) -> String {
         .rows
         .iter()
         .map(|row| {
-            let mut cells = vec![row.method.clone()];
+            let mut cells = vec![row.method.to_string()];
             cells.extend(stages.iter().map(|s| row.stages_ms.get(s).map_or("-".into(), |v| format!("{v:.2}"))));
             cells.extend(stats.iter().map(|s| row.stats.get(s).map_or("-".into(), |v| if *v >= 100.0 { format!("{v:.0}") } else { format!("{v:.1}") })));
             cells
@@ -72,8 +72,8 @@ pub fn invocations(r: &BenchReport, markdown: bool) -> Option<String> {
     let cells = |method: &str, stage: &str, i: &InvocationsMean| vec![method.to_string(), stage.to_string(), count(i.vertex), count(i.fragment), count(i.compute)];
     let mut rows = Vec::new();
     for row in r.rows.iter().filter(|row| !row.invocations.is_empty()) {
-        rows.extend(row.invocations.iter().map(|(stage, i)| cells(&row.method, stage.name(), i)));
-        rows.push(cells(&row.method, "(culling stages)", &row.culling_invocations()));
+        rows.extend(row.invocations.iter().map(|(stage, i)| cells(row.method.name(), stage.name(), i)));
+        rows.push(cells(row.method.name(), "(culling stages)", &row.culling_invocations()));
     }
     Some(grid(&head, &rows, markdown))
 }
@@ -120,13 +120,13 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
         );
     }
     let head = ["method", "ms/frame", "p95 ms", "GPU ms", "C/N", "C/R", "false neg", "missing px", "drawn/frame", "triangles/frame"];
-    let noc = r.rows.iter().find(|x| x.method == "noc").map(|x| x.ms_mean);
+    let noc = r.rows.iter().find(|x| x.method == Method::Noc).map(|x| x.ms_mean);
     let mut rows: Vec<Vec<String>> = r
         .rows
         .iter()
         .map(|x| {
             vec![
-                x.method.clone(),
+                x.method.to_string(),
                 format!("{:.2}", x.ms_mean),
                 format!("{:.2}", x.ms_p95),
                 x.gpu_ms_mean.map_or("-".into(), |g| format!("{g:.2}")),
@@ -198,12 +198,12 @@ pub fn motion_grid(reports: &[BenchReport]) -> (Vec<String>, Vec<Vec<String>>) {
     head.push("false neg / missing px".to_string());
     let Some(first) = reports.first() else { return (head, Vec::new()) };
     let mut rows = Vec::new();
-    for m in first.rows.iter().map(|x| &x.method) {
-        let mut row = vec![m.clone()];
-        let found: Vec<Option<&MethodRow>> = reports.iter().map(|r| r.rows.iter().find(|x| &x.method == m)).collect();
+    for m in first.rows.iter().map(|x| x.method) {
+        let mut row = vec![m.to_string()];
+        let found: Vec<Option<&MethodRow>> = reports.iter().map(|r| r.rows.iter().find(|x| x.method == m)).collect();
         let ms: Vec<Option<f64>> = found.iter().map(|x| x.map(|x| x.ms_mean)).collect();
         for (r, v) in reports.iter().zip(&ms) {
-            let noc = r.rows.iter().find(|x| x.method == "noc").map(|x| x.ms_mean);
+            let noc = r.rows.iter().find(|x| x.method == Method::Noc).map(|x| x.ms_mean);
             row.push(v.map_or("-".into(), |v| format!("{v:.2}")));
             row.push(match (v, noc) {
                 (Some(v), Some(n)) if n > 0.0 => format!("{:.3}", v / n),

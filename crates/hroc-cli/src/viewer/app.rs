@@ -80,7 +80,7 @@ pub struct App<'g> {
 
 impl<'g> App<'g> {
     pub fn new(instance: &'g wgpu::Instance, session: Session<'g>, opts: Options) -> Result<Self> {
-        let culler = session.create(Method::names()[opts.method].0)?;
+        let culler = session.create(Method::ALL[opts.method])?;
         let scene = &session.scene;
         let st = scene.stats();
         let keys = &scene.path.keys;
@@ -291,7 +291,7 @@ impl<'g> App<'g> {
                 let c = self.session.check(&r, t)?;
                 self.status.drawn = c.drawn;
                 let at = if self.status.free { format!("free camera at {:.1?}", camera.eye.to_array()) } else { format!("t = {:.2} s", self.status.time) };
-                self.status.check = Some((format!("{} at {at}", Method::names()[self.status.method].0), c));
+                self.status.check = Some((format!("{} at {at}", Method::ALL[self.status.method]), c));
             }
             _ => self.status.drawn = self.session.drawn(&r.lists)?.iter().filter(|&&d| d).count(),
         }
@@ -402,7 +402,7 @@ impl<'g> App<'g> {
     fn apply(&mut self, action: Action) {
         let st = &mut self.status;
         match action {
-            Action::Method(i) => match self.session.create(Method::names()[i].0) {
+            Action::Method(i) => match self.session.create(Method::ALL[i]) {
                 Ok(c) => {
                     self.culler = c;
                     st.method = i;
@@ -410,7 +410,7 @@ impl<'g> App<'g> {
                     st.message.clear();
                 }
                 // A method this scene or device cannot run leaves the current one.
-                Err(e) => st.message = format!("{}: {e}", Method::names()[i].0),
+                Err(e) => st.message = format!("{}: {e}", Method::ALL[i]),
             },
             Action::View(v) => st.view = v,
             Action::Play(p) => {
@@ -443,7 +443,7 @@ impl<'g> App<'g> {
         if !pressed || repeat {
             return None;
         }
-        let n = Method::names().len();
+        let n = Method::ALL.len();
         let m = self.status.method;
         match code {
             K::Space => Some(Action::Play(!self.status.playing)),

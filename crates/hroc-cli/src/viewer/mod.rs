@@ -31,8 +31,8 @@ pub struct ViewArgs {
     #[arg(long)]
     pub objects: Option<usize>,
     /// Method to start with (switch live in the panel).
-    #[arg(long, default_value = "hroc")]
-    pub method: String,
+    #[arg(long, default_value_t = Method::HROC)]
+    pub method: Method,
     /// Renders this many frames, then exits (smoke tests).
     #[arg(long)]
     pub frames: Option<u64>,
@@ -58,8 +58,7 @@ pub struct ViewArgs {
 
 /// Opens the window and runs until it is closed (or `--frames` are done).
 pub fn run(args: ViewArgs) -> Result<()> {
-    let [method] = hroc_bench::bench::parse_methods(&args.method)?.try_into().map_err(|_| Error::Arg("view starts with one method".into()))?;
-    let method = Method::names().iter().position(|m| m.0 == method).ok_or_else(|| Error::Arg(format!("unknown method '{method}'")))?;
+    let method = Method::ALL.iter().position(|&m| m == args.method).unwrap_or_default();
     if args.frames == Some(0) {
         return Err(Error::Arg("--frames must be at least 1".into()));
     }

@@ -9,7 +9,7 @@ use hroc_bench::render::views::View;
 /// What the user asked for this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Action {
-    /// Switch to `Method::names()[i]` (a new culler: its first frame is a frame 0).
+    /// Switch to `Method::ALL[i]` (a new culler: its first frame is a frame 0).
     Method(usize),
     View(View),
     /// Play (back on the path, where it was left) or pause.
@@ -62,7 +62,7 @@ pub fn panel(ctx: &egui::Context, s: &Status) -> Vec<Action> {
         ui.separator();
 
         let mut method = s.method;
-        egui::ComboBox::from_label("method (M/N)").selected_text(Method::names()[s.method].0).show_ui(ui, |ui| {
+        egui::ComboBox::from_label("method (M/N)").selected_text(Method::ALL[s.method].name()).show_ui(ui, |ui| {
             for (i, (name, _, what)) in Method::names().into_iter().enumerate() {
                 ui.selectable_value(&mut method, i, name).on_hover_text(what);
             }

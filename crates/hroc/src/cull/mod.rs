@@ -458,8 +458,8 @@ impl Method {
     /// three times a frame (HROC §6).
     pub const HROC: Method = Method::Hroc(Variant::SF_OF);
 
-    /// Every method, in table order (`hroc` last, after its variants).
-    pub const ALL: [Method; 18] = [
+    /// Every method once, in table order (`hroc` last, after its variants).
+    pub const ALL: [Method; 17] = [
         Method::Noc,
         Method::Vfc,
         Method::Ref,
@@ -476,9 +476,12 @@ impl Method {
         Method::Hroc(Variant::OF),
         Method::Hroc(Variant::CR_OF),
         Method::Hroc(Variant::SF),
-        Method::Hroc(Variant::SF_OF),
         Method::HROC,
     ];
+
+    /// The methods of `hroc bench` with no `--methods`: no culling, frustum
+    /// culling, the ideal and HROC.
+    pub const DEFAULT_TABLE: [Method; 4] = [Method::Noc, Method::Vfc, Method::Ref, Method::HROC];
 
     /// The name on the command line and in tables. `hroc` and `hroc-sf+of`
     /// are the same method; this returns `hroc` for it, and
@@ -505,15 +508,10 @@ impl Method {
         }
     }
 
-    /// Every (name, method, one-line description), in table order; both
-    /// `hroc-sf+of` and `hroc` are listed.
+    /// Every (name, method, one-line description), in table order.
+    /// `hroc-sf+of` also parses, as `hroc`.
     pub fn names() -> Vec<(&'static str, Method, &'static str)> {
-        let mut out: Vec<_> = Method::ALL[..Method::ALL.len() - 1].iter().map(|&m| (m.name(), m, m.description())).collect();
-        if let Some(sf_of) = out.iter_mut().find(|n| n.1 == Method::HROC) {
-            sf_of.0 = "hroc-sf+of";
-        }
-        out.push(("hroc", Method::HROC, "HROC, the default variant (sf+of)"));
-        out
+        Method::ALL.iter().map(|&m| (m.name(), m, m.description())).collect()
     }
 
     /// One line on what the method does.
@@ -535,7 +533,7 @@ impl Method {
             Method::Hroc(Variant { counters: Counters::Capacity, of: true }) => "HROC with occluder filtering",
             Method::Hroc(Variant { counters: Counters::ReadBack, of: true }) => "HROC with counter read-back and occluder filtering",
             Method::Hroc(Variant { counters: Counters::StallFree, of: false }) => "HROC with stall-free counters (earlier frames' counts, GPU overflow draw)",
-            Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "HROC with stall-free counters and occluder filtering",
+            Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "HROC, the default variant: stall-free counters and occluder filtering (also hroc-sf+of)",
         }
     }
 
@@ -582,20 +580,17 @@ impl Method {
         self != Method::Woc
     }
 
-    /// Parses `a,b,c` or `all` into registry names ([`Method::names`]), in
-    /// the order given, without repeats, keeping the spelling given
-    /// (`hroc-sf+of` and `hroc` are one method under two names).
-    pub fn parse_names(spec: &str) -> Result<Vec<&'static str>> {
-        let names = Method::names();
+    /// Parses `a,b,c` or `all` ([`Method::ALL`]) into methods, in the
+    /// order given, without repeats.
+    pub fn parse_list(spec: &str) -> Result<Vec<Method>> {
         if spec.trim() == "all" {
-            return Ok(names.iter().map(|n| n.0).collect());
+            return Ok(Method::ALL.to_vec());
         }
         let mut out = Vec::new();
         for m in spec.split(',').map(str::trim).filter(|m| !m.is_empty()) {
-            m.parse::<Method>()?;
-            let name = names.iter().find(|n| n.0 == m).map(|n| n.0).expect("a parsed name is a registry name");
-            if !out.contains(&name) {
-                out.push(name);
+            let m: Method = m.parse()?;
+            if !out.contains(&m) {
+                out.push(m);
             }
         }
         if out.is_empty() {
@@ -630,10 +625,15 @@ impl fmt::Display for Method {
 
 impl FromStr for Method {
     type Err = Error;
+    /// A name of [`Method::names`], or `hroc-sf+of` (the default HROC
+    /// variant's full name) for `hroc`.
     fn from_str(s: &str) -> Result<Method> {
-        Method::names().into_iter().find(|(n, _, _)| *n == s).map(|(_, m, _)| m).ok_or_else(|| {
-            let names: Vec<_> = Method::names().iter().map(|n| n.0).collect();
-            Error::Arg(format!("unknown method '{s}': expected one of {} or all", names.join(", ")))
+        if s == "hroc-sf+of" {
+            return Ok(Method::HROC);
+        }
+        Method::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
+            let names: Vec<_> = Method::ALL.iter().map(|m| m.name()).collect();
+            Error::Arg(format!("unknown method '{s}': expected one of {}, hroc-sf+of or all", names.join(", ")))
         })
     }
 }
@@ -797,8 +797,10 @@ mod tests {
         assert_eq!("hroc-sf+of".parse::<Method>().unwrap(), Method::HROC);
         let e = "hroc-xyz".parse::<Method>().unwrap_err().to_string();
         assert!(e.contains("unknown method 'hroc-xyz'") && e.contains("chc++"), "{e}");
-        assert_eq!(Method::parse_names("vfc, hroc-cr+of,vfc").unwrap(), ["vfc", "hroc-cr+of"]);
-        assert!(Method::parse_names(" ").is_err());
+        assert_eq!(Method::parse_list("vfc, hroc-cr+of,vfc").unwrap(), [Method::Vfc, Method::Hroc(Variant::CR_OF)]);
+        assert_eq!(Method::parse_list("hroc,hroc-sf+of").unwrap(), [Method::HROC]);
+        assert_eq!(Method::parse_list("all").unwrap(), Method::ALL);
+        assert!(Method::parse_list(" ").is_err());
     }
 
     #[test]

@@ -10,11 +10,12 @@ use crate::error::Result;
 use crate::gpu::Gpu;
 use crate::render::views;
 use crate::scene::Scene;
+use hroc::Method;
 
 /// The methods compared: per-object box tests, HROC, and the ideal.
-const METHODS: [&str; 3] = ["roc", "hroc", "ref"];
+const METHODS: [Method; 3] = [Method::Roc, Method::HROC, Method::Ref];
 /// Differences shown: what HROC draws beyond the ideal, and what it saves over ROC.
-const DIFFS: [(&str, &str); 2] = [("hroc", "ref"), ("roc", "hroc")];
+const DIFFS: [(Method, Method); 2] = [(Method::HROC, Method::Ref), (Method::Roc, Method::HROC)];
 
 #[derive(Clone, Debug, Serialize)]
 pub struct HeatMap {
@@ -51,10 +52,10 @@ pub fn render(gpu: &Gpu, scene: &Scene, frames: usize, res: (u32, u32), frame: u
         let od = s.renderer.overdraw(gpu, &lists)?;
         let file = format!("images/overdraw-{m}.png");
         views::save_png(&dir.join(format!("overdraw-{m}.png")), res.0, res.1, &od.iter().map(|&v| views::heat(v)).collect::<Vec<_>>())?;
-        maps.push(HeatMap { name: m.into(), file, mean: mean(&od) });
+        maps.push(HeatMap { name: m.to_string(), file, mean: mean(&od) });
         counts.push(od);
     }
-    let at = |name: &str| METHODS.iter().position(|m| *m == name).map(|i| &counts[i]);
+    let at = |method: Method| METHODS.iter().position(|&m| m == method).map(|i| &counts[i]);
     let mut diffs = Vec::new();
     for (a, b) in DIFFS {
         let (Some(x), Some(y)) = (at(a), at(b)) else { continue };

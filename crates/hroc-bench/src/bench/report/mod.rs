@@ -14,9 +14,9 @@ mod sections;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
-use super::{parse_resolution, BenchOptions, BenchReport};
+use super::{parse_resolution, BenchOptions, BenchReport, MethodList};
 use crate::bvh::{Bvh, Split};
-use crate::cull::MethodOptions;
+use crate::cull::{Method, MethodOptions, Variant};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::scene::{self, generators, Scene};
@@ -26,10 +26,19 @@ use crate::scene::{self, generators, Scene};
 pub const DEFAULT_SCENES: &str = "radial-city,factory,satellites";
 /// Every conservative raster method; the query methods (`oq`, `soq`,
 /// `chc++`) wait on the CPU per query batch and are opt-in.
-pub const DEFAULT_METHODS: &str = "noc,vfc,ref,roc,hzb,ioc,hroc-na,hroc-cr,hroc-of,hroc-cr+of";
-/// The HROC paper's Table 3 columns.
-pub fn hroc_variants() -> Vec<&'static str> {
-    hroc::Method::names().into_iter().filter(|(n, m, _)| matches!(m, hroc::Method::Hroc(_)) && *n != "hroc").map(|n| n.0).collect()
+pub fn default_methods() -> MethodList {
+    let [na, cr, of, cr_of] = hroc_variants();
+    MethodList(vec![Method::Noc, Method::Vfc, Method::Ref, Method::Roc, Method::Hzb, Method::Ioc, na, cr, of, cr_of])
+}
+
+/// The HROC paper's Table 3 columns: NA, CR, OF and CR+OF.
+pub fn hroc_variants() -> [Method; 4] {
+    [Variant::NA, Variant::CR, Variant::OF, Variant::CR_OF].map(Method::Hroc)
+}
+
+/// The peers of a sweep, the motion table and the high-resolution run.
+fn peers(with: &[Method]) -> MethodList {
+    MethodList([Method::Noc].iter().chain(with).chain(&[Method::Roc, Method::Hzb, Method::HROC]).copied().collect())
 }
 
 /// Command-line options of `hroc report`.
@@ -42,8 +51,8 @@ pub struct ReportArgs {
     #[arg(long, default_value = DEFAULT_SCENES)]
     pub scenes: String,
     /// Comma-separated methods, or `all`.
-    #[arg(long, default_value = DEFAULT_METHODS)]
-    pub methods: String,
+    #[arg(long, default_value_t = default_methods())]
+    pub methods: MethodList,
     /// Objects per generated scene (files keep their own).
     #[arg(long, default_value_t = 10_000)]
     pub objects: usize,
@@ -62,16 +71,16 @@ pub struct ReportArgs {
     /// Object counts of the scale sweep over the first generated scene, or `none`.
     #[arg(long, default_value = "1000,4000,16000,64000,256000,1000000")]
     pub sweep: String,
-    #[arg(long, default_value = "noc,vfc,roc,hzb,hroc")]
-    pub sweep_methods: String,
+    #[arg(long, default_value_t = peers(&[Method::Vfc]))]
+    pub sweep_methods: MethodList,
     #[arg(long, default_value_t = 12)]
     pub sweep_frames: usize,
     /// Resolution of the high-resolution run on the first scene (the
     /// paper's Table 2, 4096x2160), or `none`.
     #[arg(long, default_value = "4096x2160")]
     pub hires: String,
-    #[arg(long, default_value = "noc,ref,roc,hzb,hroc")]
-    pub hires_methods: String,
+    #[arg(long, default_value_t = peers(&[Method::Ref]))]
+    pub hires_methods: MethodList,
     #[arg(long, default_value_t = 8)]
     pub hires_frames: usize,
     /// Moving fractions of the motion table over the first generated
@@ -79,8 +88,8 @@ pub struct ReportArgs {
     #[arg(long, default_value = "0,0.1,1")]
     pub motion: String,
     /// Methods of the motion table: those that take moving objects.
-    #[arg(long, default_value = "noc,vfc,roc,hzb,hroc")]
-    pub motion_methods: String,
+    #[arg(long, default_value_t = peers(&[Method::Vfc]))]
+    pub motion_methods: MethodList,
     /// Cluster sizes (triangles) of the clusters table, each against the
     /// scene without clusters, or `none`.
     #[arg(long, default_value = "64,256")]
@@ -89,24 +98,24 @@ pub struct ReportArgs {
     /// machines are meshes large enough to split.
     #[arg(long, default_value = "factory")]
     pub cluster_scene: String,
-    #[arg(long, default_value = "noc,ref,hzb,hroc")]
-    pub cluster_methods: String,
+    #[arg(long, default_value_t = MethodList(vec![Method::Noc, Method::Ref, Method::Hzb, Method::HROC]))]
+    pub cluster_methods: MethodList,
 }
 
 /// The validated plan of a report.
 struct Plan {
     scenes: Vec<String>,
-    methods: Vec<String>,
+    methods: Vec<Method>,
     splits: Vec<Split>,
     heat_frame: usize,
     sweep: Vec<usize>,
-    sweep_methods: Vec<String>,
+    sweep_methods: Vec<Method>,
     hires: Option<(u32, u32)>,
-    hires_methods: Vec<String>,
+    hires_methods: Vec<Method>,
     motion: Vec<f64>,
-    motion_methods: Vec<String>,
+    motion_methods: Vec<Method>,
     clusters: Vec<u32>,
-    cluster_methods: Vec<String>,
+    cluster_methods: Vec<Method>,
 }
 
 fn list(s: &str) -> Vec<String> {
@@ -146,8 +155,8 @@ impl Plan {
                 .map(|s| s.parse::<f64>().ok().filter(|f| (0.0..=1.0).contains(f)).ok_or_else(|| Error::Arg(format!("--motion: '{s}' is not a fraction from 0 to 1"))))
                 .collect::<Result<Vec<_>>>()?
         };
-        let motion_methods = with_noc(crate::bench::parse_methods(&a.motion_methods)?);
-        if let Some(m) = motion_methods.iter().find(|m| m.parse::<hroc::Method>().is_ok_and(|m| !m.takes_motion())) {
+        let motion_methods = with_noc(a.motion_methods.0.clone());
+        if let Some(m) = motion_methods.iter().find(|m| !m.takes_motion()) {
             return Err(Error::Arg(format!("--motion-methods: {m} takes static scenes only")));
         }
         let clusters = if a.clusters.trim() == "none" {
@@ -162,15 +171,15 @@ impl Plan {
         };
         Ok(Plan {
             clusters,
-            cluster_methods: with_noc(crate::bench::parse_methods(&a.cluster_methods)?),
+            cluster_methods: with_noc(a.cluster_methods.0.clone()),
             scenes,
-            methods: with_noc(crate::bench::parse_methods(&a.methods)?),
+            methods: with_noc(a.methods.0.clone()),
             splits,
             heat_frame,
             sweep,
-            sweep_methods: with_noc(crate::bench::parse_methods(&a.sweep_methods)?),
+            sweep_methods: with_noc(a.sweep_methods.0.clone()),
             hires,
-            hires_methods: with_noc(crate::bench::parse_methods(&a.hires_methods)?),
+            hires_methods: with_noc(a.hires_methods.0.clone()),
             motion,
             motion_methods,
         })
@@ -178,9 +187,9 @@ impl Plan {
 }
 
 /// Every table states times relative to drawing everything: `noc` is always run.
-fn with_noc(mut m: Vec<String>) -> Vec<String> {
-    if !m.iter().any(|x| x == "noc") {
-        m.insert(0, "noc".into());
+fn with_noc(mut m: Vec<Method>) -> Vec<Method> {
+    if !m.contains(&Method::Noc) {
+        m.insert(0, Method::Noc);
     }
     m
 }
@@ -326,7 +335,7 @@ impl Runner<'_> {
         eprintln!("[{}/{}] {what}", self.step, self.steps);
     }
 
-    fn opts(&self, spec: &str, methods: &[String], frames: usize, resolution: (u32, u32), split: Split) -> BenchOptions {
+    fn opts(&self, spec: &str, methods: &[Method], frames: usize, resolution: (u32, u32), split: Split) -> BenchOptions {
         BenchOptions {
             scene: spec.to_string(),
             objects: Some(self.a.objects),
@@ -365,7 +374,7 @@ impl Runner<'_> {
         let others: Vec<Split> = plan.splits.iter().copied().filter(|&s| s != Split::Sah).collect();
         if !others.is_empty() {
             self.say(format!("{spec}: HROC variants with {} BVHs", others.iter().map(|s| s.to_string()).collect::<Vec<_>>().join(", ")));
-            let methods = with_noc(hroc_variants().iter().map(|s| s.to_string()).collect());
+            let methods = with_noc(hroc_variants().to_vec());
             for split in others {
                 splits.push(super::run_scene(self.gpu, &self.opts(spec, &methods, a.frames, a.resolution, split), scene.clone(), None)?);
             }
@@ -487,10 +496,14 @@ mod tests {
         assert_eq!(p.sweep, [1000, 4000, 16000, 64000, 256000, 1_000_000]);
         assert_eq!(p.hires, Some((4096, 2160)));
         assert_eq!(p.splits, [Split::Sah, Split::Mid, Split::Eq]);
-        assert_eq!(Plan::new(&args(&["--methods", "hroc"])).unwrap().methods, ["noc", "hroc"]);
+        let names = |m: &[Method]| m.iter().map(|m| m.name()).collect::<Vec<_>>();
+        assert_eq!(names(&Plan::new(&args(&["--methods", "hroc"])).unwrap().methods), ["noc", "hroc"]);
+        assert_eq!(names(&p.methods), ["noc", "vfc", "ref", "roc", "hzb", "ioc", "hroc-na", "hroc-cr", "hroc-of", "hroc-cr+of"]);
+        assert_eq!(names(&p.sweep_methods), ["noc", "vfc", "roc", "hzb", "hroc"]);
+        assert_eq!(names(&p.hires_methods), ["noc", "ref", "roc", "hzb", "hroc"]);
         assert_eq!(p.motion, [0.0, 0.1, 1.0]);
-        assert_eq!(p.motion_methods, ["noc", "vfc", "roc", "hzb", "hroc"]);
-        assert_eq!((p.clusters.as_slice(), p.cluster_methods.as_slice()), (&[64, 256][..], &["noc", "ref", "hzb", "hroc"].map(String::from)[..]));
+        assert_eq!(names(&p.motion_methods), ["noc", "vfc", "roc", "hzb", "hroc"]);
+        assert_eq!((p.clusters.as_slice(), names(&p.cluster_methods).as_slice()), (&[64, 256][..], &["noc", "ref", "hzb", "hroc"][..]));
         let none = Plan::new(&args(&["--sweep", "none", "--hires", "none", "--motion", "none", "--clusters", "none"])).unwrap();
         assert!(none.sweep.is_empty() && none.hires.is_none() && none.motion.is_empty() && none.clusters.is_empty());
         for bad in [
@@ -506,7 +519,9 @@ mod tests {
             &["--clusters", "6"],
             &["--clusters", "x"],
         ] {
-            assert!(Plan::new(&args(bad)).is_err(), "{bad:?}");
+            // Refused by the argument parser (typed values) or by the plan.
+            let parsed = Cli::try_parse_from(["t", "--out", "x"].iter().chain(bad));
+            assert!(parsed.map_or(true, |c| Plan::new(&c.a).is_err()), "{bad:?}");
         }
     }
 

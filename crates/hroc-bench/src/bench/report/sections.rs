@@ -8,7 +8,7 @@ use super::{hroc_variants, ReportData, SceneResult};
 use crate::bench::plot::{self, LinePlot, Series, StackedBars};
 use crate::bench::{BenchReport, MethodRow};
 use crate::error::Result;
-use hroc::{Stage, Stat};
+use hroc::{Method, Stage, Stat};
 
 const PLOT: (u32, u32) = (900, 500);
 
@@ -22,7 +22,7 @@ pub fn culling_ms(row: &MethodRow) -> Option<f64> {
     Some(row.stages_ms.iter().filter(|(k, _)| !k.draws_scene()).fold(0.0, |a, (_, v)| a + v))
 }
 
-fn row<'a>(r: &'a BenchReport, method: &str) -> Option<&'a MethodRow> {
+fn row(r: &BenchReport, method: Method) -> Option<&MethodRow> {
     r.rows.iter().find(|x| x.method == method)
 }
 
@@ -88,8 +88,8 @@ fn scenes_table(doc: &mut Doc, d: &ReportData) {
 }
 
 /// Methods in the order of the first scene's run.
-fn methods(d: &ReportData) -> Vec<String> {
-    d.scenes.first().map(|s| s.main.rows.iter().map(|r| r.method.clone()).collect()).unwrap_or_default()
+fn methods(d: &ReportData) -> Vec<Method> {
+    d.scenes.first().map(|s| s.main.rows.iter().map(|r| r.method).collect()).unwrap_or_default()
 }
 
 fn scene_head(first: &str, d: &ReportData) -> Vec<String> {
@@ -101,10 +101,10 @@ fn frame_times(doc: &mut Doc, d: &ReportData) {
     doc.para("Mean ms per frame, and in brackets the ratio to `noc` measured in the same run (frames of all methods interleaved).");
     let mut t = Table { head: scene_head("method", d), rows: Vec::new() };
     for m in methods(d) {
-        let mut cells = vec![m.clone()];
+        let mut cells = vec![m.to_string()];
         for s in &d.scenes {
-            let noc = row(&s.main, "noc").map(|r| r.ms_mean);
-            cells.push(match (row(&s.main, &m), noc) {
+            let noc = row(&s.main, Method::Noc).map(|r| r.ms_mean);
+            cells.push(match (row(&s.main, m), noc) {
                 (Some(r), Some(n)) if n > 0.0 => format!("{} ({:.2}×)", ms(r.ms_mean), r.ms_mean / n),
                 (Some(r), _) => ms(r.ms_mean),
                 _ => "-".into(),
@@ -116,7 +116,7 @@ fn frame_times(doc: &mut Doc, d: &ReportData) {
 }
 
 fn accelerations(doc: &mut Doc, d: &ReportData) {
-    let present: Vec<&str> = hroc_variants().iter().copied().filter(|v| d.scenes.iter().all(|s| row(&s.main, v).is_some())).collect();
+    let present: Vec<Method> = hroc_variants().into_iter().filter(|&v| d.scenes.iter().all(|s| row(&s.main, v).is_some())).collect();
     if present.is_empty() {
         return;
     }
@@ -127,7 +127,7 @@ fn accelerations(doc: &mut Doc, d: &ReportData) {
     head.extend(present.iter().skip(1).map(|v| format!("{v} speed-up")));
     let mut t = Table { head, rows: Vec::new() };
     for s in &d.scenes {
-        let v: Vec<f64> = present.iter().filter_map(|m| row(&s.main, m)).map(|r| r.ms_mean).collect();
+        let v: Vec<f64> = present.iter().filter_map(|&m| row(&s.main, m)).map(|r| r.ms_mean).collect();
         let mut cells = vec![s.spec.clone()];
         cells.extend(v.iter().map(|&x| ms(x)));
         cells.extend(v.iter().skip(1).map(|&x| format!("{:.2}×", v[0] / x)));
@@ -148,9 +148,9 @@ fn splits(doc: &mut Doc, d: &ReportData) {
     let mut t = Table { head, rows: Vec::new() };
     for s in &d.scenes {
         for r in std::iter::once(&s.main).chain(&s.splits) {
-            let mut cells = vec![s.spec.clone(), r.split.clone(), row(r, "noc").map_or("-".into(), |x| ms(x.ms_mean))];
-            cells.extend(hroc_variants().iter().map(|v| row(r, v).map_or("-".into(), |x| ms(x.ms_mean))));
-            cells.push(row(r, "hroc-cr+of").map_or("-".into(), |x| format!("{:.3}", x.c_over_r)));
+            let mut cells = vec![s.spec.clone(), r.split.clone(), row(r, Method::Noc).map_or("-".into(), |x| ms(x.ms_mean))];
+            cells.extend(hroc_variants().iter().map(|&v| row(r, v).map_or("-".into(), |x| ms(x.ms_mean))));
+            cells.push(row(r, Method::Hroc(hroc::Variant::CR_OF)).map_or("-".into(), |x| format!("{:.3}", x.c_over_r)));
             t.row(cells);
         }
     }
@@ -163,7 +163,7 @@ fn efficiency(doc: &mut Doc, d: &ReportData) {
     let mut t = Table { head: scene_head("method", d), rows: Vec::new() };
     let mut f = Table { head: scene_head("method", d), rows: Vec::new() };
     for m in methods(d) {
-        let cells = |g: &dyn Fn(&MethodRow) -> String| std::iter::once(m.clone()).chain(d.scenes.iter().map(|s| row(&s.main, &m).map_or("-".into(), g))).collect::<Vec<_>>();
+        let cells = |g: &dyn Fn(&MethodRow) -> String| std::iter::once(m.to_string()).chain(d.scenes.iter().map(|s| row(&s.main, m).map_or("-".into(), g))).collect::<Vec<_>>();
         t.row(cells(&|r| format!("{:.3} / {:.3}", r.c_over_n, r.c_over_r)));
         f.row(cells(&|r| format!("{} / {}", r.false_negatives, r.missing_pixels)));
     }
@@ -179,7 +179,7 @@ fn per_frame_plots(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
             .main
             .rows
             .iter()
-            .map(|r| Series { name: r.method.clone(), points: r.frame_ms.iter().enumerate().skip(s.main.warmup_frames).map(|(k, &v)| (k as f64, v)).collect() })
+            .map(|r| Series { name: r.method.to_string(), points: r.frame_ms.iter().enumerate().skip(s.main.warmup_frames).map(|(k, &v)| (k as f64, v)).collect() })
             .collect();
         let title = format!("{}: ms per frame", s.spec);
         let fig = plot::line_plot(&LinePlot { title: &title, x_label: "frame", y_label: "ms", series: &series, log_x: false, log_y: false }, PLOT)?;
@@ -192,7 +192,7 @@ fn per_frame_plots(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
 }
 
 fn breakdown(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
-    let hroc_rows = |s: &SceneResult| -> Vec<MethodRow> { s.main.rows.iter().filter(|r| r.method.starts_with("hroc")).cloned().collect() };
+    let hroc_rows = |s: &SceneResult| -> Vec<MethodRow> { s.main.rows.iter().filter(|r| matches!(r.method, Method::Hroc(_))).cloned().collect() };
     if d.scenes.iter().all(|s| hroc_rows(s).is_empty()) {
         return Ok(());
     }
@@ -207,7 +207,7 @@ fn breakdown(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
         }
         // Bottom to top in stage order, which is the order a frame runs them (§3).
         let stages: std::collections::BTreeSet<Stage> = rows.iter().flat_map(|r| r.stages_ms.keys().copied()).collect();
-        let categories: Vec<String> = rows.iter().map(|r| r.method.clone()).collect();
+        let categories: Vec<String> = rows.iter().map(|r| r.method.to_string()).collect();
         let layers: Vec<(String, Vec<f64>)> = stages.iter().map(|st| (st.to_string(), rows.iter().map(|r| r.stages_ms.get(st).copied().unwrap_or(0.0)).collect())).collect();
         let title = format!("{}: HROC GPU ms per stage", s.spec);
         let fig = plot::stacked_bars(&StackedBars { title: &title, y_label: "GPU ms", categories: &categories, layers: &layers }, PLOT)?;
@@ -218,7 +218,7 @@ fn breakdown(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
             let g = |k: Stat| r.stats.get(&k).map_or("-".into(), |v| format!("{v:.0}"));
             t.row(vec![
                 s.spec.clone(),
-                r.method.clone(),
+                r.method.to_string(),
                 g(Stat::V),
                 g(Stat::O),
                 g(Stat::G),
@@ -246,7 +246,7 @@ fn invocations(doc: &mut Doc, d: &ReportData) {
     for s in &d.scenes {
         for r in s.main.rows.iter().filter(|r| !r.invocations.is_empty()) {
             let mut row = |stage: String, i: &crate::bench::InvocationsMean| {
-                t.row(vec![s.spec.clone(), r.method.clone(), stage, format!("{:.0}", i.vertex), format!("{:.0}", i.fragment), format!("{:.0}", i.compute)]);
+                t.row(vec![s.spec.clone(), r.method.to_string(), stage, format!("{:.0}", i.vertex), format!("{:.0}", i.fragment), format!("{:.0}", i.compute)]);
             };
             for (stage, i) in &r.invocations {
                 row(stage.to_string(), i);
@@ -280,20 +280,20 @@ fn sweep(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
         first.report.frames,
         d.sweep_stopped.as_deref().map_or(String::new(), |s| format!("The sweep {s}."))
     ));
-    let methods: Vec<String> = first.report.rows.iter().map(|r| r.method.clone()).collect();
+    let methods: Vec<Method> = first.report.rows.iter().map(|r| r.method).collect();
     let mut head = vec!["objects".to_string(), "triangles".to_string()];
     head.extend(methods.iter().map(|m| format!("{m} ms (culling)")));
     let mut t = Table { head, rows: Vec::new() };
     for p in &d.sweep {
         let mut cells = vec![p.objects.to_string(), p.report.triangles.to_string()];
-        cells.extend(methods.iter().map(|m| row(&p.report, m).map_or("-".into(), |r| format!("{} ({})", ms(r.ms_mean), culling_ms(r).map_or("-".into(), ms)))));
+        cells.extend(methods.iter().map(|&m| row(&p.report, m).map_or("-".into(), |r| format!("{} ({})", ms(r.ms_mean), culling_ms(r).map_or("-".into(), ms)))));
         t.row(cells);
     }
     doc.table(t);
     let series = |f: &dyn Fn(&MethodRow) -> Option<f64>| -> Vec<Series> {
         methods
             .iter()
-            .map(|m| Series { name: m.clone(), points: d.sweep.iter().filter_map(|p| row(&p.report, m).and_then(f).map(|v| (p.objects as f64, v))).collect() })
+            .map(|&m| Series { name: m.to_string(), points: d.sweep.iter().filter_map(|p| row(&p.report, m).and_then(f).map(|v| (p.objects as f64, v))).collect() })
             .filter(|s| !s.points.is_empty())
             .collect()
     };
@@ -320,11 +320,11 @@ fn hires(doc: &mut Doc, d: &ReportData) {
         return;
     };
     doc.para(format!("`{}` at {}, {} frames.", r.scene, r.resolution, r.frames));
-    let noc = row(r, "noc").map(|x| x.ms_mean);
+    let noc = row(r, Method::Noc).map(|x| x.ms_mean);
     let mut t = Table::new(&["method", "ms/frame", "× noc", "C/R", "false neg", "missing px"]);
     for x in &r.rows {
         t.row(vec![
-            x.method.clone(),
+            x.method.to_string(),
             ms(x.ms_mean),
             noc.filter(|&n| n > 0.0).map_or("-".into(), |n| format!("{:.2}", x.ms_mean / n)),
             format!("{:.3}", x.c_over_r),
@@ -357,12 +357,12 @@ fn clusters(doc: &mut Doc, d: &ReportData) {
     let mut t = Table::new(&["clusters", "objects", "method", "ms/frame", "× noc", "C/R", "drawn/frame", "triangles/frame"]);
     for run in &d.clusters {
         let r = &run.report;
-        let noc = r.rows.iter().find(|x| x.method == "noc").map(|x| x.ms_mean);
+        let noc = row(r, Method::Noc).map(|x| x.ms_mean);
         for row in &r.rows {
             t.row(vec![
                 run.triangles.map_or("none".into(), |t| t.to_string()),
                 r.objects.to_string(),
-                row.method.clone(),
+                row.method.to_string(),
                 ms(row.ms_mean),
                 noc.map_or("-".into(), |n| format!("{:.2}", row.ms_mean / n)),
                 format!("{:.3}", row.c_over_r),
