@@ -89,7 +89,7 @@ struct SceneArgs {
 /// Method parameters (`cull::MethodOptions`; defaults as documented there).
 #[derive(clap::Args)]
 struct MethodArgs {
-    /// soq: BASE_TIME of paper 004, seconds of camera path.
+    /// soq: BASE_TIME of Kovalčík & Sochor 2005, seconds of camera path.
     #[arg(long, default_value_t = 2.0 / 3.0, value_parser = parse_positive)]
     soq_base_time: f32,
     /// chc++: previously invisible nodes per query batch (b).

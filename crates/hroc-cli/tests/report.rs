@@ -118,7 +118,7 @@ fn report_is_complete_and_renders_in_chromium() {
         "Overdraw",
         "Scale sweep",
         "High resolution",
-        "Scenes (thesis Table 1)",
+        "Scenes (Lee's thesis, Table 1)",
         "Moving objects",
         "Clusters",
     ] {

@@ -113,7 +113,7 @@ pub struct Scene {
     pub path: CameraPath,
 }
 
-/// Scene statistics (the thesis's Table 1 columns that do not need a BVH).
+/// Scene statistics (the columns of Lee's thesis, Table 1, that do not need a BVH).
 #[derive(Clone, Copy, Debug, Default, serde::Serialize)]
 pub struct SceneStats {
     pub objects: usize,

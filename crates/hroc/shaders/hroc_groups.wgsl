@@ -1,4 +1,4 @@
-// HROC compute passes (paper §3.2, §4.2; thesis III.3):
+// HROC compute passes (Lee et al. 2021 §3.2, §4.2; Lee's thesis III.3):
 // extract — one thread per effective occluder walks the BVH bottom-up;
 //           objects tested alone (§6's hybrid: DYNAMIC objects and those
 //           not in the tree) become occludee groups of their own;

@@ -1,4 +1,4 @@
-// HROC batch occlusion test (paper §3.3, thesis III.4): rasterize group
+// HROC batch occlusion test (Lee et al. 2021 §3.3; Lee's thesis III.4): rasterize group
 // boxes against the occlusion map with forced early-Z, no depth writes.
 // A fragment of a leaf group marks its object; a fragment of an interior
 // group casts a ray through its pixel into the group's subtree and marks

@@ -1,6 +1,7 @@
 //! # hroc: GPU occlusion culling for any wgpu renderer
 //!
-//! Hierarchical Raster Occlusion Culling (HROC; Lee et al., CGF 2021) and
+//! Hierarchical Raster Occlusion Culling (HROC; Lee et al. 2021, cited in
+//! full with the other papers under References in README.md) and
 //! the methods it is measured against, behind one API. The host keeps its
 //! device, pipelines, materials, vertex layout and render targets; hroc
 //! decides which of its objects to draw, and hands the host GPU draw lists.

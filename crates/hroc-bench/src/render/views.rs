@@ -10,7 +10,7 @@ pub enum View {
     Color,
     Overdraw,
     Id,
-    /// Colour, with the boxes the method tested drawn over it (thesis Figs. 2, 9).
+    /// Colour, with the boxes the method tested drawn over it (Lee's thesis, Figures 2 and 9).
     Groups,
 }
 

@@ -1,10 +1,10 @@
-//! Top-down builders (thesis Table 4: SAH, MID, EQ), one leaf per object.
+//! Top-down builders (Lee's thesis, Table 4: SAH, MID, EQ), one leaf per object.
 //!
 //! SAH: binned SAH over all three axes (32 bins, 16 below 256 objects) down
 //! to 32 objects, then an exact sweep SAH. On 120k random boxes this gives a
 //! lower SAH cost than obvhs 0.4's fastest and medium presets (PLOC +
 //! reinsertion), built faster than medium (`examples/bvh_build.rs`). MID and
-//! EQ are the thesis's alternatives: centroid-bounds middle, and median on
+//! EQ are the alternatives of Lee's thesis: centroid-bounds middle, and median on
 //! the longest axis.
 //!
 //! Nodes are written straight into the final layout: a subtree of `n` leaves

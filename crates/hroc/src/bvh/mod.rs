@@ -1,6 +1,6 @@
 //! Object-level BVH: one leaf per object, the hierarchy HROC walks on the GPU
 //! (bottom-up group extraction, top-down ray casting; HROC paper §4, thesis
-//! §3). Built with SAH, middle or equal-count splits (thesis Table 4).
+//! §3). Built with SAH, middle or equal-count splits (Lee's thesis, Table 4).
 //!
 //! Layout (mirrored by the shaders): a flat array of 32-byte [`BvhNode`]s,
 //! root at 0. The two children of an interior node are adjacent
@@ -59,10 +59,10 @@ impl BvhNode {
     }
 }
 
-/// Split strategy of the top-down builder (thesis Table 4: SAH, MID, EQ).
+/// Split strategy of the top-down builder (Lee's thesis, Table 4: SAH, MID, EQ).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
 pub enum Split {
-    /// Binned surface-area heuristic (the thesis's default).
+    /// Binned surface-area heuristic (the default of Lee's thesis).
     #[default]
     Sah,
     /// Spatial middle of the centroid bounds on the longest axis.
@@ -72,7 +72,7 @@ pub enum Split {
 }
 
 impl Split {
-    /// Every split strategy, in the order of thesis Table 4.
+    /// Every split strategy, in the order of Lee's thesis, Table 4.
     pub const ALL: [Split; 3] = [Split::Sah, Split::Mid, Split::Eq];
     /// Short lower-case name (`sah`, `mid`, `eq`), as parsed by `FromStr`.
     pub fn name(self) -> &'static str {
@@ -230,7 +230,7 @@ impl Bvh {
         max
     }
 
-    /// SAH cost (thesis §3, MacDonald–Booth): the sum over all nodes of
+    /// SAH cost (Lee's thesis §3; MacDonald & Booth 1990): the sum over all nodes of
     /// area(node) / area(root). 0 for an empty tree, and 0 when the root has
     /// no area (every node then has none either: 0/0 counts as 0).
     pub fn sah_cost(&self) -> f64 {

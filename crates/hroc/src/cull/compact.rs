@@ -1,6 +1,6 @@
 //! GPU ordered compaction: `flags[i] != 0` (or `flags[i] == select`) selects command i; the survivors
 //! are packed in order and their number written to a count buffer that the
-//! multi-draw-indirect-count reads (HROC §4.1, thesis prefix-sum packing).
+//! multi-draw-indirect-count reads (HROC §4.1, the prefix-sum packing of Lee's thesis).
 
 use crate::cull::DrawList;
 use crate::gpu::{dispatch_size, Gpu, PassCount};

@@ -276,11 +276,11 @@ pub trait CullMethod: Any {
 /// Method parameters the command line can set (`hroc bench`/`render`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct MethodOptions {
-    /// `soq`: paper 004's BASE_TIME, in seconds.
+    /// `soq`: Kovalčík & Sochor 2005's BASE_TIME, in seconds.
     pub soq_base_time: f32,
     /// `chc++`: previously invisible nodes per query batch, b. The HROC
     /// paper ran b = 4000 on scenes of 7k–120k objects ("optimized for our
-    /// scenes"); the EOVC thesis 1000. Scenes here are scaled down, so 1000.
+    /// scenes"); Lee's thesis 1000. Scenes here are scaled down, so 1000.
     pub chc_batch: usize,
     /// `chc++`: frames a visible leaf is assumed visible between queries, n_av.
     pub chc_nav: u32,

@@ -1,4 +1,4 @@
-//! `roc` and `roc-all`: raster occlusion culling (NVIDIA, [KT14, BK15]).
+//! `roc` and `roc-all`: raster occlusion culling (NVIDIA's, refs. KT14 and BK15 of Lee et al. 2021).
 //!
 //! One frame:
 //! 1. occlusion map — draw V (last frame's visible set, packed in object

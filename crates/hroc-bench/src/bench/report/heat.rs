@@ -1,5 +1,5 @@
 //! Overdraw heat maps of `roc`, `hroc` and `ref` at one frame, side by side,
-//! and their differences (HROC paper Figure 7, thesis Figure 17).
+//! and their differences (Lee et al. 2021 Figure 7; Lee's thesis, Figure 17).
 
 use serde::Serialize;
 use std::path::Path;

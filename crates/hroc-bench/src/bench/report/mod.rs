@@ -61,7 +61,7 @@ pub struct ReportArgs {
     pub frames: usize,
     #[arg(long, default_value = "640x360", value_parser = parse_resolution)]
     pub resolution: (u32, u32),
-    /// BVH splits compared with the HROC variants (the thesis's Table 4);
+    /// BVH splits compared with the HROC variants (Lee's thesis, Table 4);
     /// `sah` alone leaves the table out.
     #[arg(long, default_value = "sah,mid,eq")]
     pub splits: String,
@@ -194,7 +194,7 @@ fn with_noc(mut m: Vec<Method>) -> Vec<Method> {
     m
 }
 
-/// One BVH build of a scene (the thesis's Table 1).
+/// One BVH build of a scene (Lee's thesis, Table 1).
 #[derive(Clone, Debug, Serialize)]
 pub struct BvhInfo {
     pub split: String,

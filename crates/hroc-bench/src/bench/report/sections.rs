@@ -68,7 +68,7 @@ fn header(doc: &mut Doc, d: &ReportData) {
 }
 
 fn scenes_table(doc: &mut Doc, d: &ReportData) {
-    doc.heading("Scenes (thesis Table 1)");
+    doc.heading("Scenes (Lee's thesis, Table 1)");
     let mut t = Table::new(&["scene", "objects", "meshes", "triangles", "vertices", "extent (m)", "BVH nodes", "depth sah/mid/eq", "build ms sah/mid/eq"]);
     for s in &d.scenes {
         let by = |f: &dyn Fn(&super::BvhInfo) -> String| s.bvh.iter().map(f).collect::<Vec<_>>().join(" / ");
@@ -140,7 +140,7 @@ fn splits(doc: &mut Doc, d: &ReportData) {
     if d.scenes.iter().all(|s| s.splits.is_empty()) {
         return;
     }
-    doc.heading("BVH splits (thesis Table 4)");
+    doc.heading("BVH splits (Lee's thesis, Table 4)");
     doc.para("HROC variants' ms/frame with BVHs built by the surface area heuristic (SAH), the middle of the longest axis (MID) and equal counts (EQ); C/R of `hroc-cr+of`. Each split is its own run: compare rows through their `noc` ms, measured in the same run.");
     let mut head = vec!["scene".to_string(), "split".to_string(), "noc ms".to_string()];
     head.extend(hroc_variants().iter().map(|v| format!("{v} ms")));
@@ -158,7 +158,7 @@ fn splits(doc: &mut Doc, d: &ReportData) {
 }
 
 fn efficiency(doc: &mut Doc, d: &ReportData) {
-    doc.heading("Culling efficiency (HROC paper Table 4, thesis Table 5)");
+    doc.heading("Culling efficiency (Lee et al. 2021 Table 4; Lee's thesis, Table 5)");
     doc.para("C/N / C/R per scene (`ref` has C/R = 1 by definition). Then false negatives / missing pixels summed over all frames.");
     let mut t = Table { head: scene_head("method", d), rows: Vec::new() };
     let mut f = Table { head: scene_head("method", d), rows: Vec::new() };
@@ -172,7 +172,7 @@ fn efficiency(doc: &mut Doc, d: &ReportData) {
 }
 
 fn per_frame_plots(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
-    doc.heading("Frame time along the path (HROC paper Figure 5, thesis Figure 15)");
+    doc.heading("Frame time along the path (Lee et al. 2021 Figure 5; Lee's thesis, Figure 15)");
     let mut imgs = Vec::new();
     for s in &d.scenes {
         let series: Vec<Series> = s
@@ -259,7 +259,7 @@ fn invocations(doc: &mut Doc, d: &ReportData) {
 
 fn overdraw(doc: &mut Doc, d: &ReportData) {
     let h = &d.heat;
-    doc.heading("Overdraw (HROC paper Figure 7, thesis Figure 17)");
+    doc.heading("Overdraw (Lee et al. 2021 Figure 7; Lee's thesis, Figure 17)");
     doc.para(format!(
         "Fragments per pixel of {} at frame {} (black 0 → blue → green → yellow → red → white 8 or more); the differences are white where equal, red where the first draws more, blue where it draws less.",
         d.scenes.first().map_or("", |s| s.spec.as_str()),

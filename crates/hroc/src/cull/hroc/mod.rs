@@ -1,5 +1,5 @@
-//! `hroc`: Hierarchical Raster Occlusion Culling (Lee et al., CGF 2021;
-//! the EOVC thesis). One frame, as the paper's Figure 2:
+//! `hroc`: Hierarchical Raster Occlusion Culling (Lee et al. 2021;
+//! Lee's thesis). One frame, as the paper's Figure 2:
 //! 1. occlusion map — draw V (last frame's visible set, packed in object
 //!    order) with forced early-Z; fragments mark the effective occluders O.
 //!    With [`MethodOptions::hroc_occluder_rounds`](super::MethodOptions),

@@ -1,5 +1,5 @@
 //! The hardware-occlusion-query baselines:
-//! - [`oq`]: "simple OC" of paper 004, a front-to-back BVH traversal that
+//! - [`oq`]: "simple OC" of Kovalčík & Sochor 2005, a front-to-back BVH traversal that
 //!   queries every node's box and waits for each result;
 //! - [`soq`]: 004's statistical algorithm, a node queue with RENDER / SKIP /
 //!   QUERY actions, several queries in flight, queries skipped for nodes

@@ -1,4 +1,4 @@
-//! `oq`: "simple OC" of paper 004 — traverse the BVH front to back from the
+//! `oq`: "simple OC" of Kovalčík & Sochor 2005 — traverse the BVH front to back from the
 //! root (children ordered by the distance of their box to the eye), query
 //! each node's padded box before drawing, one query in flight (stop and
 //! wait). Visible: draw the object (leaf) or descend; invisible: skip the

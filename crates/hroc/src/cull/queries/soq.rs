@@ -1,4 +1,4 @@
-//! `soq`: occlusion queries with statistically skipped queries (paper 004).
+//! `soq`: occlusion queries with statistically skipped queries (Kovalčík & Sochor 2005).
 //!
 //! A queue of nodes, initially the root, is walked in order; each node gets
 //! an action ([`action`]):
