@@ -1,0 +1,226 @@
+//! The host contract's types: the device features, the marks snippet and
+//! its layout, the phases, the draws handed to the host, and its targets.
+
+use crate::error::{Error, Result};
+use crate::frustum::DepthRange;
+use crate::gpu::PassCount;
+
+/// The device features every method needs.
+pub const REQUIRED_FEATURES: wgpu::Features =
+    wgpu::Features::MULTI_DRAW_INDIRECT_COUNT.union(wgpu::Features::INDIRECT_FIRST_INSTANCE).union(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
+
+/// The features [`CullerDesc::timestamps`](crate::CullerDesc::timestamps) needs.
+pub const TIMESTAMP_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY.union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
+
+/// The features [`CullerDesc::pipeline_statistics`](crate::CullerDesc::pipeline_statistics) needs.
+pub const PIPELINE_STATISTICS_FEATURES: wgpu::Features = wgpu::Features::PIPELINE_STATISTICS_QUERY;
+
+/// The layout of every [`Draw::marks`] bind group, from the device alone:
+/// one `array<u32>` storage buffer at binding 0, fragment stage, as
+/// [`marks_wgsl`] declares it. Put it in the host's pipeline layout at the
+/// group [`marks_wgsl`] names; pipelines can so be built before the
+/// [`Culler`](crate::Culler), and take the bind groups of every culler on the device
+/// (wgpu treats layouts with the same entries as one).
+pub fn marks_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc marks"), entries: &[marks_entry()] })
+}
+
+pub(super) fn marks_entry() -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding: 0,
+        visibility: wgpu::ShaderStages::FRAGMENT,
+        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: false }, has_dynamic_offset: false, min_binding_size: None },
+        count: None,
+    }
+}
+
+/// The WGSL the host's fragment shader includes to mark its object as
+/// drawn, with the marks buffer at `@group(group) @binding(0)`:
+///
+/// ```wgsl
+/// @group(G) @binding(0) var<storage, read_write> hroc_marks: array<u32>;
+/// fn hroc_mark(object: u32) { hroc_marks[object] = 1u; }
+/// ```
+///
+/// Call `hroc_mark(object)` from a fragment entry point declared
+/// `@early_depth_test(force)` when [`Draw::mark`] is set (or always: an
+/// unmarked [`Draw`] binds a sink). `object` is the draw's
+/// `@builtin(instance_index)`, passed flat from the vertex stage.
+pub fn marks_wgsl(group: u32) -> String {
+    format!(
+        "// hroc: marks an object as drawn (a fragment passed forced early-Z).\n\
+         @group({group}) @binding(0) var<storage, read_write> hroc_marks: array<u32>;\n\
+         fn hroc_mark(object: u32) {{\n    hroc_marks[object] = 1u;\n}}\n"
+    )
+}
+
+/// Which part of a method's frame a [`Draw`] belongs to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Phase {
+    /// Objects the culler draws whatever the method decides
+    /// ([`ObjectFlags::NEVER_CULL`](crate::ObjectFlags::NEVER_CULL)); first in every frame.
+    Always,
+    /// A method's single list (`noc`, `vfc`, `ref`, `woc`).
+    Visible,
+    /// The early pass: last frame's visible set, which builds the occlusion
+    /// map the test reads (HROC §3.1, ROC, HZB).
+    Occluders,
+    /// The late pass: the objects that passed the occlusion test (HROC §3.4).
+    Occludees,
+    /// A list drawn between occlusion queries (`oq`, `soq`, `chc++`): each
+    /// must be drawn before the culler's next pass.
+    Interleaved,
+    /// Objects flagged [`ObjectFlags::NOT_OCCLUDER`](crate::ObjectFlags::NOT_OCCLUDER) that passed, last in the
+    /// frame, against the final depth: draw them with blending, depth test
+    /// on and depth writes off, and without writing the ID target.
+    NonOccluders,
+}
+
+impl Phase {
+    /// True for the phases whose objects occlude: they must write depth (and
+    /// the object-ID target, when the view has one).
+    pub fn occludes(self) -> bool {
+        self != Phase::NonOccluders
+    }
+}
+
+/// One list for the host to draw, with its own pipelines, now, into the
+/// view's depth attachment (and whatever colour targets it likes).
+pub struct Draw<'a> {
+    /// Which phase this is.
+    pub phase: Phase,
+    /// `DrawIndexedIndirectArgs` (20 bytes each), in object order (query
+    /// methods: front-to-back traversal order), with
+    /// `first_instance` the object index. Commands may have
+    /// `instance_count` 0.
+    pub commands: &'a wgpu::Buffer,
+    /// One u32 at offset 0: commands to draw.
+    pub count: &'a wgpu::Buffer,
+    /// Upper bound for `multi_draw_indexed_indirect_count`.
+    pub max_count: u32,
+    /// Bind at the host's marks group ([`marks_wgsl`]).
+    pub marks: &'a wgpu::BindGroup,
+    /// True when the method reads the marks: the fragment shader must call
+    /// `hroc_mark`. False: `marks` is a sink, and the host may skip marking.
+    pub mark: bool,
+    /// The pipeline-statistics slot of this draw, if the view counts.
+    pub(crate) statistics: PassCount,
+}
+
+impl Draw<'_> {
+    /// Records the draw into a render pass whose pipeline, vertex and index
+    /// buffers and other bind groups the host has set; binds the marks at
+    /// `marks_group`. With [`CullerDesc::pipeline_statistics`](crate::CullerDesc::pipeline_statistics), the draw
+    /// is counted in its stage (a host that records the commands itself
+    /// goes uncounted).
+    pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, marks_group: u32) {
+        self.statistics.around(pass, |pass| {
+            pass.set_bind_group(marks_group, self.marks, &[]);
+            pass.multi_draw_indexed_indirect_count(self.commands, 0, self.count, 0, self.max_count);
+        });
+    }
+}
+
+/// The host's side of a frame: draws the lists the culler hands it.
+pub trait DrawHost {
+    /// Draws `draw` into `encoder` with the host's pipelines. Called in
+    /// phase order; each call must be recorded before returning.
+    fn draw(&mut self, encoder: &mut wgpu::CommandEncoder, draw: &Draw<'_>);
+}
+
+impl<F: FnMut(&mut wgpu::CommandEncoder, &Draw<'_>)> DrawHost for F {
+    fn draw(&mut self, encoder: &mut wgpu::CommandEncoder, draw: &Draw<'_>) {
+        self(encoder, draw)
+    }
+}
+
+/// The host's render targets of one view.
+#[derive(Clone, Copy, Debug)]
+pub struct ViewTargets<'a> {
+    /// The depth attachment the host draws into: usage `RENDER_ATTACHMENT |
+    /// TEXTURE_BINDING`, one sample, a depth format.
+    pub depth: &'a wgpu::Texture,
+    /// Which end of `depth` is near.
+    pub depth_range: DepthRange,
+    /// The object-ID target: `R32Uint`, usage `TEXTURE_BINDING`, same size;
+    /// the host writes `object index + 1` for every occluding fragment and
+    /// clears it to 0 each frame. Needed by HROC with OF.
+    pub ids: Option<&'a wgpu::Texture>,
+}
+
+/// A view's targets as the methods bind them.
+pub struct Targets {
+    /// The depth attachment, for the culler's own box passes.
+    pub depth_attachment: wgpu::TextureView,
+    /// The depth aspect, for sampling in compute and fragment passes.
+    pub depth_sampled: wgpu::TextureView,
+    /// The depth attachment's format.
+    pub depth_format: wgpu::TextureFormat,
+    /// Which end of the depth range is near.
+    pub depth: DepthRange,
+    /// The object-ID target, when the host has one.
+    pub ids: Option<wgpu::TextureView>,
+    /// Width and height.
+    pub size: (u32, u32),
+    pub(super) depth_id: wgpu::Texture,
+    pub(super) ids_id: Option<wgpu::Texture>,
+}
+
+impl Targets {
+    pub(super) fn new(t: &ViewTargets) -> Result<Targets> {
+        use wgpu::TextureUsages as U;
+        let d = t.depth;
+        let bad = |m: String| Err(Error::InvalidTargets(m));
+        if !d.format().is_depth_stencil_format() || !d.format().has_depth_aspect() {
+            return bad(format!("depth target format {:?} has no depth aspect", d.format()));
+        }
+        if !d.usage().contains(U::RENDER_ATTACHMENT | U::TEXTURE_BINDING) {
+            return bad(format!("depth target usage {:?} lacks RENDER_ATTACHMENT | TEXTURE_BINDING (the culler samples it)", d.usage()));
+        }
+        if d.sample_count() != 1 || d.dimension() != wgpu::TextureDimension::D2 {
+            return bad("depth target must be 2D with one sample (resolve MSAA depth first)".into());
+        }
+        // Layer 0, mip 0 is what the culler reads and draws against.
+        let size = (d.width(), d.height());
+        if let Some(ids) = t.ids {
+            if ids.format() != wgpu::TextureFormat::R32Uint || !ids.usage().contains(U::TEXTURE_BINDING) || (ids.width(), ids.height()) != size {
+                return bad(format!(
+                    "ID target must be R32Uint with TEXTURE_BINDING and the depth target's size {}x{} (got {:?}, {:?}, {}x{})",
+                    size.0,
+                    size.1,
+                    ids.format(),
+                    ids.usage(),
+                    ids.width(),
+                    ids.height()
+                ));
+            }
+        }
+        Ok(Targets {
+            depth_attachment: d.create_view(&one_layer(wgpu::TextureAspect::All)),
+            depth_sampled: d.create_view(&one_layer(wgpu::TextureAspect::DepthOnly)),
+            depth_format: d.format(),
+            depth: t.depth_range,
+            ids: t.ids.map(|i| i.create_view(&one_layer(wgpu::TextureAspect::All))),
+            size,
+            depth_id: d.clone(),
+            ids_id: t.ids.cloned(),
+        })
+    }
+
+    pub(super) fn same(&self, t: &ViewTargets) -> bool {
+        self.depth_id == *t.depth && self.ids_id.as_ref() == t.ids && self.depth == t.depth_range
+    }
+}
+
+/// A 2D view of layer 0, mip 0 (a depth array or a mipped target works).
+pub(super) fn one_layer(aspect: wgpu::TextureAspect) -> wgpu::TextureViewDescriptor<'static> {
+    wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        aspect,
+        base_mip_level: 0,
+        mip_level_count: Some(1),
+        base_array_layer: 0,
+        array_layer_count: Some(1),
+        ..Default::default()
+    }
+}

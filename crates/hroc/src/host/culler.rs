@@ -1,0 +1,653 @@
+//! [`Culler`]: the objects, their BVH and GPU buffers, shared by every view.
+
+use super::*;
+use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
+use crate::cull::{DrawList, Method, MethodContext, MethodOptions, WorkCounts};
+use crate::error::{Error, Result};
+use crate::frustum::DepthRange;
+use crate::gpu::{Gpu, GpuTimer, InvocationCounter};
+use crate::layout::{DrawCommand, FrameUniform, ObjectBounds, OrientedBounds};
+use crate::tally::DrawTally;
+use crate::{Aabb, OrientedBox};
+
+/// What a culler needs of its objects before the first frame.
+#[derive(Clone, Debug)]
+pub struct CullerDesc<'a> {
+    /// The objects, indexed 0..N in this order: the object index of every
+    /// draw command the culler hands back.
+    pub objects: &'a [ObjectDesc],
+    /// Object slots to allocate (at least `objects.len()`): room for
+    /// [`Culler::add_objects`] without reallocation. Growing past it
+    /// doubles the slots and rebuilds every view (a camera cut for each).
+    pub capacity: u32,
+    /// BVH split strategy (HROC, IOC and the query methods walk the BVH).
+    pub split: Split,
+    /// Method parameters.
+    pub options: MethodOptions,
+    /// How the BVH follows moving, added and removed objects.
+    pub motion: MotionOptions,
+    /// Time every stage with GPU timestamps. Needs `TIMESTAMP_QUERY` and
+    /// `TIMESTAMP_QUERY_INSIDE_ENCODERS`.
+    pub timestamps: bool,
+    /// Count every stage's vertex, fragment and compute shader invocations
+    /// with pipeline-statistics queries ([`View::stage_invocations`]): work
+    /// that does not depend on how busy the machine is. Needs
+    /// [`PIPELINE_STATISTICS_FEATURES`]. The host's draws are counted when
+    /// it records them with [`Draw::record`].
+    pub pipeline_statistics: bool,
+}
+
+impl<'a> CullerDesc<'a> {
+    /// SAH BVH, no spare slots, default parameters, no timestamps, no
+    /// pipeline statistics.
+    pub fn new(objects: &'a [ObjectDesc]) -> Self {
+        CullerDesc { objects, capacity: 0, split: Split::Sah, options: MethodOptions::default(), motion: MotionOptions::default(), timestamps: false, pipeline_statistics: false }
+    }
+}
+
+/// The objects, their BVH and their GPU buffers, on the host's device;
+/// shared by every [`View`] of them.
+///
+/// Objects live in slots: an object's index is its slot, stable from
+/// [`Culler::add_objects`] (or creation) to [`Culler::remove_objects`],
+/// and a removed object's slot is reused by a later add.
+pub struct Culler {
+    pub(super) gpu: Gpu,
+    /// Every slot's box (empty slots: a point at the origin).
+    pub(super) boxes: Vec<Aabb>,
+    /// Every slot's own box, where the host gave one.
+    pub(super) oriented: Vec<Option<OrientedBox>>,
+    pub(super) live: Vec<bool>,
+    pub(super) free: std::collections::BTreeSet<u32>,
+    /// Bumped by every change of objects.
+    pub(super) moves: u64,
+    /// Bumped by every rebuild of the BVH or of the slots.
+    pub(super) generation: u64,
+    pub(super) bvh: Bvh,
+    pub(super) split: Split,
+    pub(super) built_cost: f64,
+    /// The GPU holds the boxes: set by [`Culler::set_bounds_gpu`], when
+    /// `boxes` and the CPU tree's boxes are stale.
+    pub(super) gpu_boxes: bool,
+    /// Slots `lo..hi` whose oriented boxes the GPU has not yet: written in
+    /// one range before the next frame or read ([`Culler::flush_oriented`]).
+    /// Moving objects drop their boxes in [`Culler::set_bounds`] and get
+    /// new ones in [`Culler::set_oriented`]: one write of the range, not two.
+    pub(super) oriented_dirty: std::cell::Cell<(u32, u32)>,
+    pub(super) bvh_nodes: wgpu::Buffer,
+    pub(super) leaf_of_object: wgpu::Buffer,
+    pub(super) gpu_refit: Option<GpuRefit>,
+    pub(super) objects: SharedObjects,
+    pub(super) marks_layout: wgpu::BindGroupLayout,
+    /// [`Culler::sink_marks`]: 16 bytes, which every write lands in or misses.
+    pub(super) sink_marks: wgpu::BindGroup,
+    pub(super) options: MethodOptions,
+    pub(super) motion: MotionOptions,
+    pub(super) last_update: UpdateStats,
+    pub(super) timestamps: bool,
+    pub(super) pipeline_statistics: bool,
+}
+
+impl Culler {
+    /// Creates a culler on the host's device. Errors, never panics, when the
+    /// device lacks [`REQUIRED_FEATURES`] (or [`TIMESTAMP_FEATURES`] when
+    /// asked for timestamps, [`PIPELINE_STATISTICS_FEATURES`] when asked
+    /// for pipeline statistics), when an object's box is not finite, or when the
+    /// objects exceed the device's buffer limits. Objects flagged
+    /// [`ObjectFlags::DYNAMIC`] are left out of the BVH.
+    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, desc: &CullerDesc) -> Result<Culler> {
+        let mut needed = REQUIRED_FEATURES;
+        if desc.timestamps {
+            needed |= TIMESTAMP_FEATURES;
+        }
+        if desc.pipeline_statistics {
+            needed |= PIPELINE_STATISTICS_FEATURES;
+        }
+        let missing = needed - device.features();
+        if !missing.is_empty() {
+            return Err(Error::MissingFeatures { what: "hroc::Culler".into(), missing });
+        }
+        let gpu = Gpu::from_device(device, queue);
+        let objects = desc.objects;
+        for (i, o) in objects.iter().enumerate() {
+            check_box(i as u32, &o.bounds)?;
+            check_oriented(i as u32, &o.oriented)?;
+            check_flags(i as u32, o.flags)?;
+        }
+        let m = desc.motion;
+        check_motion(&m)?;
+        let capacity = (desc.capacity as u64).max(objects.len() as u64).max(1);
+        check_capacity(device, capacity)?;
+        let n = capacity as usize;
+        let mut boxes = vec![Aabb::new(glam::Vec3::ZERO, glam::Vec3::ZERO); n];
+        let mut oriented = vec![None; n];
+        let mut live = vec![false; n];
+        let mut flags = vec![ObjectFlags::NONE; n];
+        let mut commands = vec![DrawCommand::default(); n];
+        for (i, o) in objects.iter().enumerate() {
+            (boxes[i], oriented[i], live[i], flags[i], commands[i]) = (o.bounds, o.oriented, true, o.flags, command(o, i as u32));
+        }
+        let marks_layout = marks_layout(device);
+        let (shared, bvh_nodes, leaf_of_object) = allocate(&gpu, capacity as u32, &commands, flags);
+        let sink_marks = gpu.bind_buffers(&marks_layout, &[&gpu.buffer("hroc marks sink", 16, wgpu::BufferUsages::STORAGE)]);
+        let mut culler = Culler {
+            sink_marks,
+            bvh_nodes,
+            leaf_of_object,
+            bvh: Bvh::default(),
+            split: desc.split,
+            built_cost: 0.0,
+            gpu_boxes: false,
+            oriented_dirty: std::cell::Cell::new((u32::MAX, 0)),
+            gpu_refit: None,
+            gpu,
+            boxes,
+            oriented,
+            live,
+            free: (objects.len() as u32..capacity as u32).collect(),
+            moves: 0,
+            generation: 0,
+            objects: shared,
+            marks_layout,
+            options: desc.options.clone(),
+            motion: m,
+            last_update: UpdateStats { sah_growth: Some(1.0), ..Default::default() },
+            timestamps: desc.timestamps,
+            pipeline_statistics: desc.pipeline_statistics,
+        };
+        culler.rebuild_tree()?;
+        culler.upload_bounds();
+        culler.upload_oriented(0..capacity as u32);
+        culler.update_always();
+        Ok(culler)
+    }
+
+    /// Moves objects: `(object, new world box)` pairs, taking effect from
+    /// the next frame of every view. Static objects are refit into the BVH
+    /// ([`MotionOptions::refit`]), which is rebuilt when the policy says
+    /// so; [`ObjectFlags::DYNAMIC`] objects only change their own box.
+    /// A moved object's [`OrientedBox`] is dropped: give the new one with
+    /// [`Culler::set_oriented`].
+    /// Errors on an object that is not live or a box that is not finite;
+    /// nothing changes then. Views of methods that cannot follow motion
+    /// ([`Method::takes_motion`]) refuse their next frame.
+    pub fn set_bounds(&mut self, moves: &[(u32, Aabb)]) -> Result<()> {
+        for &(i, b) in moves {
+            self.check_live(i)?;
+            check_box(i, &b)?;
+        }
+        if moves.is_empty() {
+            return Ok(());
+        }
+        let t = std::time::Instant::now();
+        self.sync_boxes()?;
+        let mut dropped = Vec::new();
+        for &(i, b) in moves {
+            self.boxes[i as usize] = b;
+            if self.oriented[i as usize].take().is_some() {
+                dropped.push(i);
+            }
+        }
+        self.upload_oriented(dropped);
+        self.moves += 1;
+        // Only objects outside the tree moved (HROC §6's hybrid): their
+        // boxes are all that changes, with no refit and no policy check.
+        if moves.iter().all(|&(i, _)| self.is_dynamic(i as usize) || self.bvh_leaf(i as usize).is_none()) {
+            self.upload_bounds();
+            self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, ..self.last_update };
+            return Ok(());
+        }
+        self.changed(t)
+    }
+
+    /// Moves every object at once from a buffer the host fills on the GPU
+    /// (from its own transforms): two `vec4<f32>` per slot, `(min.xyz, _)`
+    /// then `(max.xyz, _)`, `32 * capacity` bytes at least, usage `STORAGE`.
+    /// Removed slots are ignored. A box that is not finite and ordered is
+    /// taken as one around everything (the object is then never culled).
+    /// Records the copy and a GPU refit of the static objects into
+    /// `encoder`, which the host submits after filling `boxes` and before
+    /// the next frame. The CPU's copy of the boxes goes stale: a later
+    /// rebuild, or [`Culler::set_bounds`], first reads the GPU's back.
+    /// Every [`OrientedBox`] is dropped, as any object may have moved.
+    pub fn set_bounds_gpu(&mut self, encoder: &mut wgpu::CommandEncoder, boxes: &wgpu::Buffer) -> Result<()> {
+        let need = self.objects.count as u64 * 32;
+        if boxes.size() < need || !boxes.usage().contains(wgpu::BufferUsages::STORAGE) {
+            return Err(Error::InvalidObject(format!("bounds buffer of {} bytes, usage {:?}: needs {need} bytes and STORAGE", boxes.size(), boxes.usage())));
+        }
+        let t = std::time::Instant::now();
+        if self.oriented.iter().any(Option::is_some) {
+            self.oriented.iter_mut().for_each(|o| *o = None);
+            self.upload_oriented(0..self.objects.count);
+        }
+        self.refit_on_gpu(encoder, Some(boxes));
+        self.gpu_boxes = true;
+        self.moves += 1;
+        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, sah_growth: None };
+        Ok(())
+    }
+
+    /// Adds objects, taking effect from the next frame of every view, and
+    /// returns their indices (free slots, lowest first, then new ones). An
+    /// object that reuses the slot of a removed one enters the BVH by a
+    /// refit; others are tested on their own until the next rebuild.
+    /// `first_instance` of each object's command is its index. Errors on a
+    /// box that is not finite; nothing changes then.
+    pub fn add_objects(&mut self, objects: &[ObjectDesc]) -> Result<Vec<u32>> {
+        for (k, o) in objects.iter().enumerate() {
+            check_box(k as u32, &o.bounds)?;
+            check_oriented(k as u32, &o.oriented)?;
+            check_flags(k as u32, o.flags)?;
+        }
+        if objects.is_empty() {
+            return Ok(Vec::new());
+        }
+        let t = std::time::Instant::now();
+        self.sync_boxes()?;
+        let live = self.live.iter().filter(|&&l| l).count() as u64;
+        if live + objects.len() as u64 > self.objects.count as u64 {
+            self.grow((live + objects.len() as u64).next_power_of_two())?;
+        }
+        let mut ids = Vec::with_capacity(objects.len());
+        for o in objects {
+            let i = self.free.pop_first().expect("grown to fit");
+            let s = i as usize;
+            (self.boxes[s], self.oriented[s], self.live[s], self.objects.flags[s]) = (o.bounds, o.oriented, true, o.flags);
+            self.objects.cpu_commands[s] = command(o, i);
+            ids.push(i);
+        }
+        self.upload_oriented(ids.iter().copied());
+        self.upload_commands();
+        self.moves += 1;
+        self.update_always();
+        self.changed(t)?;
+        Ok(ids)
+    }
+
+    /// Removes objects, taking effect from the next frame of every view:
+    /// their commands draw nothing and their slots are free for
+    /// [`Culler::add_objects`]. Errors on an object that is not live, or
+    /// listed twice; nothing changes then.
+    pub fn remove_objects(&mut self, objects: &[u32]) -> Result<()> {
+        let mut seen = std::collections::HashSet::new();
+        for &i in objects {
+            self.check_live(i)?;
+            if !seen.insert(i) {
+                return Err(Error::InvalidObject(format!("object {i} listed twice")));
+            }
+        }
+        if objects.is_empty() {
+            return Ok(());
+        }
+        let t = std::time::Instant::now();
+        self.sync_boxes()?;
+        for &i in objects {
+            let s = i as usize;
+            (self.live[s], self.objects.flags[s], self.oriented[s]) = (false, ObjectFlags::NONE, None);
+            self.objects.cpu_commands[s] = DrawCommand::default();
+            self.free.insert(i);
+        }
+        self.upload_oriented(objects.iter().copied());
+        self.upload_commands();
+        self.moves += 1;
+        self.update_always();
+        self.changed(t)
+    }
+
+    /// Gives objects an [`OrientedBox`] (`Some`) or takes it away (`None`),
+    /// from the next frame of every view; their world boxes stay as they
+    /// are. Errors on an object that is not live, or a box that is not
+    /// finite and invertible; nothing changes then.
+    pub fn set_oriented(&mut self, boxes: &[(u32, Option<OrientedBox>)]) -> Result<()> {
+        for (i, b) in boxes {
+            self.check_live(*i)?;
+            check_oriented(*i, b)?;
+        }
+        for &(i, b) in boxes {
+            self.oriented[i as usize] = b;
+        }
+        self.upload_oriented(boxes.iter().map(|b| b.0));
+        Ok(())
+    }
+
+    /// The object's [`OrientedBox`], if it has one.
+    pub fn oriented(&self, i: u32) -> Option<OrientedBox> {
+        self.oriented.get(i as usize).copied().flatten()
+    }
+
+    /// Rebuilds the BVH over the live static objects now (also done by the
+    /// [`MotionOptions`] policy after changes). Views of methods that keep
+    /// the tree's shape ([`Method::keeps_tree`]) start over on their next
+    /// frame.
+    pub fn rebuild(&mut self) -> Result<()> {
+        let t = std::time::Instant::now();
+        self.sync_boxes()?;
+        self.rebuild_tree()?;
+        self.upload_bounds();
+        self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: true, sah_growth: Some(1.0) };
+        Ok(())
+    }
+
+    pub(super) fn is_dynamic(&self, i: usize) -> bool {
+        self.objects.flags[i].contains(ObjectFlags::DYNAMIC)
+    }
+
+    pub(super) fn bvh_leaf(&self, i: usize) -> Option<u32> {
+        self.bvh.leaf_of_object.get(i).copied().filter(|&l| l != NO_LEAF)
+    }
+
+    /// The GPU bits of slot `i`'s flags.
+    pub(super) fn gpu_flags(&self, i: usize) -> u32 {
+        let f = self.objects.flags[i].bits();
+        if !self.live[i] {
+            REMOVED
+        } else if self.is_dynamic(i) || self.bvh_leaf(i).is_none() {
+            f | ALONE
+        } else {
+            f
+        }
+    }
+
+    pub(super) fn upload_bounds(&mut self) {
+        let bounds: Vec<ObjectBounds> = (0..self.boxes.len()).map(|i| bounds_of(self.boxes[i], self.gpu_flags(i))).collect();
+        self.gpu.queue.write_buffer(&self.objects.bounds, 0, bytemuck::cast_slice(&bounds));
+    }
+
+    /// Writes the changes to objects that the GPU has not yet (queue
+    /// writes, applied with the next submit). [`View::cull`] does it
+    /// before every frame; a host that times its frames apart from its
+    /// updates calls it after them, so the writes count there.
+    pub fn flush(&self) {
+        self.flush_oriented();
+    }
+
+    /// Marks the oriented boxes of `slots` for the GPU: they go up with
+    /// the next [`Culler::flush_oriented`].
+    pub(super) fn upload_oriented(&self, slots: impl IntoIterator<Item = u32>) {
+        let (lo, hi) = slots.into_iter().fold(self.oriented_dirty.get(), |(lo, hi), i| (lo.min(i), hi.max(i + 1)));
+        self.oriented_dirty.set((lo, hi.min(self.objects.count)));
+    }
+
+    /// Writes the marked oriented boxes to the GPU in one write: the range
+    /// from the lowest marked slot to the highest (a queue write per slot
+    /// costs a staging copy each, and the boxes between are current too).
+    /// Every frame and read of them comes after it.
+    pub(super) fn flush_oriented(&self) {
+        let (lo, hi) = self.oriented_dirty.replace((u32::MAX, 0));
+        if lo >= hi {
+            return;
+        }
+        let part: Vec<OrientedBounds> = self.oriented[lo as usize..hi as usize].iter().map(|&o| oriented_of(o)).collect();
+        self.gpu.queue.write_buffer(&self.objects.oriented, lo as u64 * ORIENTED_BYTES, bytemuck::cast_slice(&part));
+    }
+
+    pub(super) fn upload_commands(&mut self) {
+        self.gpu.queue.write_buffer(&self.objects.commands, 0, bytemuck::cast_slice(&self.objects.cpu_commands));
+    }
+
+    /// Reads the GPU's boxes and tree back after [`Culler::set_bounds_gpu`]
+    /// (one wait), so that the CPU can change them again.
+    pub(super) fn sync_boxes(&mut self) -> Result<()> {
+        if !self.gpu_boxes {
+            return Ok(());
+        }
+        let bounds: Vec<ObjectBounds> = self.gpu.read(&self.objects.bounds, 0, self.objects.count as u64)?;
+        for (b, g) in self.boxes.iter_mut().zip(&bounds) {
+            *b = Aabb::new(g.min.into(), g.max.into());
+        }
+        let nodes: Vec<BvhNode> = self.gpu.read(&self.bvh_nodes, 0, self.bvh.nodes.len() as u64)?;
+        self.bvh.nodes = nodes;
+        self.gpu_boxes = false;
+        Ok(())
+    }
+
+    /// Doubles the slots (or more): new buffers, every view rebuilt.
+    pub(super) fn grow(&mut self, capacity: u64) -> Result<()> {
+        check_capacity(&self.gpu.device, capacity)?;
+        let (old, n) = (self.objects.count as usize, capacity as usize);
+        self.boxes.resize(n, Aabb::new(glam::Vec3::ZERO, glam::Vec3::ZERO));
+        self.oriented.resize(n, None);
+        self.live.resize(n, false);
+        self.objects.cpu_commands.resize(n, DrawCommand::default());
+        let mut flags = std::mem::take(&mut self.objects.flags);
+        flags.resize(n, ObjectFlags::NONE);
+        self.free.extend(old as u32..n as u32);
+        (self.objects, self.bvh_nodes, self.leaf_of_object) = allocate(&self.gpu, n as u32, &self.objects.cpu_commands, flags);
+        self.gpu_refit = None;
+        self.bvh.leaf_of_object.resize(n, NO_LEAF);
+        self.gpu.queue.write_buffer(&self.bvh_nodes, 0, bytemuck::cast_slice(&self.bvh.nodes));
+        self.gpu.queue.write_buffer(&self.leaf_of_object, 0, bytemuck::cast_slice(&self.bvh.leaf_of_object));
+        // The new buffer is zeroed (no oriented boxes): the kept objects'
+        // boxes go up again.
+        self.upload_oriented(0..old as u32);
+        self.generation += 1;
+        Ok(())
+    }
+
+    /// Object slots (live objects plus free slots).
+    pub fn object_count(&self) -> u32 {
+        self.objects.count
+    }
+
+    /// True when object `i` is live (added and not removed).
+    pub fn is_live(&self, i: u32) -> bool {
+        self.live.get(i as usize).copied().unwrap_or(false)
+    }
+
+    /// The object BVH, as the CPU last built or refit it (after
+    /// [`Culler::set_bounds_gpu`], the GPU's boxes are newer).
+    pub fn bvh(&self) -> &Bvh {
+        &self.bvh
+    }
+
+    /// The BVH nodes the views read, read back from the GPU (one wait): for
+    /// tests of the GPU refit.
+    pub fn read_nodes(&self) -> Result<Vec<BvhNode>> {
+        self.gpu.read(&self.bvh_nodes, 0, self.bvh.nodes.len() as u64)
+    }
+
+    /// The oriented boxes the views read, read back from the GPU (one
+    /// wait): for tests that they follow their objects.
+    pub fn read_oriented(&self) -> Result<Vec<OrientedBounds>> {
+        self.flush_oriented();
+        self.gpu.read(&self.objects.oriented, 0, self.objects.count as u64)
+    }
+
+    /// Every object's draw command in object order (what `noc` draws).
+    pub fn commands(&self) -> &wgpu::Buffer {
+        &self.objects.commands
+    }
+
+    /// Layout of the marks bind group of every [`Draw`]: the culler's
+    /// copy of [`marks_layout`] (which needs no culler).
+    pub fn marks_layout(&self) -> &wgpu::BindGroupLayout {
+        &self.marks_layout
+    }
+
+    /// A marks bind group that takes every write and keeps none: bind it
+    /// to draw the host's own objects (not the culler's) through the same
+    /// pipelines, with any `instance_index`.
+    pub fn sink_marks(&self) -> &wgpu::BindGroup {
+        &self.sink_marks
+    }
+
+    /// The flags of object `i`; `None` when it is not live.
+    pub fn flags(&self, i: u32) -> Option<ObjectFlags> {
+        self.is_live(i).then(|| self.objects.flags[i as usize])
+    }
+
+    pub(super) fn check_live(&self, i: u32) -> Result<()> {
+        match self.is_live(i) {
+            true => Ok(()),
+            false if i < self.objects.count => Err(Error::InvalidObject(format!("object {i} was removed (or never added)"))),
+            false => Err(Error::InvalidObject(format!("object {i} out of range 0..{}", self.objects.count))),
+        }
+    }
+
+    /// Sets the flags of object `i` (an object that turns transparent, a
+    /// door that starts to move): takes effect from the next frame of every
+    /// view. An object turned [`ObjectFlags::DYNAMIC`] leaves the tree's
+    /// boxes as they were; one turned static again is refit into its leaf,
+    /// or tested on its own until the next rebuild when it has none.
+    pub fn set_flags(&mut self, i: u32, flags: ObjectFlags) -> Result<()> {
+        self.set_many_flags(&[(i, flags)])
+    }
+
+    /// [`Culler::set_flags`] for many objects at once: one refit and one
+    /// upload for all of them. Errors on an object that is not live or an
+    /// unknown flag; nothing changes then.
+    pub fn set_many_flags(&mut self, changes: &[(u32, ObjectFlags)]) -> Result<()> {
+        for &(i, f) in changes {
+            self.check_live(i)?;
+            check_flags(i, f)?;
+        }
+        let mut motion = false;
+        for &(i, f) in changes {
+            let was = std::mem::replace(&mut self.objects.flags[i as usize], f);
+            motion |= was.contains(ObjectFlags::DYNAMIC) != f.contains(ObjectFlags::DYNAMIC);
+        }
+        self.update_always();
+        if motion {
+            let t = std::time::Instant::now();
+            self.sync_boxes()?;
+            self.moves += 1;
+            return self.changed(t);
+        }
+        for &(i, _) in changes {
+            self.gpu.queue.write_buffer(&self.objects.bounds, i as u64 * 32 + 12, bytemuck::bytes_of(&self.gpu_flags(i as usize)));
+        }
+        Ok(())
+    }
+
+    /// Rebuilds the never-culled list and the never-culled non-occluders.
+    pub(super) fn update_always(&mut self) {
+        let o = &mut self.objects;
+        let never = |f: &ObjectFlags| f.contains(ObjectFlags::NEVER_CULL);
+        let list: Vec<DrawCommand> = o.flags.iter().zip(&o.cpu_commands).filter(|(f, _)| never(f) && !f.contains(ObjectFlags::NOT_OCCLUDER)).map(|(_, c)| *c).collect();
+        let deferred: Vec<u32> = o.flags.iter().map(|f| (never(f) && f.contains(ObjectFlags::NOT_OCCLUDER)) as u32).collect();
+        if !deferred.is_empty() {
+            self.gpu.queue.write_buffer(&o.always_deferred, 0, bytemuck::cast_slice(&deferred));
+        }
+        o.always = (!list.is_empty()).then(|| {
+            use wgpu::BufferUsages as U;
+            DrawList {
+                commands: self.gpu.buffer_init("hroc never-culled", bytemuck::cast_slice(&list), U::STORAGE | U::INDIRECT | U::COPY_SRC),
+                count: self.gpu.buffer_init("hroc never-culled count", bytemuck::bytes_of(&(list.len() as u32)), U::STORAGE | U::INDIRECT | U::COPY_SRC),
+                max_count: list.len() as u32,
+            }
+        });
+    }
+
+    /// A view of the objects culled by `method`, drawing into `targets`.
+    /// Each view keeps its own temporal state (last frame's visible set).
+    /// Errors when the method needs what the targets lack (an ID target for
+    /// HROC's occluder filtering), or when a target has the wrong usage or
+    /// format. A `ref` view (benchmark only) draws nothing until it is handed
+    /// `noc`'s visible set with [`View::set_oracle`] before each frame.
+    pub fn view(&self, method: Method, targets: &ViewTargets) -> Result<View> {
+        self.view_with(method, targets, &self.options)
+    }
+
+    /// [`Culler::view`] with method parameters other than the culler's.
+    pub fn view_with(&self, method: Method, targets: &ViewTargets, options: &MethodOptions) -> Result<View> {
+        let t = Targets::new(targets)?;
+        if method.needs_ids() && t.ids.is_none() {
+            return Err(Error::InvalidTargets(format!("{method} filters occluders by the object-ID target (OF, HROC §4.2): pass ViewTargets::ids, or use hroc-cr / hroc-na")));
+        }
+        if t.depth == DepthRange::Reversed && !method.supports_reversed_depth() {
+            return Err(Error::InvalidTargets(format!("{method} supports standard depth only")));
+        }
+        use wgpu::BufferUsages as U;
+        let frame = self.gpu.buffer("hroc frame", std::mem::size_of::<FrameUniform>() as u64, U::UNIFORM | U::COPY_DST);
+        let sink_buf = self.gpu.buffer("hroc marks sink", self.objects.count as u64 * 4, U::STORAGE);
+        let sink = self.gpu.bind_buffers(&self.marks_layout, &[&sink_buf]);
+        let mut cx = self.context(&frame, &t);
+        cx.options = options;
+        let imp = method.create(&cx)?;
+        let timer = self.timestamps.then(|| GpuTimer::new(&self.gpu, 64));
+        let counter = self.pipeline_statistics.then(|| InvocationCounter::new(&self.gpu, 64));
+        Ok(View {
+            method,
+            options: options.clone(),
+            imp,
+            frame,
+            targets: t,
+            sink,
+            split: None,
+            timer,
+            counter,
+            last_stages: Vec::new(),
+            generation: self.generation,
+            slots: self.objects.count,
+            last_pose: None,
+            last_cut: false,
+            work: WorkCounts::default(),
+            tally: DrawTally::new(&self.gpu),
+            frames: 0,
+        })
+    }
+
+    pub(super) fn context<'a>(&'a self, frame: &'a wgpu::Buffer, targets: &'a Targets) -> MethodContext<'a> {
+        MethodContext {
+            gpu: &self.gpu,
+            bvh: &self.bvh,
+            bvh_nodes: &self.bvh_nodes,
+            leaf_of_object: &self.leaf_of_object,
+            bounds: &self.objects.bounds,
+            oriented: &self.objects.oriented,
+            commands: &self.objects.commands,
+            object_count: self.objects.count,
+            node_capacity: node_capacity(self.objects.count),
+            frame,
+            targets,
+            marks_layout: &self.marks_layout,
+            options: &self.options,
+        }
+    }
+
+    /// The device wrapper the culler records with.
+    pub fn gpu(&self) -> &Gpu {
+        &self.gpu
+    }
+}
+
+/// Nodes a tree over `slots` objects can have.
+pub(super) fn node_capacity(slots: u32) -> u32 {
+    (2 * slots).saturating_sub(1).max(1)
+}
+
+/// The shared buffers of `slots` object slots.
+pub(super) fn allocate(gpu: &Gpu, slots: u32, commands: &[DrawCommand], flags: Vec<ObjectFlags>) -> (SharedObjects, wgpu::Buffer, wgpu::Buffer) {
+    use wgpu::BufferUsages as U;
+    let n = slots as u64;
+    let shared = SharedObjects {
+        count: slots,
+        bounds: gpu.buffer("hroc object boxes", n * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC),
+        oriented: gpu.buffer("hroc oriented boxes", n * ORIENTED_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC),
+        commands: gpu.buffer_init("hroc commands", bytemuck::cast_slice(commands), U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
+        all_count: gpu.buffer_init("hroc all count", bytemuck::bytes_of(&slots), U::STORAGE | U::INDIRECT | U::COPY_SRC),
+        flags,
+        cpu_commands: commands.to_vec(),
+        always: None,
+        always_deferred: gpu.buffer("hroc never-culled non-occluders", n * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST),
+    };
+    let nodes = gpu.buffer("hroc bvh nodes", node_capacity(slots) as u64 * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+    let leaves = gpu.buffer("hroc leaf of object", n * 4, U::STORAGE | U::COPY_DST);
+    (shared, nodes, leaves)
+}
+
+pub(super) fn check_capacity(device: &wgpu::Device, n: u64) -> Result<()> {
+    let limits = device.limits();
+    let storage = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
+    for (what, need) in
+        [("object boxes", n * 32), ("oriented boxes", n * ORIENTED_BYTES), ("draw commands", n * 20), ("BVH nodes", (2 * n).saturating_sub(1) * 32), ("HROC groups", 3 * n * 16)]
+    {
+        if need > storage {
+            return Err(Error::OverDeviceLimits(format!("{what} need {need} bytes, the device allows {storage}")));
+        }
+    }
+    if n >= 1 << 30 {
+        return Err(Error::OverDeviceLimits(format!("{n} object slots exceed 2^30")));
+    }
+    Ok(())
+}

@@ -1,0 +1,270 @@
+//! [`View`]: one method's temporal state over a culler's objects, and its
+//! frame.
+
+use super::*;
+use crate::cull::{CullMethod, Frame, FrameBody, Method, MethodContext, MethodOptions, Stage, Stat, WorkCounts};
+use crate::error::{Error, Result};
+use crate::frustum::ViewDesc;
+use crate::gpu::{GpuTimer, InvocationCounter, Invocations};
+use crate::tally::{DrawTally, FrameStats};
+
+/// What the host hands in per frame of a view.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInput<'a> {
+    /// The view and projection of this frame.
+    pub view: ViewDesc,
+    /// The targets the host draws this frame into. When they differ from the
+    /// last frame's (a resize), the view is rebuilt and starts over as after
+    /// a camera cut: keep one depth texture per view.
+    pub targets: ViewTargets<'a>,
+    /// A camera cut: last frame's visibility says nothing about this one.
+    pub cut: bool,
+    /// Seconds on the host's clock (`soq` expires statistics with it).
+    pub time: f32,
+}
+
+/// One view of a [`Culler`]'s objects: a method and its temporal state.
+pub struct View {
+    pub(super) method: Method,
+    pub(super) options: MethodOptions,
+    pub(super) imp: Box<dyn CullMethod>,
+    pub(super) frame: wgpu::Buffer,
+    pub(super) targets: Targets,
+    pub(super) sink: wgpu::BindGroup,
+    pub(super) split: Option<FlagSplit>,
+    pub(super) timer: Option<GpuTimer>,
+    pub(super) counter: Option<InvocationCounter>,
+    pub(super) last_stages: Vec<(Stage, f64)>,
+    /// The culler's BVH generation and slots when this view was built.
+    pub(super) generation: u64,
+    pub(super) slots: u32,
+    /// Last frame's eye and view direction, for cut detection.
+    pub(super) last_pose: Option<(glam::Vec3, glam::Vec3)>,
+    /// The last frame was culled as after a cut.
+    pub(super) last_cut: bool,
+    /// The last frame's submits, waits and bytes read back.
+    pub(super) work: WorkCounts,
+    /// Objects and triangles drawn, per frame, read back without waiting.
+    pub(super) tally: DrawTally,
+    /// Frames culled so far.
+    pub(super) frames: u64,
+}
+
+impl View {
+    /// The method.
+    pub fn method(&self) -> Method {
+        self.method
+    }
+
+    /// Culls one frame: writes the view's uniform, records the method's
+    /// passes into `encoder` and hands `host` every list to draw, in phase
+    /// order. The host has cleared its targets before (the crate docs'
+    /// clearing rule); it submits `encoder` after. Methods with counter
+    /// read-back (`hroc-cr`, `hroc-cr+of`, `ioc`, `oq`, `soq`, `chc++`)
+    /// submit `encoder` mid-frame and continue in a new one, which this
+    /// call leaves in `*encoder`; the default `hroc` never submits or waits.
+    pub fn cull(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost) -> Result<()> {
+        self.record(culler, encoder, input, host, None)
+    }
+
+    /// [`View::cull`] with `body` recorded in place of the method's frame:
+    /// for tests of a method's building blocks (`cull::queries::QueryRenderer`).
+    #[doc(hidden)]
+    pub fn cull_with(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: FrameBody) -> Result<()> {
+        self.record(culler, encoder, input, host, Some(body))
+    }
+
+    /// What this view's methods are built from (with [`View::cull_with`]).
+    #[doc(hidden)]
+    pub fn method_context<'a>(&'a self, culler: &'a Culler) -> MethodContext<'a> {
+        let mut cx = culler.context(&self.frame, &self.targets);
+        cx.options = &self.options;
+        cx
+    }
+
+    pub(super) fn record(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: Option<FrameBody>) -> Result<()> {
+        let regrown = self.slots != culler.objects.count;
+        let rebuilt = self.generation != culler.generation && self.method.keeps_tree();
+        if !self.targets.same(&input.targets) || regrown || rebuilt {
+            let fresh = culler.view_with(self.method, &input.targets, &self.options)?;
+            // Frames keep their numbers across the rebuild.
+            *self = View { frames: self.frames, ..fresh };
+        }
+        if culler.moves > 0 && !self.method.takes_motion() {
+            return Err(Error::InvalidScene(format!("{} keeps its own copy of the BVH and takes static scenes only; objects have moved", self.method)));
+        }
+        if !self.method.takes_dynamic() {
+            let outside = (0..culler.objects.count as usize).find(|&i| culler.live[i] && (culler.is_dynamic(i) || culler.bvh_leaf(i).is_none()));
+            if let Some(i) = outside {
+                return Err(Error::InvalidScene(format!(
+                    "{} culls through the BVH alone, and object {i} is outside it (DYNAMIC, or added since the last build): call Culler::rebuild, or use hroc",
+                    self.method
+                )));
+            }
+        }
+        if input.view.depth != self.targets.depth {
+            return Err(Error::InvalidView(format!("view depth {:?} differs from the targets' {:?}", input.view.depth, self.targets.depth)));
+        }
+        let g = input.view.geometry()?;
+        culler.flush_oriented();
+        let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32, self.targets.depth);
+        culler.gpu.queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniform));
+        let cut = self.detect_cut(culler, &input.view) || input.cut;
+        if cut {
+            self.imp.reset(encoder);
+        }
+        self.last_cut = cut;
+        if let Some(t) = self.timer.as_mut() {
+            t.begin_frame();
+        }
+        if let Some(c) = self.counter.as_mut() {
+            c.begin_frame();
+        }
+        // Flags cost nothing until some object has one.
+        let split_flags = ObjectFlags::NEVER_CULL | ObjectFlags::NOT_OCCLUDER;
+        if self.split.is_none() && culler.objects.flags.iter().any(|f| f.bits() & split_flags.bits() != 0) {
+            self.split = Some(FlagSplit::new(&culler.gpu, &culler.objects));
+        }
+        if let Some(s) = self.split.as_mut() {
+            s.begin(encoder, &culler.objects);
+        }
+        self.work = WorkCounts::default();
+        self.tally.begin(&culler.gpu, encoder);
+        let mut f = Frame {
+            tally: &mut self.tally,
+            group_open: false,
+            work: &mut self.work,
+            gpu: &culler.gpu,
+            geometry: g,
+            uniform,
+            time: input.time,
+            objects: &culler.objects,
+            targets: &self.targets,
+            encoder,
+            host,
+            timer: self.timer.as_mut(),
+            counter: self.counter.as_mut(),
+            current: Stage::Draw,
+            split: self.split.as_mut(),
+            sink: &self.sink,
+        };
+        if let Some(always) = culler.objects.always.as_ref() {
+            f.stage(Stage::FlaggedObjects);
+            let statistics = f.pass_count();
+            let d = Draw { phase: Phase::Always, commands: &always.commands, count: &always.count, max_count: always.max_count, marks: f.sink, mark: false, statistics };
+            f.host.draw(f.encoder, &d);
+            f.tally.count(f.gpu, f.encoder, always);
+        }
+        let recorded = match body {
+            Some(body) => body(&mut f),
+            None => self.imp.frame(&mut f),
+        };
+        if let Err(e) = recorded {
+            // Leave the host's encoder balanced.
+            f.end_group();
+            return Err(e);
+        }
+        if let Some(s) = f.split.take() {
+            f.stage(Stage::FlaggedObjects);
+            let (enc, q) = f.counted();
+            let list = s.finish(enc, &q);
+            let statistics = f.pass_count();
+            let d = Draw { phase: Phase::NonOccluders, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: f.sink, mark: false, statistics };
+            f.host.draw(f.encoder, &d);
+            f.tally.count(f.gpu, f.encoder, &list);
+        }
+        if let Some(t) = f.timer.take() {
+            t.end(f.encoder);
+        }
+        if let Some(c) = f.counter.take() {
+            c.end(f.encoder);
+        }
+        f.end_group();
+        let w = *f.work;
+        let stats = FrameStats { frame: self.frames, cut, submits: w.submits, waits: w.waits, bytes_read: w.bytes_read, ..Default::default() };
+        f.tally.end(f.gpu, f.encoder, stats);
+        self.frames += 1;
+        Ok(())
+    }
+
+    /// The statistics every method shares ([`FrameStats`]: objects and
+    /// triangles drawn, cut, submits, waits, bytes read back) of the
+    /// newest frame whose counts have come back, without waiting: a
+    /// frame's arrive a frame or more after it, tagged with its number.
+    /// `None` before the first arrives.
+    pub fn frame_stats(&mut self, culler: &Culler) -> Option<FrameStats> {
+        self.tally.latest(&culler.gpu)
+    }
+
+    /// True when the view turned or moved past the options' cut thresholds
+    /// ([`MethodOptions::cut_turn_deg`], [`MethodOptions::cut_move`]) since
+    /// the last frame: last frame's visibility says little about this one.
+    pub(super) fn detect_cut(&mut self, culler: &Culler, view: &ViewDesc) -> bool {
+        let inv = view.view.inverse();
+        let pose = (inv.w_axis.truncate(), -inv.z_axis.truncate().normalize_or_zero());
+        let Some((eye, dir)) = self.last_pose.replace(pose) else { return false };
+        let turn = dir.dot(pose.1).clamp(-1.0, 1.0).acos().to_degrees();
+        let diagonal = if culler.bvh.nodes.is_empty() { f32::INFINITY } else { culler.bvh.aabb(0).extent().length() };
+        turn > self.options.cut_turn_deg || eye.distance(pose.0) > self.options.cut_move * diagonal
+    }
+
+    /// Per-stage GPU ms of the last frame, in stage order; empty without
+    /// timestamps. Reads back: call after the frame's work was submitted.
+    pub fn stage_ms(&mut self, culler: &Culler) -> Result<&[(Stage, f64)]> {
+        self.last_stages = match self.timer.as_ref() {
+            Some(t) => t.read(&culler.gpu)?,
+            None => Vec::new(),
+        };
+        Ok(&self.last_stages)
+    }
+
+    /// Shader invocations per stage of the last frame, in stage order; empty
+    /// without [`CullerDesc::pipeline_statistics`]. Reads back: call after
+    /// the frame's work was submitted.
+    pub fn stage_invocations(&self, culler: &Culler) -> Result<Vec<(Stage, Invocations)>> {
+        let mut v = match self.counter.as_ref() {
+            Some(c) => c.read(&culler.gpu)?,
+            None => Vec::new(),
+        };
+        v.sort_by_key(|(s, _)| *s);
+        Ok(v)
+    }
+
+    /// The method's own statistics of the last frame (set sizes, rays,
+    /// ...), for benchmarks and debugging: reads back with a wait, so call
+    /// it after the frame's work was submitted. What every method shares
+    /// comes without a wait from [`View::frame_stats`].
+    pub fn stats(&mut self, culler: &Culler) -> Result<Vec<(Stat, f64)>> {
+        let mut s = self.imp.stats(&culler.gpu)?;
+        s.push((Stat::Cut, self.last_cut as u32 as f64));
+        let w = self.work;
+        s.extend([(Stat::Submits, w.submits as f64), (Stat::Waits, w.waits as f64), (Stat::BytesRead, w.bytes_read as f64)]);
+        Ok(s)
+    }
+
+    /// BVH nodes whose boxes the method tested last frame, if it tests boxes.
+    pub fn tested_nodes(&self, culler: &Culler) -> Result<Option<Vec<u32>>> {
+        self.imp.tested_nodes(&culler.gpu)
+    }
+
+    /// `ref` only (benchmark): the objects visible in `noc`'s ID target this frame.
+    pub fn set_oracle(&mut self, culler: &Culler, visible: &[u32]) -> Result<()> {
+        self.imp.set_oracle(&culler.gpu, visible)
+    }
+
+    /// The method's own state, for its debug read-backs (e.g.
+    /// `view.method_state::<hroc::cull::hroc::Hroc>()`).
+    pub fn method_state<T: 'static>(&self) -> Option<&T> {
+        (&*self.imp as &dyn std::any::Any).downcast_ref::<T>()
+    }
+
+    /// True for `ref`, which needs [`View::set_oracle`] before each frame.
+    pub fn wants_oracle(&self) -> bool {
+        self.method.is_benchmark_only()
+    }
+
+    /// [`View::method_state`], mutable (debug switches of a method).
+    pub fn method_state_mut<T: 'static>(&mut self) -> Option<&mut T> {
+        (&mut *self.imp as &mut dyn std::any::Any).downcast_mut::<T>()
+    }
+}
