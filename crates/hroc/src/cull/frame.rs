@@ -1,0 +1,222 @@
+//! [`Frame`]: what a method records into, and the context it is built
+//! from.
+
+use super::*;
+use crate::bvh::Bvh;
+use crate::error::Result;
+use crate::frustum::ViewGeometry;
+use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount};
+use crate::host::{Draw, DrawHost, FlagSplit, Phase, SharedObjects, Targets};
+use crate::layout::FrameUniform;
+
+/// A packed list of draw commands and the GPU count the draw reads.
+/// `max_count` bounds the count (N, or a read-back count with CR).
+#[derive(Clone, Debug)]
+pub struct DrawList {
+    /// [`crate::layout::DrawCommand`]s, object order kept.
+    pub commands: wgpu::Buffer,
+    /// One u32: how many commands to draw.
+    pub count: wgpu::Buffer,
+    /// Upper bound on the count.
+    pub max_count: u32,
+}
+
+/// Recorded in place of a method's frame (`View::cull_with`, for tests).
+pub type FrameBody<'b> = &'b mut dyn FnMut(&mut Frame) -> Result<()>;
+
+/// Everything a method sees while recording one frame of one view.
+pub struct Frame<'a> {
+    /// The device the culler was created on.
+    pub gpu: &'a Gpu,
+    /// The view as the host renders it this frame.
+    pub geometry: ViewGeometry,
+    /// The `Frame` uniform written for this view and frame.
+    pub uniform: FrameUniform,
+    /// Seconds on the host's clock, for methods whose statistics expire with
+    /// time (`soq`).
+    pub time: f32,
+    pub(crate) objects: &'a SharedObjects,
+    pub(crate) targets: &'a Targets,
+    pub(crate) encoder: &'a mut wgpu::CommandEncoder,
+    pub(crate) host: &'a mut dyn DrawHost,
+    pub(crate) timer: Option<&'a mut GpuTimer>,
+    pub(crate) counter: Option<&'a mut InvocationCounter>,
+    /// The stage begun last ([`Frame::stage`]).
+    pub(crate) current: Stage,
+    pub(crate) split: Option<&'a mut FlagSplit>,
+    pub(crate) sink: &'a wgpu::BindGroup,
+    pub(crate) work: &'a mut WorkCounts,
+    pub(crate) tally: &'a mut crate::tally::DrawTally,
+    /// A debug group named after the current stage is open on the encoder,
+    /// so a GPU profiler groups the passes as the paper's steps.
+    pub(crate) group_open: bool,
+}
+
+/// Work of one frame that does not depend on how busy the machine is:
+/// mid-frame submits, waits for the GPU, and bytes read back to the CPU.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WorkCounts {
+    /// Mid-frame submits ([`Frame::flush`]).
+    pub submits: u64,
+    /// Mid-frame waits for the GPU (read-backs that block).
+    pub waits: u64,
+    /// Bytes read back to the CPU, waited for or not.
+    pub bytes_read: u64,
+}
+
+impl<'a> Frame<'a> {
+    /// The encoder to record into (the host's; replaced after a mid-frame submit).
+    pub fn encoder(&mut self) -> &mut wgpu::CommandEncoder {
+        self.encoder
+    }
+
+    /// Begins GPU stage `stage` here (ends the previous one).
+    pub fn stage(&mut self, stage: Stage) {
+        self.current = stage;
+        self.end_group();
+        self.encoder.push_debug_group(stage.name());
+        self.group_open = true;
+        if let Some(t) = self.timer.as_deref_mut() {
+            t.mark(self.encoder, stage);
+        }
+    }
+
+    /// The encoder, and a pipeline-statistics slot for the pass about to be
+    /// recorded into it ([`Frame::pass_count`]).
+    pub fn counted(&mut self) -> (&mut wgpu::CommandEncoder, PassCount) {
+        let count = self.pass_count();
+        (self.encoder, count)
+    }
+
+    /// A pipeline-statistics slot for the next pass, counted under the
+    /// current stage (nothing when the view does not count): the pass
+    /// records its commands inside [`PassCount::around`].
+    pub fn pass_count(&self) -> PassCount {
+        match self.counter.as_deref() {
+            Some(c) => c.pass(self.current),
+            None => PassCount::NONE,
+        }
+    }
+
+    /// Hands `list` to the host to draw in `phase`; with `marks`, the host's
+    /// fragments that pass the depth test mark their object there.
+    pub fn draw(&mut self, phase: Phase, list: &DrawList, marks: Option<&wgpu::BindGroup>) {
+        let split;
+        let split_count = if self.split.is_some() { self.pass_count() } else { PassCount::NONE };
+        let list = match self.split.as_deref_mut() {
+            Some(s) => {
+                split = s.split(self.gpu, self.encoder, &self.objects.bounds, list, &split_count);
+                &split
+            }
+            None => list,
+        };
+        let statistics = self.pass_count();
+        let draw = Draw { phase, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: marks.unwrap_or(self.sink), mark: marks.is_some(), statistics };
+        self.host.draw(self.encoder, &draw);
+        self.tally.count(self.gpu, self.encoder, list);
+    }
+
+    /// Submits what is recorded so far and continues in a fresh encoder (for
+    /// methods that read back mid-frame).
+    pub fn flush(&mut self) {
+        self.tally.write_limits(self.gpu);
+        let open = self.group_open;
+        self.end_group();
+        let enc = std::mem::replace(self.encoder, self.gpu.encoder("hroc frame"));
+        self.gpu.queue.submit([enc.finish()]);
+        self.work.submits += 1;
+        if open {
+            self.encoder.push_debug_group(self.current.name());
+            self.group_open = true;
+        }
+    }
+
+    /// Closes the current stage's debug group, if one is open.
+    pub(crate) fn end_group(&mut self) {
+        if std::mem::take(&mut self.group_open) {
+            self.encoder.pop_debug_group();
+        }
+    }
+
+    /// Reads `count` u32s of `buf` mid-frame: submits and waits (a stall,
+    /// which is what CR-style methods pay for).
+    pub fn read_u32(&mut self, buf: &wgpu::Buffer, count: u64) -> Result<Vec<u32>> {
+        self.flush();
+        self.work.waits += 1;
+        self.work.bytes_read += count * 4;
+        self.gpu.read(buf, 0, count)
+    }
+
+    /// Submits, then maps and reads the first `bytes` of the `MAP_READ`
+    /// buffer `staging` (a stall, as [`Frame::read_u32`]).
+    pub fn map_read(&mut self, staging: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>> {
+        self.flush();
+        self.work.waits += 1;
+        self.work.bytes_read += bytes;
+        self.gpu.map_read(staging, bytes)
+    }
+
+    /// Counts `bytes` read back without waiting (a staging buffer that
+    /// arrived mapped).
+    pub fn count_async_read(&mut self, bytes: u64) {
+        self.work.bytes_read += bytes;
+    }
+
+    /// The host's depth attachment, for the method's own box passes.
+    pub fn depth_view(&self) -> &wgpu::TextureView {
+        &self.targets.depth_attachment
+    }
+
+    /// Width and height of the depth attachment.
+    pub fn size(&self) -> (u32, u32) {
+        self.targets.size
+    }
+
+    /// Registered objects.
+    pub fn object_count(&self) -> u32 {
+        self.objects.count
+    }
+
+    /// Every object in object order (`noc`'s list).
+    pub fn all(&self) -> DrawList {
+        self.objects.all()
+    }
+}
+
+/// What a method may build from: the culler's shared buffers and the view's
+/// own targets.
+pub struct MethodContext<'a> {
+    /// The host's device.
+    pub gpu: &'a Gpu,
+    /// The object BVH shared by every view.
+    pub bvh: &'a Bvh,
+    /// The BVH nodes on the GPU (`BvhNode`), shared by every view.
+    pub bvh_nodes: &'a wgpu::Buffer,
+    /// Leaf node of every object on the GPU, shared by every view.
+    pub leaf_of_object: &'a wgpu::Buffer,
+    /// Object boxes (`ObjectBounds`), shared by every view.
+    pub bounds: &'a wgpu::Buffer,
+    /// Object boxes in their own frames (`OrientedBounds`), shared by every view.
+    pub oriented: &'a wgpu::Buffer,
+    /// One command per object in object order, shared by every view.
+    pub commands: &'a wgpu::Buffer,
+    /// Object slots: every per-object buffer covers them.
+    pub object_count: u32,
+    /// Nodes the BVH can grow to over the slots (rebuilds keep the buffers).
+    pub node_capacity: u32,
+    /// This view's `Frame` uniform.
+    pub frame: &'a wgpu::Buffer,
+    /// This view's depth attachment (for box passes) and sampling views.
+    pub targets: &'a Targets,
+    /// Layout of a marks bind group (one `array<u32>` at binding 0).
+    pub marks_layout: &'a wgpu::BindGroupLayout,
+    /// Method parameters.
+    pub options: &'a MethodOptions,
+}
+
+impl MethodContext<'_> {
+    /// A marks bind group over `marks` (u32 per object), for [`Frame::draw`].
+    pub fn marks_bind(&self, marks: &wgpu::Buffer) -> wgpu::BindGroup {
+        self.gpu.bind_buffers(self.marks_layout, &[marks])
+    }
+}

@@ -1,0 +1,264 @@
+//! [`Method`]: the registry of methods, their names and what each takes.
+
+use std::fmt;
+use std::str::FromStr;
+
+use super::*;
+use crate::error::{Error, Result};
+
+/// How HROC bounds its indirect draws' `max_count` (HROC §4.1, §6).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Counters {
+    /// The list's capacity, N (no acceleration, `na`).
+    Capacity,
+    /// Counter read-back (§4.1, `cr`): each count is read back mid-frame,
+    /// a submit and a wait per list.
+    ReadBack,
+    /// Stall-free (`sf`, what §6 asks for): last frames' counts, read
+    /// without waiting, plus a margin; a second indirect-count draw takes
+    /// whatever overflows the estimate, its count (count − estimate, at
+    /// least 0) computed on the GPU, so nothing is dropped.
+    StallFree,
+}
+
+/// HROC's accelerations (§4): how draw counts are bounded, and occluder filtering.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Variant {
+    /// How `max_count` of each indirect draw is bounded.
+    pub counters: Counters,
+    /// Occluder filtering: next frame's occluders are the objects owning a
+    /// pixel of the object-ID target.
+    pub of: bool,
+}
+
+impl Variant {
+    /// `hroc-na`: no accelerations.
+    pub const NA: Variant = Variant { counters: Counters::Capacity, of: false };
+    /// `hroc-cr`: counter read-back.
+    pub const CR: Variant = Variant { counters: Counters::ReadBack, of: false };
+    /// `hroc-of`: occluder filtering.
+    pub const OF: Variant = Variant { counters: Counters::Capacity, of: true };
+    /// `hroc-cr+of`: both of the paper's accelerations (§4).
+    pub const CR_OF: Variant = Variant { counters: Counters::ReadBack, of: true };
+    /// `hroc-sf`: stall-free counters.
+    pub const SF: Variant = Variant { counters: Counters::StallFree, of: false };
+    /// `hroc-sf+of` (= `hroc`): stall-free counters (§6) and occluder filtering.
+    pub const SF_OF: Variant = Variant { counters: Counters::StallFree, of: true };
+}
+
+/// Every implemented method: one registry, in table order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// No culling: draw every object. Also the ground truth.
+    Noc,
+    /// GPU view-frustum culling.
+    Vfc,
+    /// Ideal: exactly the objects visible in `noc`'s ID target. Benchmark
+    /// only: it needs that target before the frame.
+    Ref,
+    /// Hierarchical stop-and-wait occlusion queries.
+    Oq,
+    /// Statistically skipped occlusion queries.
+    Soq,
+    /// CHC++.
+    Chc,
+    /// Raster occlusion culling.
+    Roc,
+    /// Raster occlusion culling testing every object's box.
+    RocAll,
+    /// ROC over BVH levels.
+    Ioc,
+    /// Two-phase Hi-Z culling.
+    Hzb,
+    /// Warping-based occlusion culling (not conservative).
+    Woc,
+    /// Hierarchical Raster Occlusion Culling with the given accelerations;
+    /// `hroc` is `sf+of`.
+    Hroc(Variant),
+}
+
+impl Method {
+    /// HROC's default variant (SF + OF): occluder filtering, and counts
+    /// bounded without the read-back's stall, which the paper's CR pays
+    /// three times a frame (HROC §6).
+    pub const HROC: Method = Method::Hroc(Variant::SF_OF);
+
+    /// Every method once, in table order (`hroc` last, after its variants).
+    pub const ALL: [Method; 17] = [
+        Method::Noc,
+        Method::Vfc,
+        Method::Ref,
+        Method::Oq,
+        Method::Soq,
+        Method::Chc,
+        Method::Roc,
+        Method::RocAll,
+        Method::Ioc,
+        Method::Hzb,
+        Method::Woc,
+        Method::Hroc(Variant::NA),
+        Method::Hroc(Variant::CR),
+        Method::Hroc(Variant::OF),
+        Method::Hroc(Variant::CR_OF),
+        Method::Hroc(Variant::SF),
+        Method::HROC,
+    ];
+
+    /// The methods of `hroc bench` with no `--methods`: no culling, frustum
+    /// culling, the ideal and HROC.
+    pub const DEFAULT_TABLE: [Method; 4] = [Method::Noc, Method::Vfc, Method::Ref, Method::HROC];
+
+    /// The name on the command line and in tables. `hroc` and `hroc-sf+of`
+    /// are the same method; this returns `hroc` for it, and
+    /// [`Method::names`] lists both names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Noc => "noc",
+            Method::Vfc => "vfc",
+            Method::Ref => "ref",
+            Method::Oq => "oq",
+            Method::Soq => "soq",
+            Method::Chc => "chc++",
+            Method::Roc => "roc",
+            Method::RocAll => "roc-all",
+            Method::Ioc => "ioc",
+            Method::Hzb => "hzb",
+            Method::Woc => "woc",
+            Method::Hroc(Variant { counters: Counters::Capacity, of: false }) => "hroc-na",
+            Method::Hroc(Variant { counters: Counters::ReadBack, of: false }) => "hroc-cr",
+            Method::Hroc(Variant { counters: Counters::Capacity, of: true }) => "hroc-of",
+            Method::Hroc(Variant { counters: Counters::ReadBack, of: true }) => "hroc-cr+of",
+            Method::Hroc(Variant { counters: Counters::StallFree, of: false }) => "hroc-sf",
+            Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "hroc",
+        }
+    }
+
+    /// Every (name, method, one-line description), in table order.
+    /// `hroc-sf+of` also parses, as `hroc`.
+    pub fn names() -> Vec<(&'static str, Method, &'static str)> {
+        Method::ALL.iter().map(|&m| (m.name(), m, m.description())).collect()
+    }
+
+    /// One line on what the method does.
+    pub fn description(self) -> &'static str {
+        match self {
+            Method::Noc => "no culling: draw every object",
+            Method::Vfc => "GPU view-frustum culling",
+            Method::Ref => "ideal: draw exactly the objects visible in noc's ID target",
+            Method::Oq => "hierarchical stop-and-wait occlusion queries, front to back (004's simple OC)",
+            Method::Soq => "occlusion queries skipped for recently visible nodes (004's statistical OC)",
+            Method::Chc => "CHC++: batched multiqueries, randomized re-queries, tighter bounds",
+            Method::Roc => "raster occlusion culling: draw V, rasterize the boxes of the rest with early-Z, draw what passed",
+            Method::RocAll => "raster occlusion culling testing every object's box (the HROC paper's ROC)",
+            Method::Ioc => "ROC over BVH levels [start, bottom] with a queue read-back per level (HPG 2020 poster)",
+            Method::Hzb => "two-phase Hi-Z culling (Nanite, niagara, Bevy)",
+            Method::Woc => "warping-based: last frame's depth reprojected, Hi-Z test before drawing (not conservative)",
+            Method::Hroc(Variant { counters: Counters::Capacity, of: false }) => "HROC without accelerations",
+            Method::Hroc(Variant { counters: Counters::ReadBack, of: false }) => "HROC with counter read-back",
+            Method::Hroc(Variant { counters: Counters::Capacity, of: true }) => "HROC with occluder filtering",
+            Method::Hroc(Variant { counters: Counters::ReadBack, of: true }) => "HROC with counter read-back and occluder filtering",
+            Method::Hroc(Variant { counters: Counters::StallFree, of: false }) => "HROC with stall-free counters (earlier frames' counts, GPU overflow draw)",
+            Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "HROC, the default variant: stall-free counters and occluder filtering (also hroc-sf+of)",
+        }
+    }
+
+    /// False for the methods that may miss visible objects (`woc`).
+    pub fn is_conservative(self) -> bool {
+        self != Method::Woc
+    }
+
+    /// True when the method reads the host's object-ID target (HROC with OF).
+    pub fn needs_ids(self) -> bool {
+        matches!(self, Method::Hroc(Variant { of: true, .. }))
+    }
+
+    /// True for `ref`, which only the benchmark can feed (`View::set_oracle`).
+    pub fn is_benchmark_only(self) -> bool {
+        self == Method::Ref
+    }
+
+    /// True when the method follows objects that move ([`crate::Culler::set_bounds`]):
+    /// every method that reads the culler's boxes and BVH on the GPU. The
+    /// query methods keep a CPU copy of the BVH (and CHC++ its tighter
+    /// bounds) from their creation, so they take static scenes only.
+    pub fn takes_motion(self) -> bool {
+        !matches!(self, Method::Oq | Method::Soq | Method::Chc)
+    }
+
+    /// True when the method culls objects outside the BVH too:
+    /// [`crate::ObjectFlags::DYNAMIC`] ones and those added since the last
+    /// build. HROC tests them on their own (its §6 hybrid); the per-object
+    /// methods never read the tree. IOC culls through the tree alone.
+    pub fn takes_dynamic(self) -> bool {
+        self.takes_motion() && self != Method::Ioc
+    }
+
+    /// True when the method's per-view state holds the BVH's shape (IOC's
+    /// level queues, the query methods' copies): its views start over when
+    /// the culler rebuilds the tree.
+    pub fn keeps_tree(self) -> bool {
+        matches!(self, Method::Ioc | Method::Oq | Method::Soq | Method::Chc)
+    }
+
+    /// True when the method takes reversed depth (`woc`'s warp does not).
+    pub fn supports_reversed_depth(self) -> bool {
+        self != Method::Woc
+    }
+
+    /// Parses `a,b,c` or `all` ([`Method::ALL`]) into methods, in the
+    /// order given, without repeats.
+    pub fn parse_list(spec: &str) -> Result<Vec<Method>> {
+        if spec.trim() == "all" {
+            return Ok(Method::ALL.to_vec());
+        }
+        let mut out = Vec::new();
+        for m in spec.split(',').map(str::trim).filter(|m| !m.is_empty()) {
+            let m: Method = m.parse()?;
+            if !out.contains(&m) {
+                out.push(m);
+            }
+        }
+        if out.is_empty() {
+            return Err(Error::Arg("no methods given".into()));
+        }
+        Ok(out)
+    }
+
+    pub(crate) fn create(self, cx: &MethodContext) -> Result<Box<dyn CullMethod>> {
+        Ok(match self {
+            Method::Noc => Box::new(noc::NoCulling),
+            Method::Vfc => Box::new(vfc::FrustumCuller::new(cx)),
+            Method::Ref => Box::new(reference::Reference::new(cx)?),
+            Method::Oq => Box::new(queries::oq::Oq::new(cx)?),
+            Method::Soq => Box::new(queries::soq::Soq::new(cx)?),
+            Method::Chc => Box::new(queries::chc::Chc::new(cx)?),
+            Method::Roc => Box::new(roc::Roc::new(cx, false)),
+            Method::RocAll => Box::new(roc::Roc::new(cx, true)),
+            Method::Ioc => Box::new(ioc::Ioc::new(cx, cx.options.ioc_range)?),
+            Method::Hzb => Box::new(hzb::Hzb::new(cx)),
+            Method::Woc => Box::new(woc::Woc::new(cx)),
+            Method::Hroc(v) => Box::new(hroc::Hroc::new(v, cx)?),
+        })
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for Method {
+    type Err = Error;
+    /// A name of [`Method::names`], or `hroc-sf+of` (the default HROC
+    /// variant's full name) for `hroc`.
+    fn from_str(s: &str) -> Result<Method> {
+        if s == "hroc-sf+of" {
+            return Ok(Method::HROC);
+        }
+        Method::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
+            let names: Vec<_> = Method::ALL.iter().map(|m| m.name()).collect();
+            Error::Arg(format!("unknown method '{s}': expected one of {}, hroc-sf+of or all", names.join(", ")))
+        })
+    }
+}
