@@ -20,26 +20,9 @@ use hroc_bench::cull::{Method, MethodOptions, Variant};
 use hroc_bench::gpu::Gpu;
 use hroc_bench::scene::Aabb;
 
-/// `hroc bench`'s defaults (crates/hroc-cli) for `scene`, `objects` and `methods`.
+/// `hroc bench`'s defaults for `scene`, `objects` and `methods`.
 fn options(scene: &str, objects: Option<usize>, methods: &str) -> BenchOptions {
-    BenchOptions {
-        scene: scene.to_string(),
-        objects,
-        methods: bench::parse_methods(methods).expect("known methods"),
-        frames: 60,
-        fps: None,
-        resolution: (640, 360),
-        split: Split::Sah,
-        clusters: None,
-        oriented_boxes: true,
-        camera_path: None,
-        progress: false,
-        moving: 0.0,
-        dynamic: false,
-        motion: hroc::MotionOptions::default(),
-        method_options: MethodOptions::default(),
-        timestamps: false,
-    }
+    BenchOptions::new(scene, objects, bench::parse_methods(methods).expect("known methods"))
 }
 
 fn row(r: &BenchReport, method: Method) -> &MethodRow {

@@ -262,24 +262,8 @@ fn hzb_object_test_matches_cpu_reference() {
 
 #[test]
 fn bench_rows_carry_stats_and_woc_reports() {
-    let o = BenchOptions {
-        scene: "downtown".into(),
-        objects: Some(1200),
-        methods: hroc::Method::parse_list("noc,roc,roc-all,ioc,hzb,woc").unwrap(),
-        frames: 8,
-        fps: None,
-        resolution: RES,
-        split: Split::Sah,
-        clusters: None,
-        oriented_boxes: true,
-        camera_path: None,
-        progress: false,
-        moving: 0.0,
-        dynamic: false,
-        motion: hroc::MotionOptions::default(),
-        method_options: Default::default(),
-        timestamps: true,
-    };
+    let methods = hroc::Method::parse_list("noc,roc,roc-all,ioc,hzb,woc").unwrap();
+    let o = BenchOptions { frames: 8, resolution: RES, timestamps: true, ..BenchOptions::new("downtown", Some(1200), methods) };
     let report = bench::run(gpu(), &o).unwrap();
     let row = |m: &str| report.rows.iter().find(|r| r.method == m.parse().unwrap()).unwrap();
     for m in CONSERVATIVE {

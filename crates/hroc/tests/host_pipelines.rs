@@ -10,18 +10,9 @@ use glam::{Mat4, Vec3};
 use hroc::{Aabb, Culler, CullerDesc, DepthRange, Draw, FrameInput, Method, ObjectDesc, ObjectFlags, Stat, ViewDesc, ViewTargets};
 use wgpu::util::DeviceExt;
 
-const SIZE: u32 = 64;
+mod common;
 
-fn device() -> (wgpu::Device, wgpu::Queue) {
-    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-    desc.backends = wgpu::Backends::VULKAN;
-    let instance = wgpu::Instance::new(desc);
-    pollster::block_on(async {
-        let adapter = instance.request_adapter(&wgpu::RequestAdapterOptions::default()).await.expect("a Vulkan adapter: install lavapipe (scripts/ensure-vulkan.sh)");
-        let desc = wgpu::DeviceDescriptor { required_features: hroc::REQUIRED_FEATURES, required_limits: adapter.limits(), ..Default::default() };
-        adapter.request_device(&desc).await.expect("a device with hroc's features")
-    })
-}
+const SIZE: u32 = 64;
 
 /// Two unit quads facing the eye (+z): object 0 at z = 0, object 1 behind
 /// it at z = -4; and the host's own quad (not the culler's) at z = -8.
@@ -47,7 +38,7 @@ fn pass<'e>(encoder: &'e mut wgpu::CommandEncoder, depth: &wgpu::TextureView, lo
 
 #[test]
 fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
-    let (device, queue) = device();
+    let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
     // The host's pipeline first: camera at group 0, hroc's marks at group 1.
     let marks = hroc::marks_layout(&device);
     let camera_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -105,16 +96,7 @@ fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
         layout: &camera_layout,
         entries: &[wgpu::BindGroupEntry { binding: 0, resource: camera_buf.as_entire_binding() }],
     });
-    let depth = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("depth"),
-        size: wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Depth32Float,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    });
+    let depth = common::depth_texture(&device, SIZE);
     let depth_view = depth.create_view(&Default::default());
 
     // Then the culler, over the first two quads.

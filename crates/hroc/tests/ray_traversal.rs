@@ -18,6 +18,8 @@ use hroc::layout::FrameUniform;
 use hroc::{DepthRange, ViewDesc};
 use wgpu::util::DeviceExt;
 
+mod common;
+
 const SIZE: u32 = 64;
 
 const PROBE: &str = "
@@ -29,18 +31,6 @@ fn probe_cast() {
     probe[0] = cast_ray(0u, block_ray(frame.viewport.xy * 0.5 / f32(TEST_SCALE)));
 }
 ";
-
-fn device() -> Option<(wgpu::Device, wgpu::Queue)> {
-    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-    desc.backends = wgpu::Backends::VULKAN;
-    let instance = wgpu::Instance::new(desc);
-    pollster::block_on(async {
-        let adapter = instance.request_adapter(&wgpu::RequestAdapterOptions::default()).await.ok()?;
-        // The pass's fragment entry points force early depth tests.
-        let features = wgpu::Features::SHADER_EARLY_DEPTH_TEST;
-        adapter.request_device(&wgpu::DeviceDescriptor { required_features: features, ..Default::default() }).await.ok()
-    })
-}
 
 /// Steps of the probe's ray and the occludee marks it left, for `nodes`
 /// (padded with zeroed nodes past the tree) over a map cleared to the far plane.
@@ -58,16 +48,7 @@ fn cast(device: &wgpu::Device, queue: &wgpu::Queue, nodes: &[BvhNode], objects: 
     // No object has an oriented box (`valid` 0): 64 bytes each.
     let oriented = buffer("oriented", &vec![0u8; 64 * objects as usize], storage);
     let probe = buffer("probe", &[0u8; 4], storage);
-    let map = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("occlusion map"),
-        size: wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Depth32Float,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    });
+    let map = common::depth_texture(device, SIZE);
     let map_view = map.create_view(&Default::default());
     let source = format!("{}\n{PROBE}", hroc::shaders::source("hroc_test.wgsl"));
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("probe"), source: wgpu::ShaderSource::Wgsl(source.into()) });
@@ -129,9 +110,8 @@ fn node(min: [f32; 3], max: [f32; 3], child: u32, parent: u32) -> BvhNode {
 
 #[test]
 fn cast_ray_ends_on_zeroed_nodes_and_marks_what_it_enters() {
-    let Some((device, queue)) = device() else {
-        panic!("no Vulkan adapter: install lavapipe (scripts/ensure-vulkan.sh)");
-    };
+    // The pass's fragment entry points force early depth tests.
+    let (device, queue) = common::device(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
     for scale in [1, 2] {
         // Every node read as zeros: node 0 names child 0, whose box (at the
         // origin, on the ray) is entered in front of the far map.

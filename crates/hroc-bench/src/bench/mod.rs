@@ -56,6 +56,33 @@ pub struct BenchOptions {
     pub timestamps: bool,
 }
 
+impl BenchOptions {
+    /// `hroc bench`'s defaults for `scene`, `objects` (the scene's own
+    /// count when `None`) and `methods`: 60 frames at 640 × 360, SAH, no
+    /// clusters, oriented boxes, the scene's own path, nothing moving, no
+    /// timestamps.
+    pub fn new(scene: &str, objects: Option<usize>, methods: Vec<Method>) -> BenchOptions {
+        BenchOptions {
+            scene: scene.to_string(),
+            objects,
+            methods,
+            frames: 60,
+            fps: None,
+            resolution: (640, 360),
+            split: Split::Sah,
+            clusters: None,
+            oriented_boxes: true,
+            camera_path: None,
+            progress: false,
+            moving: 0.0,
+            dynamic: false,
+            motion: hroc::MotionOptions::default(),
+            method_options: crate::cull::MethodOptions::default(),
+            timestamps: false,
+        }
+    }
+}
+
 /// One row of the table. Later methods add fields; these names never change.
 #[derive(Clone, Debug, Serialize)]
 pub struct MethodRow {
