@@ -129,7 +129,7 @@ fn gpu_frustum_culling_matches_cpu_reference() {
 
 #[test]
 fn gpu_compaction_keeps_order_and_counts() {
-    use hroc::{cull::compact::Compactor, layout::DrawCommand};
+    use hroc::{compact::Compactor, layout::DrawCommand};
     use wgpu::BufferUsages as U;
     let gpu = gpu();
     // Sizes around a thread's run of 8, the 2048-item blocks and the

@@ -104,17 +104,3 @@ pub struct CompactParams {
     /// Unused.
     pub _pad: u32,
 }
-
-/// Every (WGSL struct name, Rust size) pair the shader test checks.
-pub fn mirrored_sizes() -> Vec<(&'static str, usize)> {
-    use std::mem::size_of;
-    vec![
-        ("Frame", size_of::<FrameUniform>()),
-        ("ObjectBounds", size_of::<ObjectBounds>()),
-        ("OrientedBounds", size_of::<OrientedBounds>()),
-        ("DrawCommand", size_of::<DrawCommand>()),
-        ("DrawArgs", size_of::<DrawArgs>()),
-        ("BvhNode", size_of::<crate::bvh::BvhNode>()),
-        ("Params", size_of::<CompactParams>()),
-    ]
-}

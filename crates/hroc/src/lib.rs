@@ -140,24 +140,36 @@
 //! not conservative.
 //!
 //! ## Modules
-//! - [`bvh`]: the object-level BVH every hierarchical method walks;
+//! In layers, each resting only on those below it (`tests/layers.rs`
+//! checks that no module imports one that imports it):
+//! - at the bottom, [`layout`] (`#[repr(C)]` mirrors of the WGSL structs),
+//!   the errors, the stages and statistics, and [`aabb`];
+//! - [`gpu`] (read-back helpers and timestamps on the host's device),
+//!   [`frustum`] (view conventions, frustum planes and pixel rays), [`bvh`]
+//!   (the object-level BVH every hierarchical method walks) and [`shaders`]
+//!   (the WGSL passes);
+//! - the host contract's types (phases, draws, targets), the objects'
+//!   buffers, [`compact`] (ordered compaction), the flag split and the
+//!   drawn-object tally;
 //! - [`cull`]: the methods, one file each, reading top to bottom like the
 //!   paper's Figure 2, with CPU references beside the GPU passes;
-//! - [`frustum`]: view conventions, frustum planes and pixel rays;
-//! - [`gpu`]: read-back helpers and timestamps on the host's device;
-//! - [`layout`]: `#[repr(C)]` mirrors of the WGSL structs;
-//! - [`shaders`]: the WGSL passes.
+//! - on top, the facade: [`Culler`] and [`View`].
 
 #![deny(missing_docs)]
 
 pub mod aabb;
 pub mod bvh;
+pub mod compact;
+mod contract;
 pub mod cull;
 pub mod error;
+mod flag_split;
 pub mod frustum;
 pub mod gpu;
 mod host;
 pub mod layout;
+mod metrics;
+mod objects;
 pub mod rng;
 pub mod shaders;
 mod tally;

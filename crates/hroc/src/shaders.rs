@@ -118,3 +118,17 @@ pub fn box_pipeline(
         cache: None,
     })
 }
+
+/// Every (WGSL struct name, Rust size) pair the shader test checks.
+pub fn mirrored_sizes() -> Vec<(&'static str, usize)> {
+    use std::mem::size_of;
+    vec![
+        ("Frame", size_of::<crate::layout::FrameUniform>()),
+        ("ObjectBounds", size_of::<crate::layout::ObjectBounds>()),
+        ("OrientedBounds", size_of::<crate::layout::OrientedBounds>()),
+        ("DrawCommand", size_of::<crate::layout::DrawCommand>()),
+        ("DrawArgs", size_of::<crate::layout::DrawArgs>()),
+        ("BvhNode", size_of::<crate::bvh::BvhNode>()),
+        ("Params", size_of::<crate::layout::CompactParams>()),
+    ]
+}

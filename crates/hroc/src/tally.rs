@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::Arc;
 
-use crate::cull::DrawList;
+use crate::contract::DrawList;
 use crate::gpu::{dispatch_size, Gpu};
 
 /// Bytes per list's `max_count` in the limits buffer: the largest uniform

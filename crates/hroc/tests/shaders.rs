@@ -2,7 +2,7 @@
 //! shared header prepended, as the renderer compiles it), and every Rust
 //! struct mirrored in WGSL has the WGSL size.
 
-use hroc::layout::mirrored_sizes;
+use hroc::shaders::mirrored_sizes;
 use hroc::shaders::{source as shader_source, SHADERS};
 
 fn module(name: &str) -> naga::Module {

@@ -3,23 +3,13 @@
 
 use super::*;
 use crate::bvh::Bvh;
+use crate::contract::{Draw, DrawHost, Phase, Targets};
 use crate::error::Result;
+use crate::flag_split::FlagSplit;
 use crate::frustum::ViewGeometry;
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount};
-use crate::host::{Draw, DrawHost, FlagSplit, Phase, SharedObjects, Targets};
 use crate::layout::FrameUniform;
-
-/// A packed list of draw commands and the GPU count the draw reads.
-/// `max_count` bounds the count (N, or a read-back count with CR).
-#[derive(Clone, Debug)]
-pub struct DrawList {
-    /// [`crate::layout::DrawCommand`]s, object order kept.
-    pub commands: wgpu::Buffer,
-    /// One u32: how many commands to draw.
-    pub count: wgpu::Buffer,
-    /// Upper bound on the count.
-    pub max_count: u32,
-}
+use crate::objects::SharedObjects;
 
 /// Recorded in place of a method's frame (`View::cull_with`, for tests).
 pub type FrameBody<'b> = &'b mut dyn FnMut(&mut Frame) -> Result<()>;

@@ -7,7 +7,6 @@
 //! between them. [`crate::View::cull`] builds the frame from what the host
 //! hands in, so the benchmark and any engine drive a method the same way.
 
-pub mod compact;
 pub mod hroc;
 pub mod hzb;
 pub mod ioc;
@@ -20,12 +19,12 @@ pub mod woc;
 
 mod frame;
 mod method;
-mod metrics;
 mod options;
 
+pub use crate::contract::DrawList;
+pub use crate::metrics::{Stage, Stat};
 pub use frame::*;
 pub use method::*;
-pub use metrics::*;
 pub use options::*;
 
 use std::any::Any;

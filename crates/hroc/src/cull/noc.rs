@@ -1,8 +1,8 @@
 //! `noc`: draw everything, in object order. Also the ground truth.
 
 use super::{CullMethod, Frame, Method, Stage};
+use crate::contract::Phase;
 use crate::error::Result;
-use crate::host::Phase;
 
 /// The `noc` method: every object, no culling, in object order.
 pub struct NoCulling;

@@ -3,10 +3,10 @@
 //! before the frame (outside the timed region) and multi-drawn in one batch.
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
+use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::host::Phase;
 use crate::layout::DrawCommand;
 
 /// The `ref` method: draws the list set by `set_oracle` (`noc`'s ID image).

@@ -28,11 +28,11 @@
 //! `LessEqual` with the bias.
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::{dispatch_size, Gpu};
-use crate::host::Phase;
 use crate::layout::DrawArgs;
 use crate::shaders::source as shader_source;
 

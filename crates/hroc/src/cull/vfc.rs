@@ -2,11 +2,11 @@
 //! compaction into a packed list.
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::dispatch_size;
-use crate::host::Phase;
 use crate::shaders::source as shader_source;
 
 /// The `vfc` method: per-object frustum test, compacted into one list.

@@ -27,11 +27,11 @@ use glam::{DMat4, Mat4};
 
 use super::hzb::{depth_texture_entry, HizTest, Pyramid};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::host::Phase;
 use crate::shaders::source as shader_source;
 
 /// The `woc` method: forward-warped last-frame depth, Hi-Z tested before drawing.

@@ -9,9 +9,9 @@
 use std::ops::{Add, AddAssign};
 use std::sync::{Arc, Mutex};
 
-use crate::cull::Stage;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
+use crate::metrics::Stage;
 
 /// What each query counts, in the order the resolved values come.
 const TYPES: wgpu::PipelineStatisticsTypes = wgpu::PipelineStatisticsTypes::VERTEX_SHADER_INVOCATIONS

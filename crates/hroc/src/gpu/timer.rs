@@ -1,9 +1,9 @@
 //! Per-stage GPU time from timestamp queries: a frame is a sequence of
 //! `mark(stage)` calls; a stage lasts from its mark to the next one.
 
-use crate::cull::Stage;
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
+use crate::metrics::Stage;
 
 /// Timestamps of one view's frame.
 pub struct GpuTimer {

@@ -2,16 +2,13 @@
 //! The crate docs state the preconditions once; these modules implement
 //! them.
 
-mod contract;
 mod culler;
-mod flag_split;
 mod motion;
-mod objects;
 mod view;
 
-pub use contract::*;
+pub use crate::contract::*;
+pub(crate) use crate::flag_split::*;
+pub use crate::objects::*;
 pub use culler::*;
-pub(crate) use flag_split::*;
 pub use motion::*;
-pub use objects::*;
 pub use view::*;

@@ -76,7 +76,7 @@ pub(super) struct GpuRefit {
 
 impl GpuRefit {
     pub(super) fn new(gpu: &Gpu, slots: u32) -> GpuRefit {
-        use crate::cull::compact::{storage_entry, uniform_entry};
+        use crate::compact::{storage_entry, uniform_entry};
         use wgpu::BufferUsages as U;
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hroc refit"),

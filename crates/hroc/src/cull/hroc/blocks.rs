@@ -3,7 +3,7 @@
 //! depth to it.
 
 use super::*;
-use crate::cull::compact::uniform_entry;
+use crate::compact::uniform_entry;
 use crate::gpu::{Gpu, PassCount};
 
 /// The occlusion map of the test's blocks (`reduce_fs` in `hroc_test.wgsl`).

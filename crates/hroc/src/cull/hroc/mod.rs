@@ -33,11 +33,11 @@ pub use debug::{DebugState, FrameCounts};
 use rounds::{Rounds, RoundsOf};
 
 use super::{Counters, CullMethod, Frame, Method, MethodContext, Seed, Stage, Stat};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
 use crate::gpu::{dispatch_size, Gpu};
-use crate::host::Phase;
 use crate::shaders::source as shader_source;
 use stall_free::{Counted, StallFree};
 

@@ -3,11 +3,11 @@
 //! and tests the rest again against the depth that left.
 
 use super::*;
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::{dispatch_size, Gpu};
-use crate::host::Phase;
 use stall_free::Counted;
 
 /// Front-to-back rounds over one list ([`RoundsOf`]): U in step 4 with

@@ -9,7 +9,7 @@
 use std::sync::atomic::{AtomicU8, Ordering};
 use std::sync::Arc;
 
-use crate::cull::compact::{storage_entry, uniform_entry};
+use crate::compact::{storage_entry, uniform_entry};
 use crate::cull::DrawList;
 use crate::cull::Frame;
 use crate::gpu::{dispatch_size, Gpu};

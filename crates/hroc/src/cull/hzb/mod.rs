@@ -19,11 +19,11 @@
 pub mod cpu;
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::{dispatch_size, Gpu, PassCount};
-use crate::host::Phase;
 use crate::shaders::source as shader_source;
 pub use cpu::Mip;
 

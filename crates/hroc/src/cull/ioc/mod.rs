@@ -21,11 +21,11 @@ pub mod cpu;
 
 use super::roc::{BoxCount, BoxPass};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::cull::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
 use crate::gpu::{dispatch_size, Gpu};
-use crate::host::Phase;
 use crate::shaders::source as shader_source;
 
 /// Parses `START:BOTTOM` (BVH depths, root = 0; START <= BOTTOM).

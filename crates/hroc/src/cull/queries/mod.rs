@@ -33,11 +33,11 @@ use std::time::Instant;
 
 use super::{hroc::cpu, Frame, MethodContext, Stat};
 use crate::bvh::Bvh;
-use crate::cull::compact::{storage_entry, uniform_entry};
+use crate::compact::{storage_entry, uniform_entry};
+use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::host::Phase;
 use crate::layout::DrawCommand;
 use crate::shaders::source as shader_source;
 use crate::{frustum::aabb_in_frustum, Aabb};

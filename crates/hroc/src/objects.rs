@@ -1,7 +1,7 @@
 //! The objects a host registers: their flags, descriptions, GPU buffers
 //! and the per-object checks.
 
-use crate::cull::DrawList;
+use crate::contract::DrawList;
 use crate::error::{Error, Result};
 use crate::layout::{DrawCommand, ObjectBounds, OrientedBounds};
 use crate::{Aabb, OrientedBox};

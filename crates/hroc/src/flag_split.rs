@@ -1,9 +1,10 @@
 //! [`FlagSplit`]: per-object flags applied to the lists a method hands
 //! the host.
 
-use super::*;
-use crate::cull::{compact::Compactor, DrawList};
+use crate::compact::Compactor;
+use crate::contract::DrawList;
 use crate::gpu::{dispatch_size, Gpu, PassCount};
+use crate::objects::SharedObjects;
 use crate::shaders;
 
 /// Splits every list a method hands the host by object flags: commands of
@@ -20,24 +21,17 @@ pub(crate) struct FlagSplit {
     pub(super) used: usize,
     pub(super) compactor: Compactor,
     pub(super) list: DrawList,
-    pub(super) job: crate::cull::compact::CompactJob,
+    pub(super) job: crate::compact::CompactJob,
 }
 
 impl FlagSplit {
     pub(super) fn new(gpu: &Gpu, objects: &SharedObjects) -> Self {
         let n = objects.count;
-        use crate::cull::compact::storage_entry;
+        use crate::compact::storage_entry;
         use wgpu::BufferUsages as U;
         let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("hroc flag split"),
-            entries: &[
-                storage_entry(0, true),
-                storage_entry(1, true),
-                storage_entry(2, true),
-                storage_entry(3, false),
-                storage_entry(4, false),
-                crate::cull::compact::uniform_entry(5),
-            ],
+            entries: &[storage_entry(0, true), storage_entry(1, true), storage_entry(2, true), storage_entry(3, false), storage_entry(4, false), crate::compact::uniform_entry(5)],
         });
         let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc flag split"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
         let module = gpu.shader("split.wgsl", &shaders::source("split.wgsl"));

@@ -2,7 +2,7 @@
 //! are packed in order and their number written to a count buffer that the
 //! multi-draw-indirect-count reads (HROC §4.1, the prefix-sum packing of Lee's thesis).
 
-use crate::cull::DrawList;
+use crate::contract::DrawList;
 use crate::gpu::{dispatch_size, Gpu, PassCount};
 use crate::layout::{CompactParams, DrawCommand};
 

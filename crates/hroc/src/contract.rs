@@ -224,3 +224,15 @@ pub(super) fn one_layer(aspect: wgpu::TextureAspect) -> wgpu::TextureViewDescrip
         ..Default::default()
     }
 }
+
+/// A packed list of draw commands and the GPU count the draw reads.
+/// `max_count` bounds the count (N, or a read-back count with CR).
+#[derive(Clone, Debug)]
+pub struct DrawList {
+    /// [`crate::layout::DrawCommand`]s, object order kept.
+    pub commands: wgpu::Buffer,
+    /// One u32: how many commands to draw.
+    pub count: wgpu::Buffer,
+    /// Upper bound on the count.
+    pub max_count: u32,
+}
