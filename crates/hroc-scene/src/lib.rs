@@ -13,6 +13,7 @@ pub mod gltf;
 pub mod motion;
 pub mod obj;
 pub mod paths;
+pub mod rng;
 
 use glam::{Mat4, Vec3};
 use std::path::Path;

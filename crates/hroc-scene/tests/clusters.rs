@@ -102,7 +102,7 @@ proptest! {
     /// triangles and their world boxes hold every transformed vertex.
     #[test]
     fn random_meshes_cluster_and_bound(seed in 0u64..1000, tris in 1usize..700, max in prop::sample::select(vec![4u32, 64, 128, 512, 1024])) {
-        let mut rng = hroc::rng::Rng::new(seed);
+        let mut rng = hroc_scene::rng::Rng::new(seed);
         let n = tris * 2 + 3;
         let positions: Vec<[f32; 3]> = (0..n).map(|_| [rng.range(-10.0, 10.0), rng.range(-10.0, 10.0), rng.range(-10.0, 10.0)]).collect();
         let indices: Vec<u32> = (0..tris * 3).map(|_| rng.below(n) as u32).collect();

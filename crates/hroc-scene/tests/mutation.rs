@@ -4,7 +4,7 @@
 //! one-line error: no panic, no hang (each variant well under a second), and
 //! no live heap above [`HEAP_CAP`] while it loads.
 
-use hroc::rng::Rng;
+use hroc_scene::rng::Rng;
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};

@@ -170,7 +170,6 @@ mod host;
 pub mod layout;
 mod metrics;
 mod objects;
-pub mod rng;
 pub mod shaders;
 mod tally;
 

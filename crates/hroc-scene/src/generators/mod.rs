@@ -15,7 +15,7 @@ mod fantasy;
 mod figures;
 mod library;
 mod radial_city;
-pub use hroc::rng;
+pub use crate::rng;
 mod rooms;
 mod satellites;
 pub mod shapes;

@@ -34,7 +34,6 @@ use crate::cull::{CullMethod, Frame, MethodContext, MethodOptions};
 use crate::cull::{Method, Stage, Stat};
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::rng::Rng;
 
 /// The CHC++ parameters (HROC paper §5.1: n_av = 10, b = 4000, d_max = 4,
 /// s_max = 1.4; b = 1000 here, see [`MethodOptions`]).
@@ -154,7 +153,8 @@ pub struct Chc {
     tight_at: Vec<u32>,
     nodes: Vec<NodeState>,
     frame: u64,
-    rng: Rng,
+    /// SplitMix64 state of the randomized re-query offsets (CHC++ §4.3).
+    rng: u64,
     multi: u64,
     requeried: u64,
 }
@@ -169,18 +169,7 @@ impl Chc {
             tight.extend(tight_boxes(&bvh, n, params.d_max, params.s_max));
             tight_at.push(tight.len() as u32);
         }
-        Ok(Chc {
-            q: QueryRenderer::new(cx)?,
-            nodes: vec![NodeState::default(); bvh.nodes.len()],
-            bvh,
-            params,
-            tight,
-            tight_at,
-            frame: 0,
-            rng: Rng::new(0x00C4_C0DE),
-            multi: 0,
-            requeried: 0,
-        })
+        Ok(Chc { q: QueryRenderer::new(cx)?, nodes: vec![NodeState::default(); bvh.nodes.len()], bvh, params, tight, tight_at, frame: 0, rng: 0x00C4_C0DE, multi: 0, requeried: 0 })
     }
 
     fn pull_up(&mut self, mut n: u32) {
@@ -298,7 +287,7 @@ impl CullMethod for Chc {
                     let n = p.nodes[0];
                     let st = &mut self.nodes[n as usize];
                     st.invisible_age = 0;
-                    st.next_query = if p.was_visible { frame + self.params.n_av as u64 } else { frame + 1 + self.rng.next_u64() % self.params.n_av as u64 };
+                    st.next_query = if p.was_visible { frame + self.params.n_av as u64 } else { frame + 1 + splitmix64(&mut self.rng) % self.params.n_av as u64 };
                     if !p.was_visible {
                         self.traverse_node(f, view.eye, n, &mut stack);
                     }
@@ -321,4 +310,13 @@ impl CullMethod for Chc {
         rows.push((Stat::Requeried, self.requeried as f64));
         Ok(rows)
     }
+}
+
+/// SplitMix64 (Steele, Lea & Flood 2014): the next value of the stream at `state`.
+fn splitmix64(state: &mut u64) -> u64 {
+    *state = state.wrapping_add(0x9e37_79b9_7f4a_7c15);
+    let mut z = *state;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^ (z >> 31)
 }
