@@ -60,7 +60,7 @@ fn main() -> hroc_bench::Result<()> {
         let (_, truth) = s.truth(k)?;
         let r = s.run_frame(&mut hroc, k)?;
         drawn += s.check(&r, &truth)?.drawn;
-        let occluders = hroc.method_state::<hroc::cull::hroc::Hroc>().expect("hroc-of").debug_state(s.gpu)?.occluders;
+        let occluders = hroc.method_state::<hroc::testing::cull::hroc::Hroc>().expect("hroc-of").debug_state(s.gpu)?.occluders;
         let mut own_pixel = vec![false; n];
         truth.visible.iter().for_each(|&o| own_pixel[o as usize] = true);
         v += occluders.iter().filter(|&&x| x).count();

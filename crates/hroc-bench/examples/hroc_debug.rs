@@ -1,5 +1,5 @@
 //! Finds frames where an HROC variant misses objects and explains why.
-use hroc::cull::hroc::{cpu, Hroc};
+use hroc::testing::cull::hroc::{cpu, Hroc};
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
 use hroc_bench::gpu::Gpu;

@@ -1,5 +1,5 @@
 //! Which meshes HROC tests positive (U) without being visible: where C/R is lost.
-use hroc::cull::hroc::Hroc;
+use hroc::testing::cull::hroc::Hroc;
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
 use hroc_bench::gpu::Gpu;

@@ -12,18 +12,18 @@ pub const FEATURES: wgpu::Features = hroc::REQUIRED_FEATURES.union(hroc::TIMESTA
 /// How to get a Vulkan device on a machine without a GPU.
 pub const LAVAPIPE_HINT: &str = "install the Vulkan software driver (lavapipe): sudo apt-get install -y mesa-vulkan-drivers libvulkan1";
 
-/// An opened adapter and device; derefs to [`hroc::gpu::Gpu`]'s helpers.
+/// An opened adapter and device; derefs to [`hroc::testing::gpu::Gpu`]'s helpers.
 pub struct Gpu {
     /// The adapter the device was opened on.
     pub adapter: wgpu::Adapter,
     /// Its name, type and driver.
     pub info: wgpu::AdapterInfo,
-    base: hroc::gpu::Gpu,
+    base: hroc::testing::gpu::Gpu,
 }
 
 impl Deref for Gpu {
-    type Target = hroc::gpu::Gpu;
-    fn deref(&self) -> &hroc::gpu::Gpu {
+    type Target = hroc::testing::gpu::Gpu;
+    fn deref(&self) -> &hroc::testing::gpu::Gpu {
         &self.base
     }
 }
@@ -86,7 +86,7 @@ impl Gpu {
             })
             .await
             .map_err(|e| Error::Gpu(format!("cannot open {}: {e}", info.name)))?;
-        let base = hroc::gpu::Gpu::from_device(&device, &queue);
+        let base = hroc::testing::gpu::Gpu::from_device(&device, &queue);
         base.capture_errors();
         Ok(Gpu { adapter, info, base })
     }

@@ -12,11 +12,12 @@ pub mod headless;
 /// The headless device and the culler's GPU helpers.
 pub mod gpu {
     pub use crate::headless::Gpu;
-    pub use hroc::gpu::{dispatch_size, GpuTimer};
+    pub use hroc::testing::gpu::{dispatch_size, GpuTimer};
 }
 pub mod render;
 
-pub use hroc::{bvh, cull};
+pub use hroc::bvh;
+pub use hroc::testing::cull;
 pub use hroc_scene as scene;
 
 /// Errors: the scene crate's, which wraps the culler's.

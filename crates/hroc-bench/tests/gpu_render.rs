@@ -129,7 +129,7 @@ fn gpu_frustum_culling_matches_cpu_reference() {
 
 #[test]
 fn gpu_compaction_keeps_order_and_counts() {
-    use hroc::{compact::Compactor, layout::DrawCommand};
+    use hroc::testing::{compact::Compactor, layout::DrawCommand};
     use wgpu::BufferUsages as U;
     let gpu = gpu();
     // Sizes around a thread's run of 8, the 2048-item blocks and the
@@ -144,7 +144,7 @@ fn gpu_compaction_keeps_order_and_counts() {
         let c = Compactor::new(gpu, n);
         let job = c.job(gpu, &fb, &sb, &db, &cb);
         let mut enc = gpu.encoder("test");
-        c.record(&mut enc, &hroc::gpu::PassCount::NONE, &job);
+        c.record(&mut enc, &hroc::testing::gpu::PassCount::NONE, &job);
         gpu.queue.submit([enc.finish()]);
         let expect: Vec<DrawCommand> = src.iter().zip(&flags).filter(|(_, f)| **f != 0).map(|(c, _)| *c).collect();
         let count = gpu.read::<u32>(&cb, 0, 1).unwrap()[0];

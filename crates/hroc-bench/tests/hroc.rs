@@ -2,7 +2,7 @@
 //! scene's path, RC', and the hard paths; GPU passes against the CPU
 //! references (group extraction, ray marking).
 
-use hroc::cull::hroc::{cpu, Hroc};
+use hroc::testing::cull::hroc::{cpu, Hroc};
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
 use hroc_bench::gpu::Gpu;
@@ -237,7 +237,7 @@ fn gpu_late_test_matches_cpu_reference() {
 fn box_winding_faces_outward() {
     // hroc_test.wgsl's CUBE table: counter-clockwise from outside, so the
     // rasterizer's back-face culling keeps exactly the near faces.
-    let src = hroc::shaders::source("hroc_test.wgsl");
+    let src = hroc::testing::shaders::source("hroc_test.wgsl");
     let table = &src[src.find("array<u32, 36>(").unwrap() + 15..];
     let idx: Vec<u32> = table[..table.find(");").unwrap()].split(|c: char| !c.is_ascii_digit()).filter(|t| !t.is_empty()).map(|t| t.parse().unwrap()).collect();
     assert_eq!(idx.len(), 36);
@@ -292,7 +292,7 @@ fn gpu_seed_matches_cpu_reference() {
             gpu_v.sort_unstable();
             let cam = s.cameras[k];
             let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
-            let cpu_v = cpu::seed(s.bvh(), &g.ray_dirs, g.eye, hroc::cull::hroc::SEED_GRID);
+            let cpu_v = cpu::seed(s.bvh(), &g.ray_dirs, g.eye, hroc::testing::cull::hroc::SEED_GRID);
             // Ties between boxes entered at the same distance may round either way.
             let differ = gpu_v.iter().filter(|o| cpu_v.binary_search(o).is_err()).count() + cpu_v.iter().filter(|o| gpu_v.binary_search(o).is_err()).count();
             assert!(differ * 50 <= cpu_v.len().max(1), "{key} frame {k}: GPU seed {} objects, CPU {}, {differ} differ", gpu_v.len(), cpu_v.len());
@@ -398,7 +398,7 @@ fn work_counters_count_submits_waits_and_bytes() {
 /// fragments; a view without statistics reports none.
 #[test]
 fn pipeline_statistics_count_every_stage() {
-    use hroc::gpu::Invocations;
+    use hroc::testing::gpu::Invocations;
     use hroc::Stage;
     let gpu = gpu();
     if !gpu.device.features().contains(hroc::PIPELINE_STATISTICS_FEATURES) {

@@ -4,8 +4,8 @@
 //! tighter bounds.
 
 use glam::{Vec3, Vec4};
-use hroc::cull::queries::{box_distance, chc, front_to_back, oq, soq, Class, NodeView};
-use hroc::cull::MethodOptions;
+use hroc::testing::cull::queries::{box_distance, chc, front_to_back, oq, soq, Class, NodeView};
+use hroc::testing::cull::MethodOptions;
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::{Bvh, Split};
 use hroc_bench::gpu::Gpu;
@@ -266,7 +266,7 @@ fn leaves_under(bvh: &Bvh, n: u32) -> Vec<u32> {
 fn query_batches_chain_query_sets() {
     // More queries in one read-back than a query set holds: the results of
     // one big batch equal those of small batches over the same depth.
-    use hroc::cull::queries::{QueryRenderer, SET_SIZE};
+    use hroc::testing::cull::queries::{QueryRenderer, SET_SIZE};
     use hroc::Phase;
     let scene = hroc_bench::scene::load("radial-city", Some(1200), 2).unwrap();
     let mut s = Session::new(gpu(), scene, None, 4, RES, Split::Sah).unwrap();
@@ -275,7 +275,7 @@ fn query_batches_chain_query_sets() {
     let mut v = s.create("noc".parse().unwrap()).unwrap();
     let mut q = QueryRenderer::new(&v.method_context(&s.culler)).unwrap();
     let (mut big, mut small, mut testable) = (Vec::new(), Vec::new(), Vec::new());
-    let mut body = |f: &mut hroc::cull::Frame| -> hroc::Result<()> {
+    let mut body = |f: &mut hroc::testing::cull::Frame| -> hroc::Result<()> {
         q.begin_frame();
         let all = f.all();
         f.draw(Phase::Visible, &all, None);

@@ -4,8 +4,8 @@
 //! references (Hi-Z pyramid on non-power-of-two sizes, the Hi-Z object
 //! test, IOC's level queues).
 
-use hroc::cull::hzb::{cpu as hzb_cpu, Hzb, Pyramid};
-use hroc::cull::ioc::{cpu as ioc_cpu, Ioc};
+use hroc::testing::cull::hzb::{cpu as hzb_cpu, Hzb, Pyramid};
+use hroc::testing::cull::ioc::{cpu as ioc_cpu, Ioc};
 use hroc_bench::bench::{self, BenchOptions, Session};
 use hroc_bench::bvh::{Bvh, Split};
 use hroc_bench::gpu::Gpu;
@@ -204,7 +204,7 @@ fn hi_z_pyramid_matches_cpu_on_npot_sizes() {
         for k in 0..s.cameras.len() {
             let (_, truth) = s.truth(k).unwrap();
             let mut enc = gpu.encoder("pyramid");
-            pyramid.record_from_depth(&mut enc, &hroc::gpu::PassCount::NONE);
+            pyramid.record_from_depth(&mut enc, &hroc::testing::gpu::PassCount::NONE);
             gpu.queue.submit([enc.finish()]);
             let got = pyramid.read(gpu).unwrap();
             let want = hzb_cpu::build(&truth.depth, w, h);
@@ -217,7 +217,7 @@ fn hi_z_pyramid_matches_cpu_on_npot_sizes() {
                 let junk = vec![0.5f32; want.len() - pyramid.mips[1].offset as usize];
                 gpu.queue.write_buffer(&pyramid.levels, pyramid.mips[1].offset as u64 * 4, bytemuck::cast_slice(&junk));
                 let mut enc = gpu.encoder("pyramid");
-                pyramid.record_reduce(&mut enc, &hroc::gpu::PassCount::NONE);
+                pyramid.record_reduce(&mut enc, &hroc::testing::gpu::PassCount::NONE);
                 gpu.queue.submit([enc.finish()]);
                 assert!(pyramid.read(gpu).unwrap() == want, "{w}x{h} frame {k}: reduction from level 0 differs");
             }

@@ -139,44 +139,56 @@
 //! the frame ([`View::set_oracle`]); `woc` takes standard depth only and is
 //! not conservative.
 //!
-//! ## Modules
-//! In layers, each resting only on those below it (`tests/layers.rs`
-//! checks that no module imports one that imports it):
-//! - at the bottom, [`layout`] (`#[repr(C)]` mirrors of the WGSL structs),
-//!   the errors, the stages and statistics, and [`aabb`];
-//! - [`gpu`] (read-back helpers and timestamps on the host's device),
-//!   [`frustum`] (view conventions, frustum planes and pixel rays), [`bvh`]
-//!   (the object-level BVH every hierarchical method walks) and [`shaders`]
-//!   (the WGSL passes);
-//! - the host contract's types (phases, draws, targets), the objects'
-//!   buffers, [`compact`] (ordered compaction), the flag split and the
-//!   drawn-object tally;
-//! - [`cull`]: the methods, one file each, reading top to bottom like the
-//!   paper's Figure 2, with CPU references beside the GPU passes;
-//! - on top, the facade: [`Culler`] and [`View`].
+//! ## Public API
+//! Everything a host touches, at the crate root (`tests/api_list.rs`
+//! checks this list against what the crate exports):
+//! - the culler and its views: [`Culler`], [`CullerDesc`], [`View`],
+//!   [`ViewDesc`], [`ViewGeometry`], [`ViewTargets`], [`Targets`],
+//!   [`FrameInput`], [`DepthRange`];
+//! - objects: [`ObjectDesc`], [`ObjectFlags`], [`Aabb`], [`OrientedBox`],
+//!   [`MotionOptions`], [`Refit`], [`UpdateStats`];
+//! - the draws handed to the host: [`Draw`], [`DrawHost`], [`DrawList`],
+//!   [`Phase`], [`marks_wgsl`], [`marks_layout`];
+//! - methods and statistics: [`Method`], [`MethodOptions`], [`Variant`],
+//!   [`Counters`], [`Seed`], [`Stage`], [`Stat`], [`FrameStats`],
+//!   [`Invocations`];
+//! - the device: [`REQUIRED_FEATURES`], [`TIMESTAMP_FEATURES`],
+//!   [`PIPELINE_STATISTICS_FEATURES`];
+//! - errors: [`Error`], [`Result`];
+//! - and the modules [`aabb`], [`bvh`] (the object BVH: [`CullerDesc::split`],
+//!   [`Culler::bvh`]), [`error`] and [`frustum`] (view conventions).
+//!
+//! The internals (the methods' state, their CPU references and debug
+//! read-backs, the WGSL sources and their Rust mirrors, GPU helpers) sit
+//! in layers below the facade, each resting only on those below it
+//! (`tests/layers.rs`), and are reachable for hroc's own tests and tools
+//! through a hidden `testing` module that is not part of the API.
 
 #![deny(missing_docs)]
 
 pub mod aabb;
 pub mod bvh;
-pub mod compact;
+mod compact;
 mod contract;
-pub mod cull;
+mod cull;
 pub mod error;
 mod flag_split;
 pub mod frustum;
-pub mod gpu;
+mod gpu;
 mod host;
-pub mod layout;
+mod layout;
 mod metrics;
 mod objects;
-pub mod shaders;
+mod shaders;
 mod tally;
+#[doc(hidden)]
+pub mod testing;
 
 pub use aabb::{Aabb, OrientedBox};
 pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Variant};
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc, ViewGeometry};
+pub use gpu::Invocations;
 pub use host::{
     marks_layout, marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets,
     PIPELINE_STATISTICS_FEATURES, REQUIRED_FEATURES, TIMESTAMP_FEATURES,

@@ -163,7 +163,7 @@ impl Host {
         })
         .unwrap();
         queue.submit([enc.finish()]);
-        let gpu = hroc::gpu::Gpu::from_device(device, queue);
+        let gpu = hroc::testing::gpu::Gpu::from_device(device, queue);
         let mut drawn: Vec<u32> =
             lists.iter().flat_map(|(c, n, m)| gpu.read_list(c, n, *m).unwrap()).filter(|c| c.instance_count > 0 && c.index_count > 0).map(|c| c.first_instance).collect();
         drawn.sort_unstable();
@@ -186,7 +186,7 @@ impl Host {
             wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
         );
         queue.submit([enc.finish()]);
-        let ids: Vec<u32> = hroc::gpu::Gpu::from_device(device, queue).read(&buf, 0, (SIZE * SIZE) as u64).unwrap();
+        let ids: Vec<u32> = hroc::testing::gpu::Gpu::from_device(device, queue).read(&buf, 0, (SIZE * SIZE) as u64).unwrap();
         let mut v: Vec<u32> = ids.into_iter().filter(|&i| i > 0).map(|i| i - 1).collect();
         v.sort_unstable();
         v.dedup();

@@ -14,7 +14,7 @@
 
 use glam::{Mat4, Vec3};
 use hroc::bvh::{BvhNode, LEAF_BIT, NO_PARENT};
-use hroc::layout::FrameUniform;
+use hroc::testing::layout::FrameUniform;
 use hroc::{DepthRange, ViewDesc};
 use wgpu::util::DeviceExt;
 
@@ -50,7 +50,7 @@ fn cast(device: &wgpu::Device, queue: &wgpu::Queue, nodes: &[BvhNode], objects: 
     let probe = buffer("probe", &[0u8; 4], storage);
     let map = common::depth_texture(device, SIZE);
     let map_view = map.create_view(&Default::default());
-    let source = format!("{}\n{PROBE}", hroc::shaders::source("hroc_test.wgsl"));
+    let source = format!("{}\n{PROBE}", hroc::testing::shaders::source("hroc_test.wgsl"));
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("probe"), source: wgpu::ShaderSource::Wgsl(source.into()) });
     let constants = [("TEST_SCALE", scale as f64)];
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
@@ -98,7 +98,7 @@ fn cast(device: &wgpu::Device, queue: &wgpu::Queue, nodes: &[BvhNode], objects: 
         pass.dispatch_workgroups(1, 1, 1);
     }
     queue.submit([enc.finish()]);
-    let gpu = hroc::gpu::Gpu::from_device(device, queue);
+    let gpu = hroc::testing::gpu::Gpu::from_device(device, queue);
     let steps = gpu.read::<u32>(&probe, 0, 1).unwrap()[0];
     let marks = gpu.read::<u32>(&occludees, 0, objects as u64).unwrap();
     (steps, marks)

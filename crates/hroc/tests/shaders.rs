@@ -2,8 +2,8 @@
 //! shared header prepended, as the renderer compiles it), and every Rust
 //! struct mirrored in WGSL has the WGSL size.
 
-use hroc::shaders::mirrored_sizes;
-use hroc::shaders::{source as shader_source, SHADERS};
+use hroc::testing::shaders::mirrored_sizes;
+use hroc::testing::shaders::{source as shader_source, SHADERS};
 
 fn module(name: &str) -> naga::Module {
     naga::front::wgsl::parse_str(&shader_source(name)).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&shader_source(name))))

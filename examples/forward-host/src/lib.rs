@@ -13,6 +13,8 @@ use glam::{Mat4, Vec2, Vec3};
 use hroc::{Culler, CullerDesc, DepthRange, FrameInput, Method, ObjectDesc, ObjectFlags, Phase, View, ViewDesc, ViewTargets};
 use hroc_scene::Scene;
 
+mod readback;
+
 /// Interleaved vertex: position, normal, uv (32 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
@@ -316,18 +318,18 @@ impl ForwardHost {
     /// What the last frame drew (the host's instrumentation for tests and
     /// the example's printout; it waits for the GPU).
     pub fn output(&self) -> hroc::Result<FrameOutput> {
-        let gpu = hroc::gpu::Gpu::from_device(&self.device, &self.queue);
+        let (device, queue) = (&self.device, &self.queue);
         let mut drawn = vec![false; self.n as usize];
         for (commands, count, max) in &self.lists {
-            for cmd in gpu.read_list(commands, count, *max)? {
+            for cmd in readback::list(device, queue, commands, count, *max)? {
                 if cmd.instance_count > 0 && cmd.index_count > 0 {
                     drawn[cmd.first_instance as usize] = true;
                 }
             }
         }
-        let seen: Vec<u32> = gpu.read(&self.seen, 0, self.n as u64)?;
+        let seen: Vec<u32> = readback::buffer(device, queue, &self.seen, self.n as u64)?;
         let mut visible: Vec<bool> = (0..self.n as usize).map(|o| self.blended[o] && seen[o] != 0).collect();
-        for id in gpu.read_texture::<u32>(&self.ids, wgpu::TextureAspect::All)? {
+        for id in readback::texture::<u32>(device, queue, &self.ids, wgpu::TextureAspect::All)? {
             if id > 0 {
                 visible[id as usize - 1] = true;
             }
@@ -335,8 +337,8 @@ impl ForwardHost {
         Ok(FrameOutput {
             visible,
             drawn,
-            depth: gpu.read_texture(&self.depth, wgpu::TextureAspect::DepthOnly)?,
-            color: bytemuck::cast_slice::<u32, u8>(&gpu.read_texture::<u32>(&self.color, wgpu::TextureAspect::All)?).to_vec(),
+            depth: readback::texture(device, queue, &self.depth, wgpu::TextureAspect::DepthOnly)?,
+            color: bytemuck::cast_slice::<u32, u8>(&readback::texture::<u32>(device, queue, &self.color, wgpu::TextureAspect::All)?).to_vec(),
         })
     }
 

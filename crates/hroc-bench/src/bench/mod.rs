@@ -129,7 +129,7 @@ pub struct InvocationsMean {
 }
 
 impl InvocationsMean {
-    fn of(sum: &hroc::gpu::Invocations, frames: f64) -> Self {
+    fn of(sum: &hroc::testing::gpu::Invocations, frames: f64) -> Self {
         InvocationsMean { vertex: sum.vertex as f64 / frames, fragment: sum.fragment as f64 / frames, compute: sum.compute as f64 / frames }
     }
 }
@@ -206,7 +206,7 @@ struct Acc {
     wall: Vec<f64>,
     gpu: Vec<f64>,
     stages: BTreeMap<hroc::Stage, f64>,
-    invocations: BTreeMap<hroc::Stage, hroc::gpu::Invocations>,
+    invocations: BTreeMap<hroc::Stage, hroc::testing::gpu::Invocations>,
     stats: BTreeMap<hroc::Stat, f64>,
     culled: u64,
     drawn: u64,

@@ -44,7 +44,7 @@ pub struct FrameResult {
     pub wall_ms: f64,
     pub stages: Vec<(Stage, f64)>,
     /// Shader invocations per stage (empty without pipeline statistics).
-    pub invocations: Vec<(Stage, hroc::gpu::Invocations)>,
+    pub invocations: Vec<(Stage, hroc::testing::gpu::Invocations)>,
     pub lists: Vec<DrawList>,
     pub camera: Camera,
 }
@@ -225,7 +225,7 @@ impl<'g> Session<'g> {
 
     /// [`run_camera`](Self::run_camera) with `body` recorded in place of
     /// the method's frame ([`View::cull_with`]).
-    pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, cut: bool, body: Option<hroc::cull::FrameBody>) -> Result<FrameResult> {
+    pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, cut: bool, body: Option<hroc::testing::cull::FrameBody>) -> Result<FrameResult> {
         let start = std::time::Instant::now();
         let aspect = self.renderer.aspect();
         let r = &self.renderer;
@@ -254,7 +254,7 @@ impl<'g> Session<'g> {
     }
 
     /// The `Frame` uniform the culler writes for camera `k` (CPU references).
-    pub fn frame_uniform(&self, k: usize) -> Result<hroc::layout::FrameUniform> {
+    pub fn frame_uniform(&self, k: usize) -> Result<hroc::testing::layout::FrameUniform> {
         let g = self.view_desc(&self.cameras[k]).geometry()?;
         Ok(g.uniform((self.renderer.targets.width, self.renderer.targets.height), self.renderer.object_count, self.bvh().nodes.len() as u32, hroc::DepthRange::Standard))
     }
@@ -359,7 +359,7 @@ struct Stray {
 impl Stray {
     fn new(camera: &Camera, aspect: f32, size: (u32, u32)) -> Self {
         let ray_dirs = camera.ray_dirs(aspect);
-        let pixel = hroc::cull::hroc::cpu::pixel_angle(&ray_dirs, camera.near, size.1);
+        let pixel = hroc::testing::cull::hroc::cpu::pixel_angle(&ray_dirs, camera.near, size.1);
         Stray { camera: *camera, view_proj: camera.view_proj(aspect), ray_dirs, pixel, size }
     }
 
@@ -370,7 +370,7 @@ impl Stray {
         let ndc = Vec2::new(x / w * 2.0 - 1.0, 1.0 - y / h * 2.0);
         let dir = (self.ray_dirs * Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
         let eye = self.camera.eye;
-        let b = hroc::cull::hroc::cpu::padded(*bounds, eye, self.pixel);
+        let b = hroc::testing::cull::hroc::cpu::padded(*bounds, eye, self.pixel);
         let (t0, t1) = ((b.min - eye) / dir, (b.max - eye) / dir);
         let (enter, exit) = (t0.min(t1).max_element().max(1.0), t0.max(t1).min_element());
         if exit.is_nan() || enter.is_nan() || exit < enter {

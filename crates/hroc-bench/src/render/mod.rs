@@ -167,7 +167,7 @@ impl Renderer {
         let objects_buf = gpu.buffer_init("objects", bytemuck::cast_slice(&objects), U::STORAGE | U::COPY_DST);
         let frame_layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame"),
-            entries: &[hroc::compact::uniform_entry(0), hroc::compact::storage_entry(1, true)],
+            entries: &[hroc::testing::compact::uniform_entry(0), hroc::testing::compact::storage_entry(1, true)],
         });
         let frame_bind = gpu.bind_buffers(&frame_layout, &[&frame, &objects_buf]);
         let dummy = gpu.buffer("no marks", n as u64 * 4, U::STORAGE);

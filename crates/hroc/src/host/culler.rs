@@ -442,12 +442,14 @@ impl Culler {
 
     /// The BVH nodes the views read, read back from the GPU (one wait): for
     /// tests of the GPU refit.
+    #[doc(hidden)]
     pub fn read_nodes(&self) -> Result<Vec<BvhNode>> {
         self.gpu.read(&self.bvh_nodes, 0, self.bvh.nodes.len() as u64)
     }
 
     /// The oriented boxes the views read, read back from the GPU (one
     /// wait): for tests that they follow their objects.
+    #[doc(hidden)]
     pub fn read_oriented(&self) -> Result<Vec<OrientedBounds>> {
         self.flush_oriented();
         self.gpu.read(&self.objects.oriented, 0, self.objects.count as u64)
@@ -606,6 +608,7 @@ impl Culler {
     }
 
     /// The device wrapper the culler records with.
+    #[doc(hidden)]
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
     }

@@ -254,6 +254,7 @@ impl View {
 
     /// The method's own state, for its debug read-backs (e.g.
     /// `view.method_state::<hroc::cull::hroc::Hroc>()`).
+    #[doc(hidden)]
     pub fn method_state<T: 'static>(&self) -> Option<&T> {
         (&*self.imp as &dyn std::any::Any).downcast_ref::<T>()
     }
@@ -264,6 +265,7 @@ impl View {
     }
 
     /// [`View::method_state`], mutable (debug switches of a method).
+    #[doc(hidden)]
     pub fn method_state_mut<T: 'static>(&mut self) -> Option<&mut T> {
         (&mut *self.imp as &mut dyn std::any::Any).downcast_mut::<T>()
     }
