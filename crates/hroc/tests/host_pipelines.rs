@@ -40,48 +40,7 @@ fn pass<'e>(encoder: &'e mut wgpu::CommandEncoder, depth: &wgpu::TextureView, lo
 fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
     let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
     // The host's pipeline first: camera at group 0, hroc's marks at group 1.
-    let marks = hroc::marks_layout(&device);
-    let camera_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("camera"),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX,
-            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
-            count: None,
-        }],
-    });
-    let source = format!(
-        "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\
-         struct Out {{ @builtin(position) clip: vec4<f32>, @location(0) @interpolate(flat) object: u32 }}\n\
-         @vertex fn vs(@location(0) p: vec3<f32>, @builtin(instance_index) i: u32) -> Out {{ return Out(view_proj * vec4<f32>(p, 1.0), i); }}\n\
-         @fragment @early_depth_test(force) fn fs(in: Out) {{ hroc_mark(in.object); }}\n",
-        hroc::marks_wgsl(1)
-    );
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("host"), source: wgpu::ShaderSource::Wgsl(source.into()) });
-    let layout =
-        device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("host"), bind_group_layouts: &[Some(&camera_layout), Some(&marks)], immediate_size: 0 });
-    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("host"),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs"),
-            compilation_options: Default::default(),
-            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 12, step_mode: wgpu::VertexStepMode::Vertex, attributes: &wgpu::vertex_attr_array![0 => Float32x3] })],
-        },
-        primitive: Default::default(),
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: wgpu::TextureFormat::Depth32Float,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias: Default::default(),
-        }),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs"), compilation_options: Default::default(), targets: &[] }),
-        multiview_mask: None,
-        cache: None,
-    });
+    let (pipeline, camera_layout) = common::host_pipeline(&device, false);
 
     // Geometry, targets and camera.
     let vertices: Vec<[f32; 3]> = [0.0, -4.0, -8.0].iter().flat_map(|&z| quad(z)).collect();

@@ -1,5 +1,9 @@
 //! What the core crate's GPU tests share: a Vulkan device (lavapipe in CI)
-//! and a depth target the culler can sample.
+//! a depth target the culler can sample, and a host pipeline built before
+//! any culler.
+
+// Each test binary uses part of this module.
+#![allow(dead_code)]
 
 /// A device on the first Vulkan adapter, with `features` and the adapter's
 /// own limits.
@@ -26,4 +30,57 @@ pub fn depth_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         view_formats: &[],
     })
+}
+
+/// A host's pipeline built before any culler (`hroc::marks_layout`):
+/// positions at location 0, `view_proj` at group 0, hroc's marks at
+/// group 1; the fragment stage forces early-Z, marks its object and, with
+/// `ids`, writes `object + 1` to an `R32Uint` target. Returns the pipeline
+/// and the camera's bind group layout.
+pub fn host_pipeline(device: &wgpu::Device, ids: bool) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
+    let (output, ret) = if ids { (" -> @location(0) u32", " return in.object + 1u;") } else { ("", "") };
+    let source = format!(
+        "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\
+         struct Out {{ @builtin(position) clip: vec4<f32>, @location(0) @interpolate(flat) object: u32 }}\n\
+         @vertex fn vs(@location(0) p: vec3<f32>, @builtin(instance_index) i: u32) -> Out {{ return Out(view_proj * vec4<f32>(p, 1.0), i); }}\n\
+         @fragment @early_depth_test(force) fn fs(in: Out){output} {{ hroc_mark(in.object);{ret} }}\n",
+        hroc::marks_wgsl(1)
+    );
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("host"), source: wgpu::ShaderSource::Wgsl(source.into()) });
+    let camera_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("camera"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        }],
+    });
+    let marks = hroc::marks_layout(device);
+    let layout =
+        device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("host"), bind_group_layouts: &[Some(&camera_layout), Some(&marks)], immediate_size: 0 });
+    let targets = [Some(wgpu::ColorTargetState { format: wgpu::TextureFormat::R32Uint, blend: None, write_mask: wgpu::ColorWrites::ALL })];
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("host"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 12, step_mode: wgpu::VertexStepMode::Vertex, attributes: &wgpu::vertex_attr_array![0 => Float32x3] })],
+        },
+        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs"), compilation_options: Default::default(), targets: if ids { &targets } else { &[] } }),
+        multiview_mask: None,
+        cache: None,
+    });
+    (pipeline, camera_layout)
 }
