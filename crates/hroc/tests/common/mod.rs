@@ -1,4 +1,4 @@
-//! What the core crate's GPU tests share: a Vulkan device (lavapipe in CI)
+//! What the core crate's GPU tests share: a Vulkan device (lavapipe in CI),
 //! a depth target the culler can sample, and a host pipeline built before
 //! any culler.
 
