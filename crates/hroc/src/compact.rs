@@ -22,27 +22,6 @@ pub struct Compactor {
     scatter: wgpu::ComputePipeline,
 }
 
-/// Storage-buffer layout entry; read-only ones are visible to every stage, writable ones to compute and fragment.
-pub fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        // Vertex shaders may only read storage buffers.
-        visibility: if read_only { wgpu::ShaderStages::all() } else { wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT },
-        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None },
-        count: None,
-    }
-}
-
-/// Uniform-buffer layout entry visible to compute, vertex and fragment stages.
-pub fn uniform_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::VERTEX | wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
-        count: None,
-    }
-}
-
 /// A compaction bound to its buffers, ready to record.
 pub struct CompactJob {
     bind: wgpu::BindGroup,
@@ -54,11 +33,8 @@ impl Compactor {
         let blocks = n.div_ceil(WG * ITEMS).max(1);
         let params = gpu.buffer_init("compact params", bytemuck::bytes_of(&CompactParams { n, blocks, select: 0, _pad: 0 }), wgpu::BufferUsages::UNIFORM);
         let block_sums = gpu.buffer("block sums", blocks as u64 * 4, wgpu::BufferUsages::STORAGE);
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("compact"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), storage_entry(3, false), storage_entry(4, false), storage_entry(5, false)],
-        });
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("compact"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let layout = crate::reflect::layout(gpu, "compact", &[("compact.wgsl", &[])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "compact", &layout);
         let module = gpu.shader("compact.wgsl", &crate::shaders::source("compact.wgsl"));
         Compactor {
             n,

@@ -26,6 +26,13 @@ pub enum Error {
     /// The objects exceed the device's limits.
     #[error("scene too large for this device: {0}")]
     OverDeviceLimits(String),
+    /// A view whose method submits the host's encoder mid-frame
+    /// ([`crate::Method::submits_mid_frame`]) was culled while the encoder
+    /// holding its previous frame's end was neither submitted nor dropped:
+    /// that submit would have run this frame's start before the last
+    /// frame's end.
+    #[error("submit order: {0}")]
+    SubmitOrder(String),
     /// The device reported an error, or a read-back failed.
     #[error("GPU error: {0}")]
     Gpu(String),

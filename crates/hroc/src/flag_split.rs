@@ -3,7 +3,7 @@
 
 use crate::compact::Compactor;
 use crate::contract::DrawList;
-use crate::gpu::{dispatch_size, Gpu, PassCount};
+use crate::gpu::{dispatch_size, Gpu, PassCount, Uploads};
 use crate::objects::SharedObjects;
 use crate::shaders;
 
@@ -27,13 +27,9 @@ pub(crate) struct FlagSplit {
 impl FlagSplit {
     pub(super) fn new(gpu: &Gpu, objects: &SharedObjects) -> Self {
         let n = objects.count;
-        use crate::compact::storage_entry;
         use wgpu::BufferUsages as U;
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hroc flag split"),
-            entries: &[storage_entry(0, true), storage_entry(1, true), storage_entry(2, true), storage_entry(3, false), storage_entry(4, false), crate::compact::uniform_entry(5)],
-        });
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc flag split"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let layout = crate::reflect::layout(gpu, "hroc flag split", &[("split.wgsl", &[])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "hroc flag split", &layout);
         let module = gpu.shader("split.wgsl", &shaders::source("split.wgsl"));
         let deferred = gpu.buffer("hroc non-occluders", n as u64 * 4, U::STORAGE | U::COPY_DST);
         let compactor = Compactor::new(gpu, n);
@@ -46,7 +42,7 @@ impl FlagSplit {
         enc.copy_buffer_to_buffer(&objects.always_deferred, 0, &self.deferred, 0, objects.count as u64 * 4);
     }
 
-    pub(crate) fn split(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, bounds: &wgpu::Buffer, list: &DrawList, count: &PassCount) -> DrawList {
+    pub(crate) fn split(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, bounds: &wgpu::Buffer, list: &DrawList, count: &PassCount) -> DrawList {
         use wgpu::BufferUsages as U;
         let need = (list.commands.size() / 20).max(1) * 20;
         if self.used == self.pool.len() {
@@ -56,8 +52,7 @@ impl FlagSplit {
         }
         let (dst, bound) = self.pool[self.used].clone();
         self.used += 1;
-        // Written before the submit that runs this dispatch; each slot once a frame.
-        gpu.queue.write_buffer(&bound, 0, bytemuck::cast_slice(&[list.max_count, 0, 0, 0]));
+        uploads.write(enc, &bound, 0, bytemuck::cast_slice(&[list.max_count, 0, 0, 0]));
         let bind = gpu.bind_buffers(&self.layout, &[bounds, &list.commands, &list.count, &dst, &self.deferred, &bound]);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc flag split"), timestamp_writes: None });
         let (x, y) = dispatch_size(list.max_count, 256);

@@ -84,18 +84,26 @@
 //!   [`Method::HROC`]), the host writes `object index + 1` to an `R32Uint`
 //!   target ([`ViewTargets::ids`]) in every occluding phase and clears it to 0
 //!   each frame. `hroc-na`, `hroc-cr` and `hroc-sf` need no ID target.
-//! - **Submit every frame.** The default [`Method::HROC`] (`hroc` =
-//!   `hroc-sf+of`) and `hroc-sf` use stall-free counters (HROC §6): they
-//!   never submit or wait, and read earlier frames' counts from a staging
-//!   buffer mapped at the next cull, so submit each frame's encoder before
-//!   culling the next frame of that view. They may hand the host two lists
-//!   in one phase (the estimate, then the overflow): draw both.
-//! - **Mid-frame submits.** Methods with counter read-back (`hroc-cr+of`,
-//!   `hroc-cr`, `ioc`, `oq`, `soq`, `chc++`) submit the host's encoder in the
-//!   middle of [`View::cull`], wait for the GPU, and continue in a new
-//!   encoder left in the host's `&mut CommandEncoder`. Record nothing before
-//!   the cull that must not be submitted yet, and keep no debug group open
-//!   across it.
+//! - **Encoders.** A view records everything a frame writes into the
+//!   encoder it is handed (copies from a staging belt, never
+//!   `Queue::write_buffer`), and maps its read-backs when that encoder is
+//!   submitted. So frames of a view may share an encoder, be submitted
+//!   late or in another order, or be dropped unsubmitted (that frame is
+//!   simply lost). The default [`Method::HROC`] (`hroc` = `hroc-sf+of`) and
+//!   `hroc-sf` use stall-free counters (HROC §6): they never submit or
+//!   wait, and take earlier frames' counts when they arrive. They may hand
+//!   the host two lists in one phase (the estimate, then the overflow):
+//!   draw both.
+//! - **Mid-frame submits.** Methods with counter read-back
+//!   ([`Method::submits_mid_frame`]: `hroc-cr+of`, `hroc-cr`, `ioc`, `oq`,
+//!   `soq`, `chc++`) submit the host's encoder in the middle of
+//!   [`View::cull`], wait for the GPU, and continue in a new encoder left in
+//!   the host's `&mut CommandEncoder`. Record nothing before the cull that
+//!   must not be submitted yet, and keep no debug group open across it.
+//!   Cull such a view into the encoder its previous frame ended in, or
+//!   after that encoder was submitted or dropped: otherwise its submit
+//!   would run ahead of the previous frame's end, and the cull fails with
+//!   [`Error::SubmitOrder`], submitting nothing.
 //! - **Views.** Right-handed perspective projections (HROC casts rays from
 //!   the eye, and the box tests rasterize the faces a right-handed view sees
 //!   in front): symmetric or off-centre, finite or infinite far plane,
@@ -179,6 +187,7 @@ mod host;
 mod layout;
 mod metrics;
 mod objects;
+mod reflect;
 mod shaders;
 mod tally;
 #[doc(hidden)]

@@ -23,6 +23,11 @@ pub mod layout {
     pub use crate::layout::*;
 }
 
+/// Bind-group layouts reflected from the WGSL.
+pub mod reflect {
+    pub use crate::reflect::*;
+}
+
 /// The WGSL passes and the pipelines built from them.
 pub mod shaders {
     pub use crate::shaders::*;

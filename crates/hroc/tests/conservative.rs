@@ -4,168 +4,19 @@
 //! owns a pixel when everything is drawn (`noc`'s object-ID image), across
 //! a walk, a camera cut and an eye inside an object's box.
 
-use glam::{Mat4, Vec3};
-use hroc::{Aabb, Culler, CullerDesc, DepthRange, Draw, FrameInput, Method, ObjectDesc, ObjectFlags, Variant, View, ViewDesc, ViewTargets};
-use wgpu::util::DeviceExt;
+use common::street::{look, street};
+use glam::Vec3;
+use hroc::{Culler, CullerDesc, Method, Variant, ViewDesc};
 
 mod common;
-
-const SIZE: u32 = 64;
-
-/// Boxes: a wall across the street, cubes before and behind it, and a
-/// large box the camera enters.
-fn boxes() -> Vec<Aabb> {
-    let mut b = vec![Aabb::new(Vec3::new(-10.0, 0.0, -6.5), Vec3::new(10.0, 4.0, -6.0))];
-    for x in (-8i32..=8).step_by(2) {
-        for z in (-20..=0).step_by(3) {
-            b.push(Aabb::new(Vec3::new(x as f32 - 0.5, 0.0, z as f32 - 0.5), Vec3::new(x as f32 + 0.5, 1.0 + (x + z).rem_euclid(3) as f32, z as f32 + 0.5)));
-        }
-    }
-    b.push(Aabb::new(Vec3::new(-2.0, 0.0, 1.0), Vec3::new(2.0, 3.0, 4.0)));
-    b
-}
-
-/// The cube of `b`: 8 corners, 12 triangles facing out.
-fn cube(b: &Aabb) -> ([[f32; 3]; 8], [u32; 36]) {
-    let c = |i: u32| [if i & 1 != 0 { b.max.x } else { b.min.x }, if i & 2 != 0 { b.max.y } else { b.min.y }, if i & 4 != 0 { b.max.z } else { b.min.z }];
-    let idx = [0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4, 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5];
-    ((0..8).map(c).collect::<Vec<_>>().try_into().unwrap(), idx)
-}
-
-/// The host: one pipeline writing depth and `object + 1`, marking its object.
-struct Host {
-    pipeline: wgpu::RenderPipeline,
-    camera: wgpu::Buffer,
-    camera_bind: wgpu::BindGroup,
-    vertices: wgpu::Buffer,
-    indices: wgpu::Buffer,
-    depth: wgpu::Texture,
-    ids: wgpu::Texture,
-}
-
-impl Host {
-    fn new(device: &wgpu::Device, vertices: &[[f32; 3]], indices: &[u32]) -> Host {
-        let (pipeline, camera_layout) = common::host_pipeline(device, true);
-        let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
-        let camera = init("camera", &[0u8; 64], wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
-        let camera_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: None,
-            layout: &camera_layout,
-            entries: &[wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() }],
-        });
-        let ids = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("ids"),
-            size: wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Uint,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        Host {
-            pipeline,
-            camera,
-            camera_bind,
-            vertices: init("vertices", bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX),
-            indices: init("indices", bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
-            depth: common::depth_texture(device, SIZE),
-            ids,
-        }
-    }
-
-    fn targets(&self) -> ViewTargets<'_> {
-        ViewTargets { depth: &self.depth, depth_range: DepthRange::Standard, ids: Some(&self.ids) }
-    }
-
-    fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, clear: bool) -> wgpu::RenderPass<'e> {
-        let (ids, depth) = (self.ids.create_view(&Default::default()), self.depth.create_view(&Default::default()));
-        let load = |c| if clear { wgpu::LoadOp::Clear(c) } else { wgpu::LoadOp::Load };
-        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("host"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &ids,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &depth,
-                depth_ops: Some(wgpu::Operations { load: load(1.0), store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        })
-    }
-
-    /// One frame of `view`: clear, cull, draw every list. Returns the
-    /// objects the lists drew.
-    fn frame(&self, device: &wgpu::Device, queue: &wgpu::Queue, culler: &Culler, view: &mut View, desc: ViewDesc, cut: bool) -> Vec<u32> {
-        queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&(desc.proj * desc.view)));
-        let mut enc = device.create_command_encoder(&Default::default());
-        drop(self.pass(&mut enc, true));
-        let mut lists = Vec::new();
-        view.cull(culler, &mut enc, &FrameInput { view: desc, targets: self.targets(), cut, time: 0.0 }, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
-            let mut pass = self.pass(enc, false);
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &self.camera_bind, &[]);
-            pass.set_vertex_buffer(0, self.vertices.slice(..));
-            pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-            draw.record(&mut pass, 1);
-            lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count));
-        })
-        .unwrap();
-        queue.submit([enc.finish()]);
-        let gpu = hroc::testing::gpu::Gpu::from_device(device, queue);
-        let mut drawn: Vec<u32> =
-            lists.iter().flat_map(|(c, n, m)| gpu.read_list(c, n, *m).unwrap()).filter(|c| c.instance_count > 0 && c.index_count > 0).map(|c| c.first_instance).collect();
-        drawn.sort_unstable();
-        drawn.dedup();
-        drawn
-    }
-
-    /// The objects that own a pixel of the ID image.
-    fn visible(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<u32> {
-        let buf = device.create_buffer(&wgpu::BufferDescriptor {
-            label: None,
-            size: (SIZE * SIZE * 4) as u64,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let mut enc = device.create_command_encoder(&Default::default());
-        enc.copy_texture_to_buffer(
-            self.ids.as_image_copy(),
-            wgpu::TexelCopyBufferInfo { buffer: &buf, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(SIZE * 4), rows_per_image: None } },
-            wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
-        );
-        queue.submit([enc.finish()]);
-        let ids: Vec<u32> = hroc::testing::gpu::Gpu::from_device(device, queue).read(&buf, 0, (SIZE * SIZE) as u64).unwrap();
-        let mut v: Vec<u32> = ids.into_iter().filter(|&i| i > 0).map(|i| i - 1).collect();
-        v.sort_unstable();
-        v.dedup();
-        v
-    }
-}
 
 #[test]
 fn every_method_family_draws_every_visible_object() {
     let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
-    let boxes = boxes();
-    let (mut vertices, mut indices, mut objects) = (Vec::new(), Vec::new(), Vec::new());
-    for (i, b) in boxes.iter().enumerate() {
-        let (v, idx) = cube(b);
-        let base = vertices.len() as u32;
-        vertices.extend(v);
-        indices.extend(idx.map(|k| k + base));
-        objects.push(ObjectDesc { bounds: *b, index_count: 36, first_index: 36 * i as u32, base_vertex: 0, flags: ObjectFlags::NONE, oriented: None });
-    }
-    let host = Host::new(&device, &vertices, &indices);
+    let (host, objects) = street(&device);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     // A walk along the street, a cut to above the wall, and the eye inside
     // the last box (which crosses the near plane).
-    let look = |eye: Vec3, target: Vec3| ViewDesc { view: Mat4::look_at_rh(eye, target, Vec3::Y), proj: Mat4::perspective_rh(1.1, 1.0, 0.1, 200.0), depth: DepthRange::Standard };
     let mut path: Vec<(ViewDesc, bool)> = (0..6).map(|k| (look(Vec3::new(-3.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
     path.push((look(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
     path.push((look(Vec3::new(0.0, 1.5, 2.5), Vec3::new(0.0, 1.0, -10.0)), true));
@@ -178,7 +29,7 @@ fn every_method_family_draws_every_visible_object() {
             host.visible(&device, &queue)
         })
         .collect();
-    assert!(visible.iter().all(|v| !v.is_empty()) && visible[0].len() < boxes.len() / 2, "the wall hides most of the street: {visible:?}");
+    assert!(visible.iter().all(|v| !v.is_empty()) && visible[0].len() < objects.len() / 2, "the wall hides most of the street: {visible:?}");
     for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
         let mut view = culler.view(method, &host.targets()).unwrap();
         let mut culled = 0;
@@ -186,7 +37,7 @@ fn every_method_family_draws_every_visible_object() {
             let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
             let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
             assert!(missed.is_empty(), "{method} frame {k}: visible objects {missed:?} not drawn");
-            culled += boxes.len() - drawn.len();
+            culled += objects.len() - drawn.len();
         }
         assert!(culled > 0, "{method} culled nothing");
     }

@@ -25,6 +25,31 @@ fn every_shader_validates() {
     }
 }
 
+/// Every pass's layouts come from its WGSL: each reflects, a binding has
+/// one type in all of a pass's entry points, and an entry is visible to
+/// exactly the stages that use it.
+#[test]
+fn layouts_come_from_the_shaders() {
+    use hroc::testing::reflect::entries;
+    use wgpu::{BindingType, BufferBindingType, ShaderStages, TextureSampleType};
+    for (name, _) in SHADERS {
+        assert!(!entries(&[(name, &[])], 0).is_empty(), "{name} binds nothing");
+    }
+    let test = entries(&[("hroc_test.wgsl", &["box_vs", "box_fs"])], 0);
+    let entry = |b: u32| test.iter().find(|e| e.binding == b).unwrap_or_else(|| panic!("no binding {b}: {test:?}"));
+    // The occlusion map is a depth texture the fragment stage loads; the
+    // ray counters are written there too; the frame uniform is read by both.
+    assert!(matches!(entry(4).ty, BindingType::Texture { sample_type: TextureSampleType::Depth, .. }), "{:?}", entry(4));
+    assert_eq!(entry(4).visibility, ShaderStages::FRAGMENT);
+    assert!(matches!(entry(5).ty, BindingType::Buffer { ty: BufferBindingType::Storage { read_only: false }, .. }), "{:?}", entry(5));
+    assert_eq!(entry(0).visibility, ShaderStages::VERTEX | ShaderStages::FRAGMENT);
+    // The reduce pass's depth (binding 7) is not part of the test's layout.
+    assert!(test.iter().all(|e| e.binding != 7));
+    // Steps 0, 2 and 5 share a bind group: the union of their bindings.
+    let groups = entries(&[("hroc_seed.wgsl", &[]), ("hroc_groups.wgsl", &[]), ("hroc_next.wgsl", &[])], 0);
+    assert_eq!(groups.iter().map(|e| e.binding).collect::<Vec<_>>(), (0..12).collect::<Vec<_>>());
+}
+
 #[test]
 fn shader_folder_is_complete() {
     // A WGSL file the renderer does not list would never be validated.

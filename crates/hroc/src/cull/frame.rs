@@ -4,10 +4,10 @@
 use super::*;
 use crate::bvh::Bvh;
 use crate::contract::{Draw, DrawHost, Phase, Targets};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::flag_split::FlagSplit;
 use crate::frustum::ViewGeometry;
-use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount};
+use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount, Submission, Uploads};
 use crate::layout::FrameUniform;
 use crate::objects::SharedObjects;
 
@@ -37,6 +37,10 @@ pub struct Frame<'a> {
     pub(crate) sink: &'a wgpu::BindGroup,
     pub(crate) work: &'a mut WorkCounts,
     pub(crate) tally: &'a mut crate::tally::DrawTally,
+    pub(crate) uploads: &'a mut Uploads,
+    /// For methods that submit mid-frame: the encoder that holds the end of
+    /// the view's previous frame, checked at the first submit.
+    pub(crate) prior: Option<Submission>,
     /// A debug group named after the current stage is open on the encoder,
     /// so a GPU profiler groups the passes as the paper's steps.
     pub(crate) group_open: bool,
@@ -95,7 +99,7 @@ impl<'a> Frame<'a> {
         let split_count = if self.split.is_some() { self.pass_count() } else { PassCount::NONE };
         let list = match self.split.as_deref_mut() {
             Some(s) => {
-                split = s.split(self.gpu, self.encoder, &self.objects.bounds, list, &split_count);
+                split = s.split(self.gpu, self.encoder, self.uploads, &self.objects.bounds, list, &split_count);
                 &split
             }
             None => list,
@@ -103,22 +107,43 @@ impl<'a> Frame<'a> {
         let statistics = self.pass_count();
         let draw = Draw { phase, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: marks.unwrap_or(self.sink), mark: marks.is_some(), statistics };
         self.host.draw(self.encoder, &draw);
-        self.tally.count(self.gpu, self.encoder, list);
+        self.tally.count(self.gpu, self.encoder, self.uploads, list);
     }
 
     /// Submits what is recorded so far and continues in a fresh encoder (for
-    /// methods that read back mid-frame).
-    pub fn flush(&mut self) {
-        self.tally.write_limits(self.gpu);
+    /// methods that read back mid-frame). Fails, submitting nothing, when
+    /// the view's previous frame ended in another encoder that is neither
+    /// submitted nor dropped: this submit would run ahead of it.
+    fn flush(&mut self) -> Result<()> {
+        if let Some(prior) = self.prior.take() {
+            if !prior.is(self.encoder) && prior.is_pending() {
+                self.work.waits += 1;
+                self.gpu.wait()?;
+                if prior.is_pending() {
+                    return Err(Error::SubmitOrder(
+                        "this view submits the host's encoder mid-frame, and its previous frame ended in another encoder that is not yet submitted: submit that encoder first, or cull into it".into(),
+                    ));
+                }
+            }
+        }
         let open = self.group_open;
         self.end_group();
         let enc = std::mem::replace(self.encoder, self.gpu.encoder("hroc frame"));
+        self.uploads.close(&enc);
         self.gpu.queue.submit([enc.finish()]);
         self.work.submits += 1;
         if open {
             self.encoder.push_debug_group(self.current.name());
             self.group_open = true;
         }
+        Ok(())
+    }
+
+    /// Records into the encoder a copy of `bytes` (a non-empty multiple of
+    /// 4) to `target` at `offset`: per-frame data travels with the frame's
+    /// commands, never through the queue, so frames may share an encoder.
+    pub fn write(&mut self, target: &wgpu::Buffer, offset: u64, bytes: &[u8]) {
+        self.uploads.write(self.encoder, target, offset, bytes);
     }
 
     /// Closes the current stage's debug group, if one is open.
@@ -131,7 +156,7 @@ impl<'a> Frame<'a> {
     /// Reads `count` u32s of `buf` mid-frame: submits and waits (a stall,
     /// which is what CR-style methods pay for).
     pub fn read_u32(&mut self, buf: &wgpu::Buffer, count: u64) -> Result<Vec<u32>> {
-        self.flush();
+        self.flush()?;
         self.work.waits += 1;
         self.work.bytes_read += count * 4;
         self.gpu.read(buf, 0, count)
@@ -140,7 +165,7 @@ impl<'a> Frame<'a> {
     /// Submits, then maps and reads the first `bytes` of the `MAP_READ`
     /// buffer `staging` (a stall, as [`Frame::read_u32`]).
     pub fn map_read(&mut self, staging: &wgpu::Buffer, bytes: u64) -> Result<Vec<u8>> {
-        self.flush();
+        self.flush()?;
         self.work.waits += 1;
         self.work.bytes_read += bytes;
         self.gpu.map_read(staging, bytes)

@@ -172,6 +172,16 @@ impl Method {
         matches!(self, Method::Hroc(Variant { of: true, .. }))
     }
 
+    /// True when the method reads counts back in the middle of a frame
+    /// (`hroc-cr`, `hroc-cr+of`, `ioc`, `oq`, `soq`, `chc++`): its
+    /// [`crate::View::cull`] submits the host's encoder, waits, and goes on
+    /// in a new one. A frame of such a view is culled into the encoder its
+    /// previous frame ended in, or after that encoder was submitted (or
+    /// dropped); otherwise the cull fails with [`crate::Error::SubmitOrder`].
+    pub fn submits_mid_frame(self) -> bool {
+        matches!(self, Method::Hroc(Variant { counters: Counters::ReadBack, .. }) | Method::Ioc | Method::Oq | Method::Soq | Method::Chc)
+    }
+
     /// True for `ref`, which only the benchmark can feed (`View::set_oracle`).
     pub fn is_benchmark_only(self) -> bool {
         self == Method::Ref

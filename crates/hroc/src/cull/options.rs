@@ -68,7 +68,7 @@ pub struct MethodOptions {
 }
 
 /// When HROC seeds its occluders V with the objects a coarse grid of rays
-/// meets first (`seed` in `hroc_groups.wgsl`).
+/// meets first (`hroc_seed.wgsl`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Seed {
     /// On the first frame and after every camera cut, signalled or detected

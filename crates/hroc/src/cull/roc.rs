@@ -28,7 +28,7 @@
 //! `LessEqual` with the bias.
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
@@ -53,12 +53,9 @@ pub(crate) enum BoxCount<'a> {
 
 impl BoxPass {
     pub(crate) fn new(cx: &MethodContext) -> Self {
-        let (gpu, device) = (cx.gpu, &cx.gpu.device);
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("roc boxes"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), storage_entry(3, false)],
-        });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("roc boxes"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let gpu = cx.gpu;
+        let layout = crate::reflect::layout(gpu, "roc boxes", &[("roc_boxes.wgsl", &["box_vs", "box_fs"])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "roc boxes", &layout);
         let module = gpu.shader("roc_boxes.wgsl", &shader_source("roc_boxes.wgsl"));
         let pipeline = crate::shaders::box_test_pipeline(gpu, "roc boxes", &pl, &module, Some("box_fs"), (cx.targets.depth_format, cx.targets.depth), &[]);
         BoxPass { pipeline, layout }
@@ -129,19 +126,8 @@ impl Roc {
         let compactor = Compactor::new(gpu, n);
         let (v_list, v_job) = compactor.packed_list(gpu, "roc V list", &visible, cx.commands);
         let (u_list, u_job) = compactor.packed_list(gpu, "roc U list", if all { &fresh } else { &tested }, cx.commands);
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("roc"),
-            entries: &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                storage_entry(2, false),
-                storage_entry(3, false),
-                storage_entry(4, false),
-                storage_entry(5, false),
-                storage_entry(6, false),
-            ],
-        });
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("roc"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let layout = crate::reflect::layout(gpu, "roc", &[("roc.wgsl", &[])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "roc", &layout);
         let module = gpu.shader("roc.wgsl", &shader_source("roc.wgsl"));
         let constants = [("ALL", if all { 1.0 } else { 0.0 })];
         let boxes = BoxPass::new(cx);

@@ -2,7 +2,7 @@
 //! compaction into a packed list.
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
-use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
@@ -25,10 +25,8 @@ impl FrustumCuller {
         let n = cx.object_count;
         use wgpu::BufferUsages as U;
         let flags = gpu.buffer("vfc flags", n as u64 * 4, U::STORAGE);
-        let layout = gpu
-            .device
-            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("vfc"), entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false)] });
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("vfc"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let layout = crate::reflect::layout(gpu, "vfc", &[("vfc.wgsl", &[])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "vfc", &layout);
         let module = gpu.shader("vfc.wgsl", &shader_source("vfc.wgsl"));
         let compactor = Compactor::new(gpu, n);
         let (list, job) = compactor.packed_list(gpu, "vfc list", &flags, cx.commands);

@@ -25,9 +25,9 @@
 
 use glam::{DMat4, Mat4};
 
-use super::hzb::{depth_texture_entry, HizTest, Pyramid};
+use super::hzb::{HizTest, Pyramid};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
@@ -74,10 +74,7 @@ impl Woc {
         gpu.queue.write_buffer(&pyramid.levels, 0, bytemuck::cast_slice(&far));
         let holes = gpu.buffer("woc holes", 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let test = HizTest::new(cx, &pyramid, &unused, &flags, false);
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("woc warp"),
-            entries: &[uniform_entry(0), uniform_entry(1), storage_entry(2, false), storage_entry(3, false), depth_texture_entry(4), storage_entry(5, false)],
-        });
+        let layout = crate::reflect::layout(gpu, "woc warp", &[("woc_warp.wgsl", &[])], 0);
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("woc warp"),
             layout: &layout,
@@ -90,7 +87,7 @@ impl Woc {
                 wgpu::BindGroupEntry { binding: 5, resource: holes.as_entire_binding() },
             ],
         });
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("woc warp"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let pl = crate::reflect::pipeline_layout(gpu, "woc warp", &layout);
         let module = gpu.shader("woc_warp.wgsl", &shader_source("woc_warp.wgsl"));
         let list = DrawList {
             commands: gpu.buffer("woc list", n as u64 * 20, U::STORAGE | U::INDIRECT | U::COPY_SRC),
@@ -141,7 +138,7 @@ impl CullMethod for Woc {
         if let Some(prev) = self.prev {
             let m = view_proj64(&f.geometry.view_proj) * view_proj64(&prev).inverse();
             let m = Mat4::from_cols_array(&m.to_cols_array().map(|x| x as f32));
-            f.gpu.queue.write_buffer(&self.reproject, 0, bytemuck::cast_slice(&m.to_cols_array()));
+            f.write(&self.reproject, 0, bytemuck::cast_slice(&m.to_cols_array()));
             self.dispatch(f, "woc warp", &self.splat);
         }
         // 2. Pyramid of the warped depth.

@@ -1,14 +1,18 @@
 //! The host's device and queue as the culler records with them, read-back
 //! helpers, GPU timestamps and pipeline statistics.
 
+mod readback;
 pub mod stats;
 pub mod timer;
+mod uploads;
 
 use crate::error::{Error, Result};
 use wgpu::util::DeviceExt;
 
+pub use readback::{Readback, Submission};
 pub use stats::{InvocationCounter, Invocations, PassCount};
 pub use timer::GpuTimer;
+pub use uploads::Uploads;
 
 /// A device and its queue (cheap clones of the host's), with the helpers
 /// the methods record with.

@@ -5,6 +5,7 @@ use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
 use crate::cull::{DrawList, Method, MethodContext, MethodOptions, WorkCounts};
 use crate::error::{Error, Result};
 use crate::frustum::DepthRange;
+use crate::gpu::Uploads;
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter};
 use crate::layout::{DrawCommand, FrameUniform, ObjectBounds, OrientedBounds};
 use crate::tally::DrawTally;
@@ -585,6 +586,9 @@ impl Culler {
             last_cut: false,
             work: WorkCounts::default(),
             tally: DrawTally::new(&self.gpu),
+            uploads: Uploads::new(&self.gpu.device),
+            tail: None,
+            interrupted: false,
             frames: 0,
         })
     }

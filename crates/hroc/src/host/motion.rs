@@ -76,13 +76,9 @@ pub(super) struct GpuRefit {
 
 impl GpuRefit {
     pub(super) fn new(gpu: &Gpu, slots: u32) -> GpuRefit {
-        use crate::compact::{storage_entry, uniform_entry};
         use wgpu::BufferUsages as U;
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hroc refit"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false), storage_entry(3, false), storage_entry(4, true), storage_entry(5, false)],
-        });
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc refit"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let layout = crate::reflect::layout(gpu, "hroc refit", &[("refit.wgsl", &[])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "hroc refit", &layout);
         let module = gpu.shader("refit.wgsl", &shaders::source("refit.wgsl"));
         GpuRefit {
             clear: gpu.compute_pipeline(&module, "clear", Some(&pl), &[]),

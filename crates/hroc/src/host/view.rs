@@ -5,7 +5,7 @@ use super::*;
 use crate::cull::{CullMethod, Frame, FrameBody, Method, MethodContext, MethodOptions, Stage, Stat, WorkCounts};
 use crate::error::{Error, Result};
 use crate::frustum::ViewDesc;
-use crate::gpu::{GpuTimer, InvocationCounter, Invocations};
+use crate::gpu::{GpuTimer, InvocationCounter, Invocations, Submission, Uploads};
 use crate::tally::{DrawTally, FrameStats};
 
 /// What the host hands in per frame of a view.
@@ -48,6 +48,12 @@ pub struct View {
     pub(super) tally: DrawTally,
     /// Frames culled so far.
     pub(super) frames: u64,
+    /// The frame's writes, recorded in the host's encoder.
+    pub(super) uploads: Uploads,
+    /// Methods that submit mid-frame: the encoder the last frame ended in.
+    pub(super) tail: Option<Submission>,
+    /// The last frame failed part-way: the next starts over as after a cut.
+    pub(super) interrupted: bool,
 }
 
 impl View {
@@ -56,13 +62,19 @@ impl View {
         self.method
     }
 
-    /// Culls one frame: writes the view's uniform, records the method's
-    /// passes into `encoder` and hands `host` every list to draw, in phase
-    /// order. The host has cleared its targets before (the crate docs'
-    /// clearing rule); it submits `encoder` after. Methods with counter
-    /// read-back (`hroc-cr`, `hroc-cr+of`, `ioc`, `oq`, `soq`, `chc++`)
-    /// submit `encoder` mid-frame and continue in a new one, which this
-    /// call leaves in `*encoder`; the default `hroc` never submits or waits.
+    /// Culls one frame: records the view's uniform and the method's passes
+    /// into `encoder` and hands `host` every list to draw, in phase order.
+    /// The host has cleared its targets before (the crate docs' clearing
+    /// rule) and submits `encoder` after, now or later (the crate docs'
+    /// encoder rule). Methods with counter read-back
+    /// ([`Method::submits_mid_frame`]) submit `encoder` mid-frame and
+    /// continue in a new one, which this call leaves in `*encoder`; the
+    /// default `hroc` never submits or waits.
+    ///
+    /// Fails on a host's mistake (targets, view, a scene the method cannot
+    /// take, [`Error::SubmitOrder`]). The view stays usable (after a
+    /// failure part-way, its next frame starts over as after a cut), and
+    /// `encoder` stays balanced and submittable.
     pub fn cull(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost) -> Result<()> {
         self.record(culler, encoder, input, host, None)
     }
@@ -108,8 +120,8 @@ impl View {
         let g = input.view.geometry()?;
         culler.flush_oriented();
         let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32, self.targets.depth);
-        culler.gpu.queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&uniform));
-        let cut = self.detect_cut(culler, &input.view) || input.cut;
+        self.uploads.write(encoder, &self.frame, 0, bytemuck::bytes_of(&uniform));
+        let cut = self.detect_cut(culler, &input.view) || input.cut || std::mem::take(&mut self.interrupted);
         if cut {
             self.imp.reset(encoder);
         }
@@ -132,6 +144,8 @@ impl View {
         self.tally.begin(&culler.gpu, encoder);
         let mut f = Frame {
             tally: &mut self.tally,
+            uploads: &mut self.uploads,
+            prior: if self.method.submits_mid_frame() { self.tail.take() } else { None },
             group_open: false,
             work: &mut self.work,
             gpu: &culler.gpu,
@@ -153,15 +167,21 @@ impl View {
             let statistics = f.pass_count();
             let d = Draw { phase: Phase::Always, commands: &always.commands, count: &always.count, max_count: always.max_count, marks: f.sink, mark: false, statistics };
             f.host.draw(f.encoder, &d);
-            f.tally.count(f.gpu, f.encoder, always);
+            f.tally.count(f.gpu, f.encoder, f.uploads, always);
         }
         let recorded = match body {
             Some(body) => body(&mut f),
             None => self.imp.frame(&mut f),
         };
         if let Err(e) = recorded {
-            // Leave the host's encoder balanced.
+            // Leave the host's encoder balanced and submittable, and start
+            // the next frame over.
             f.end_group();
+            f.uploads.close(f.encoder);
+            if self.method.submits_mid_frame() {
+                self.tail = Some(Submission::mark(f.encoder));
+            }
+            self.interrupted = true;
             return Err(e);
         }
         if let Some(s) = f.split.take() {
@@ -171,7 +191,7 @@ impl View {
             let statistics = f.pass_count();
             let d = Draw { phase: Phase::NonOccluders, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: f.sink, mark: false, statistics };
             f.host.draw(f.encoder, &d);
-            f.tally.count(f.gpu, f.encoder, &list);
+            f.tally.count(f.gpu, f.encoder, f.uploads, &list);
         }
         if let Some(t) = f.timer.take() {
             t.end(f.encoder);
@@ -182,7 +202,11 @@ impl View {
         f.end_group();
         let w = *f.work;
         let stats = FrameStats { frame: self.frames, cut, submits: w.submits, waits: w.waits, bytes_read: w.bytes_read, ..Default::default() };
-        f.tally.end(f.gpu, f.encoder, stats);
+        f.tally.end(f.encoder, stats);
+        f.uploads.close(f.encoder);
+        if self.method.submits_mid_frame() {
+            self.tail = Some(Submission::mark(f.encoder));
+        }
         self.frames += 1;
         Ok(())
     }
@@ -190,7 +214,8 @@ impl View {
     /// The statistics every method shares ([`FrameStats`]: objects and
     /// triangles drawn, cut, submits, waits, bytes read back) of the
     /// newest frame whose counts have come back, without waiting: a
-    /// frame's arrive a frame or more after it, tagged with its number.
+    /// frame's arrive once its encoder was submitted and its work is done
+    /// (on a busy GPU, a frame or more later), tagged with its number.
     /// `None` before the first arrives.
     pub fn frame_stats(&mut self, culler: &Culler) -> Option<FrameStats> {
         self.tally.latest(&culler.gpu)

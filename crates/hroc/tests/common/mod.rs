@@ -5,6 +5,8 @@
 // Each test binary uses part of this module.
 #![allow(dead_code)]
 
+pub mod street;
+
 /// A device on the first Vulkan adapter, with `features` and the adapter's
 /// own limits.
 pub fn device(features: wgpu::Features) -> (wgpu::Device, wgpu::Queue) {

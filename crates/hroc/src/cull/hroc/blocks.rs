@@ -3,7 +3,6 @@
 //! depth to it.
 
 use super::*;
-use crate::compact::uniform_entry;
 use crate::gpu::{Gpu, PassCount};
 
 /// The occlusion map of the test's blocks (`reduce_fs` in `hroc_test.wgsl`).
@@ -38,10 +37,7 @@ impl Blocks {
                 view_formats: &[],
             })
             .create_view(&Default::default());
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hroc reduce"),
-            entries: &[uniform_entry(0), texture_entry(7, wgpu::TextureSampleType::Depth)],
-        });
+        let layout = crate::reflect::layout(gpu, "hroc reduce", &[("hroc_test.wgsl", &["reduce_vs", "reduce_fs"])], 0);
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc reduce"),
             layout: &layout,
@@ -50,7 +46,7 @@ impl Blocks {
                 wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::TextureView(&cx.targets.depth_sampled) },
             ],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc reduce"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let pl = crate::reflect::pipeline_layout(gpu, "hroc reduce", &layout);
         let constants = [("TEST_SCALE", scale as f64)];
         let reduce = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
             label: Some("hroc reduce"),

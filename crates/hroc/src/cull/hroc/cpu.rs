@@ -199,7 +199,7 @@ pub fn ray_marked(
     marked
 }
 
-/// `seed` in hroc_groups.wgsl: for each cell centre of a `cols` × `rows`
+/// `seed` in hroc_seed.wgsl: for each cell centre of a `cols` × `rows`
 /// screen grid, the object whose (unpadded) box the ray from the eye enters
 /// first at or past the near plane (t = 1). Sorted, without repeats.
 pub fn seed(bvh: &Bvh, ray_dirs: &Mat4, eye: Vec3, (cols, rows): (u32, u32)) -> Vec<u32> {

@@ -1,5 +1,7 @@
 //! `hroc`: Hierarchical Raster Occlusion Culling (Lee et al. 2021;
 //! Lee's thesis). One frame, as the paper's Figure 2:
+//! 0. after a camera cut, V = the objects a coarse grid of rays meets
+//!    first (`hroc_seed.wgsl`);
 //! 1. occlusion map — draw V (last frame's visible set, packed in object
 //!    order) with forced early-Z; fragments mark the effective occluders O.
 //!    With [`MethodOptions::hroc_occluder_rounds`](super::MethodOptions),
@@ -17,7 +19,8 @@
 //!    front-to-back rounds: each draws the occludees whose box is nearest
 //!    at some block and tests the rest again against the depth it left
 //!    (`rounds_init`, `front_depth_vs`, `front_fs`, `late_fs`);
-//! 5. next V = O ∪ D, or with OF the objects that own a pixel.
+//! 5. next V = O ∪ D, or with OF the objects that own a pixel
+//!    (`hroc_next.wgsl`).
 //!
 //! CR reads back |V|, |G|, |U| for `max_count` instead of N.
 
@@ -33,7 +36,7 @@ pub use debug::{DebugState, FrameCounts};
 use rounds::{Rounds, RoundsOf};
 
 use super::{Counters, CullMethod, Frame, Method, MethodContext, Seed, Stage, Stat};
-use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
@@ -107,20 +110,11 @@ pub struct Hroc {
     occluder_rounds: Option<Rounds>,
 }
 
-/// Cells of the occluder seed's ray grid (`seed` in `hroc_groups.wgsl`):
+/// Cells of the occluder seed's ray grid (`hroc_seed.wgsl`):
 /// 64 × 36 rays, one per 10 × 10 pixels at 640 × 360, each a BVH walk
 /// that prunes behind its nearest hit: about as much work as the
 /// occlusion test's rays over a few group boxes.
 pub const SEED_GRID: (u32, u32) = (64, 36);
-
-fn texture_entry(binding: u32, sample_type: wgpu::TextureSampleType) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE | wgpu::ShaderStages::FRAGMENT,
-        ty: wgpu::BindingType::Texture { sample_type, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
-        count: None,
-    }
-}
 
 impl Hroc {
     /// Creates the method's buffers and pipelines; fails if the BVH is deeper than [`MAX_DEPTH`].
@@ -150,23 +144,8 @@ impl Hroc {
         let leaf_of_object = cx.leaf_of_object.clone();
 
         let device = &gpu.device;
-        let group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hroc groups"),
-            entries: &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                storage_entry(2, true),
-                storage_entry(3, true),
-                storage_entry(4, false),
-                storage_entry(5, false),
-                storage_entry(6, false),
-                storage_entry(7, false),
-                storage_entry(8, true),
-                storage_entry(9, false),
-                texture_entry(10, wgpu::TextureSampleType::Uint),
-                storage_entry(11, true),
-            ],
-        });
+        // Steps 0 (seed), 2 (groups) and 5 (next V) share one bind group.
+        let group_layout = crate::reflect::layout(gpu, "hroc groups", &[("hroc_seed.wgsl", &[]), ("hroc_groups.wgsl", &[]), ("hroc_next.wgsl", &[])], 0);
         let bufs = [cx.frame, &nodes_buf, &leaf_of_object, &occluders, &state, &groups, &group_count, &occludees, &drawn, &visible];
         let mut entries: Vec<_> = bufs.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
         // Without OF no pass reads the ID target; a 1x1 stand-in fills the binding.
@@ -192,22 +171,10 @@ impl Hroc {
         entries.push(wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::TextureView(ids) });
         entries.push(wgpu::BindGroupEntry { binding: 11, resource: cx.bounds.as_entire_binding() });
         let group_bind = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("hroc groups"), layout: &group_layout, entries: &entries });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc groups"), bind_group_layouts: &[Some(&group_layout)], immediate_size: 0 });
-        let module = gpu.shader("hroc_groups.wgsl", &shader_source("hroc_groups.wgsl"));
+        let pl = crate::reflect::pipeline_layout(gpu, "hroc groups", &group_layout);
+        let [seed_module, module, next_module] = ["hroc_seed.wgsl", "hroc_groups.wgsl", "hroc_next.wgsl"].map(|m| gpu.shader(m, &shader_source(m)));
 
-        let test_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hroc test"),
-            entries: &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                storage_entry(2, false),
-                storage_entry(3, false),
-                texture_entry(4, wgpu::TextureSampleType::Depth),
-                storage_entry(5, false),
-                storage_entry(6, true),
-                storage_entry(15, true),
-            ],
-        });
+        let test_layout = crate::reflect::layout(gpu, "hroc test", &[("hroc_test.wgsl", &["box_vs", "box_fs"])], 0);
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         let blocks = (scale > 1).then(|| Blocks::new(gpu, cx, &test_module, scale));
         let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| &b.view);
@@ -225,7 +192,7 @@ impl Hroc {
                 wgpu::BindGroupEntry { binding: 15, resource: cx.oriented.as_entire_binding() },
             ],
         });
-        let test_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc test"), bind_group_layouts: &[Some(&test_layout)], immediate_size: 0 });
+        let test_pl = crate::reflect::pipeline_layout(gpu, "hroc test", &test_layout);
         let test_depth = (blocks.as_ref().map_or(cx.targets.depth_format, |_| BLOCK_FORMAT), cx.targets.depth);
         let boxes = crate::shaders::box_test_pipeline(gpu, "hroc boxes", &test_pl, &test_module, Some("box_fs"), test_depth, &[("TEST_SCALE", scale as f64)]);
         let round_count = cx.options.hroc_rounds.clamp(1, MAX_ROUNDS);
@@ -256,10 +223,10 @@ impl Hroc {
             marks_d: cx.marks_bind(&drawn),
             extract: gpu.compute_pipeline(&module, "extract", Some(&pl), &[("TEST_SCALE", scale as f64)]),
             collect: gpu.compute_pipeline(&module, "collect", Some(&pl), &[("TEST_SCALE", scale as f64)]),
-            merge: gpu.compute_pipeline(&module, "merge", Some(&pl), &[]),
-            filter: gpu.compute_pipeline(&module, "filter_occluders", Some(&pl), &[("FILTER_STRIDE", filter_stride as f64)]),
+            merge: gpu.compute_pipeline(&next_module, "merge", Some(&pl), &[]),
+            filter: gpu.compute_pipeline(&next_module, "filter_occluders", Some(&pl), &[("FILTER_STRIDE", filter_stride as f64)]),
             filter_stride,
-            seed: gpu.compute_pipeline(&module, "seed", Some(&pl), &[("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)]),
+            seed: gpu.compute_pipeline(&seed_module, "seed", Some(&pl), &[("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)]),
             visible,
             occluders,
             occludees,

@@ -3,7 +3,7 @@
 //! and tests the rest again against the depth that left.
 
 use super::*;
-use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
@@ -155,20 +155,10 @@ impl Rounds {
         let (front, alive) = (flags("hroc front marks"), [flags("hroc round candidates"), flags("hroc round candidates")]);
         let unused = gpu.buffer("hroc unused", 4, U::STORAGE);
         let box_args = gpu.buffer_init("hroc round boxes", bytemuck::cast_slice(&[0u32, 1, 0, 0]), U::INDIRECT | U::STORAGE);
-        let round_entries = [
-            uniform_entry(0),
-            texture_entry(4, wgpu::TextureSampleType::Depth),
-            storage_entry(6, true),
-            uniform_entry(8),
-            storage_entry(9, true),
-            storage_entry(10, false),
-            storage_entry(11, true),
-            storage_entry(12, true),
-            storage_entry(15, true),
-        ];
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc rounds"), entries: &round_entries });
-        let init_entries = [&round_entries[..], &[storage_entry(13, true), storage_entry(14, false)]].concat();
-        let init_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some("hroc rounds init"), entries: &init_entries });
+        const ROUND: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
+        let layout = crate::reflect::layout(gpu, "hroc rounds", &[("hroc_test.wgsl", ROUND)], 0);
+        // The first round's set-up binds what the rounds bind, and the list's count.
+        let init_layout = crate::reflect::layout(gpu, "hroc rounds init", &[("hroc_test.wgsl", ROUND), ("hroc_test.wgsl", &["rounds_init"])], 0);
         let candidates = |k: u32| if k == 0 { list_marks } else { &alive[(k as usize - 1) % 2] };
         let (mut front_binds, mut late_binds, mut init_bind) = (Vec::new(), Vec::new(), None);
         for k in 0..count {
@@ -190,10 +180,7 @@ impl Rounds {
             front_binds.push(bind(&layout, &front, &unused, false));
             late_binds.push(bind(&layout, candidates(k + 1), &front, false));
         }
-        let pipeline_layout = |l: &wgpu::BindGroupLayout| {
-            device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc rounds"), bind_group_layouts: &[Some(l)], immediate_size: 0 })
-        };
-        let (pl, init_pl) = (pipeline_layout(&layout), pipeline_layout(&init_layout));
+        let (pl, init_pl) = (crate::reflect::pipeline_layout(gpu, "hroc rounds", &layout), crate::reflect::pipeline_layout(gpu, "hroc rounds init", &init_layout));
         let constants = [("TEST_SCALE", scale as f64)];
         let block_depth = (BLOCK_FORMAT, cx.targets.depth);
         use crate::shaders::{box_pipeline, BoxDepth};

@@ -1,18 +1,15 @@
 //! Stall-free counters (HROC §6: "counter read-back stalls the pipeline").
 //! CR reads each count back mid-frame to bound `max_count`; here the
 //! bound is an estimate from earlier frames' counts, copied to a staging
-//! ring and mapped without waiting, plus a margin. Whatever the estimate
+//! ring, mapped once the frame's encoder is submitted and done, and read
+//! without waiting, plus a margin. Whatever the estimate
 //! misses goes to a second indirect-count draw whose count, count −
 //! estimate (at least 0), the GPU computes (`overflow.wgsl`): nothing is
 //! dropped, so culling stays exactly as conservative as NA.
 
-use std::sync::atomic::{AtomicU8, Ordering};
-use std::sync::Arc;
-
-use crate::compact::{storage_entry, uniform_entry};
 use crate::cull::DrawList;
 use crate::cull::Frame;
-use crate::gpu::{dispatch_size, Gpu};
+use crate::gpu::{dispatch_size, Gpu, Readback};
 
 /// The counted lists of an HROC frame.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,15 +49,6 @@ const SLACK: u32 = 16;
 /// Staging buffers in flight: a count arrives one to three frames late.
 const RING: usize = 3;
 
-enum Slot {
-    Free,
-    /// Holds the counts of a frame whose encoder the host has not
-    /// necessarily submitted yet: mapped at the next frame.
-    Copied,
-    /// Map requested: 0 pending, 1 mapped, 2 failed.
-    Mapping(Arc<AtomicU8>),
-}
-
 struct Job {
     params: wgpu::Buffer,
     bind: wgpu::BindGroup,
@@ -75,7 +63,7 @@ pub struct StallFree {
     pipeline: wgpu::ComputePipeline,
     /// In [`Counted::index`] order; `None` for a list this view has not.
     jobs: Vec<Option<Job>>,
-    ring: Vec<(wgpu::Buffer, Slot)>,
+    ring: Vec<(wgpu::Buffer, Readback<()>)>,
     /// Last counts read back without waiting, in [`Counted::index`] order.
     known: Option<Vec<u32>>,
     /// This frame's estimates, in [`Counted::index`] order.
@@ -89,12 +77,8 @@ impl StallFree {
     /// rounds: nothing is allocated, copied or read back for them), and the
     /// occludee rounds' front lists.
     pub fn new(gpu: &Gpu, lists: &[Option<(&wgpu::Buffer, &wgpu::Buffer, u32, u32)>]) -> Self {
-        let device = &gpu.device;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hroc overflow"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, true), storage_entry(3, false), storage_entry(4, false)],
-        });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hroc overflow"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let layout = crate::reflect::layout(gpu, "hroc overflow", &[("overflow.wgsl", &[])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "hroc overflow", &layout);
         let module = gpu.shader("overflow.wgsl", &crate::shaders::source("overflow.wgsl"));
         use wgpu::BufferUsages as U;
         let jobs: Vec<Option<Job>> = lists
@@ -113,39 +97,21 @@ impl StallFree {
             })
             .collect();
         let bytes = (lists.len() as u64 * 4).next_multiple_of(16);
-        let ring = (0..RING).map(|_| (gpu.buffer("hroc counts staging", bytes, U::MAP_READ | U::COPY_DST), Slot::Free)).collect();
+        let ring = (0..RING).map(|_| (gpu.buffer("hroc counts staging", bytes, U::MAP_READ | U::COPY_DST), Readback::Free)).collect();
         StallFree { pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]), jobs, ring, known: None, estimates: lists.iter().map(|l| l.map_or(0, |l| l.2)).collect() }
     }
 
-    /// Starts a frame: maps the counts copied last frame, takes any that
-    /// arrived (polling, never waiting), and sets this frame's estimates.
-    /// Returns the bytes read back.
+    /// Starts a frame: takes the counts that arrived (polling, never
+    /// waiting) and sets this frame's estimates. Returns the bytes read
+    /// back.
     pub fn begin(&mut self, gpu: &Gpu) -> u64 {
         let mut bytes = 0;
-        for (buf, slot) in self.ring.iter_mut() {
-            if matches!(slot, Slot::Copied) {
-                let done = Arc::new(AtomicU8::new(0));
-                let flag = done.clone();
-                buf.slice(..).map_async(wgpu::MapMode::Read, move |r| flag.store(if r.is_ok() { 1 } else { 2 }, Ordering::Release));
-                *slot = Slot::Mapping(done);
-            }
-        }
         let _ = gpu.device.poll(wgpu::PollType::Poll);
+        let n = self.jobs.len();
         for (buf, slot) in self.ring.iter_mut() {
-            if let Slot::Mapping(done) = slot {
-                let state = done.load(Ordering::Acquire);
-                if state == 2 {
-                    *slot = Slot::Free;
-                } else if state == 1 {
-                    let n = self.jobs.len();
-                    let counts = buf.slice(..).get_mapped_range().ok().map(|v| v[..n * 4].chunks_exact(4).map(bytemuck::pod_read_unaligned::<u32>).collect::<Vec<u32>>());
-                    buf.unmap();
-                    *slot = Slot::Free;
-                    if let Some(c) = counts {
-                        bytes += self.jobs.iter().flatten().count() as u64 * 4;
-                        self.known = Some(c);
-                    }
-                }
+            if let Some(c) = slot.take(buf, |(), v| v[..n * 4].chunks_exact(4).map(bytemuck::pod_read_unaligned::<u32>).collect::<Vec<u32>>()) {
+                bytes += self.jobs.iter().flatten().count() as u64 * 4;
+                self.known = Some(c);
             }
         }
         for (k, job) in self.jobs.iter().enumerate() {
@@ -176,7 +142,7 @@ impl StallFree {
         if est >= job.capacity {
             return None;
         }
-        f.gpu.queue.write_buffer(&job.params, 0, bytemuck::cast_slice(&[est, job.stride, job.capacity, 0]));
+        f.write(&job.params, 0, bytemuck::cast_slice(&[est, job.stride, job.capacity, 0]));
         let threads = if job.stride > 0 { job.capacity - est } else { 1 };
         let (x, y) = dispatch_size(threads, 256);
         let (enc, count) = f.counted();
@@ -191,14 +157,14 @@ impl StallFree {
     }
 
     /// Ends a frame: copies the counts (in [`Counted::index`] order, `None`
-    /// where [`StallFree::new`] had no list) to a free staging buffer, to
-    /// be mapped at the next frame (skipped when all are in flight).
+    /// where [`StallFree::new`] had no list) to a free staging buffer,
+    /// mapped once `enc` is submitted (skipped when all are in flight).
     pub fn end(&mut self, enc: &mut wgpu::CommandEncoder, counts: &[Option<&wgpu::Buffer>]) {
-        if let Some((buf, slot)) = self.ring.iter_mut().find(|(_, s)| matches!(s, Slot::Free)) {
+        if let Some((buf, slot)) = self.ring.iter_mut().find(|(_, s)| s.is_free()) {
             for (k, c) in counts.iter().enumerate().filter_map(|(k, c)| Some((k, (*c)?))) {
                 enc.copy_buffer_to_buffer(c, 0, buf, k as u64 * 4, Some(4));
             }
-            *slot = Slot::Copied;
+            *slot = Readback::request(enc, buf, ());
         }
     }
 }

@@ -19,22 +19,13 @@
 pub mod cpu;
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::{dispatch_size, Gpu, PassCount};
 use crate::shaders::source as shader_source;
 pub use cpu::Mip;
-
-pub(crate) fn depth_texture_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Depth, view_dimension: wgpu::TextureViewDimension::D2, multisampled: false },
-        count: None,
-    }
-}
 
 /// Levels of at most this many texels are reduced by one workgroup, all of
 /// them in one dispatch (a dispatch costs more than such a level on lavapipe).
@@ -65,11 +56,8 @@ impl Pyramid {
         let texels = mips.last().map_or(1, |m| m.offset + 1);
         let levels = gpu.buffer("hi-z levels", texels as u64 * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST);
         let mip_table = gpu.buffer_init("hi-z mips", bytemuck::cast_slice(&mips), U::STORAGE);
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hi-z build"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(2, false), depth_texture_entry(3)],
-        });
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hi-z build"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let layout = crate::reflect::layout(gpu, "hi-z build", &[("hzb_pyramid.wgsl", &[])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "hi-z build", &layout);
         let module = gpu.shader("hzb_pyramid.wgsl", &shader_source("hzb_pyramid.wgsl"));
         let binds = (0..mips.len() as u32)
             .map(|l| {
@@ -159,19 +147,8 @@ impl HizTest {
     pub(crate) fn new(cx: &MethodContext, pyramid: &Pyramid, visible: &wgpu::Buffer, fresh: &wgpu::Buffer, two_phase: bool) -> Self {
         let gpu = cx.gpu;
         let stats = gpu.buffer("hi-z test stats", 8, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC);
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("hi-z test"),
-            entries: &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                storage_entry(2, true),
-                storage_entry(3, true),
-                storage_entry(4, false),
-                storage_entry(5, false),
-                storage_entry(6, false),
-            ],
-        });
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("hi-z test"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let layout = crate::reflect::layout(gpu, "hi-z test", &[("hzb_test.wgsl", &[])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "hi-z test", &layout);
         let module = gpu.shader("hzb_test.wgsl", &shader_source("hzb_test.wgsl"));
         HizTest {
             pipeline: gpu.compute_pipeline(&module, "test", Some(&pl), &[("TWO_PHASE", if two_phase { 1.0 } else { 0.0 })]),

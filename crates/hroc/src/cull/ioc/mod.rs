@@ -21,7 +21,7 @@ pub mod cpu;
 
 use super::roc::{BoxCount, BoxPass};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
-use crate::compact::{storage_entry, uniform_entry, CompactJob, Compactor};
+use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
@@ -113,23 +113,8 @@ impl Ioc {
         let leaf_range = gpu.buffer_init("ioc leaf ranges", bytemuck::cast_slice(&ranges), U::STORAGE);
         let nodes = cx.bvh_nodes.clone();
 
-        let layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ioc"),
-            entries: &[
-                uniform_entry(0),
-                storage_entry(1, true),
-                storage_entry(2, false),
-                storage_entry(3, true),
-                storage_entry(4, true),
-                storage_entry(5, false),
-                storage_entry(6, false),
-                storage_entry(7, true),
-                storage_entry(8, false),
-                storage_entry(9, true),
-                storage_entry(10, true),
-            ],
-        });
-        let pl = gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("ioc"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let layout = crate::reflect::layout(gpu, "ioc", &[("ioc.wgsl", &[])], 0);
+        let pl = crate::reflect::pipeline_layout(gpu, "ioc", &layout);
         let module = gpu.shader("ioc.wgsl", &shader_source("ioc.wgsl"));
         let expand_binds = (0..3)
             .map(|q| {

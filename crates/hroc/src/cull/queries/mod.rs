@@ -33,7 +33,6 @@ use std::time::Instant;
 
 use super::{hroc::cpu, Frame, MethodContext, Stat};
 use crate::bvh::Bvh;
-use crate::compact::{storage_entry, uniform_entry};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
@@ -205,10 +204,7 @@ impl QueryRenderer {
         use wgpu::BufferUsages as U;
         let nodes = gpu.buffer_init("query bvh nodes", bytemuck::cast_slice(&bvh.nodes), U::STORAGE);
         let device = &gpu.device;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("query boxes"),
-            entries: &[uniform_entry(0), storage_entry(1, true), storage_entry(6, true)],
-        });
+        let layout = crate::reflect::layout(gpu, "query boxes", &[("hroc_test.wgsl", &["box_vs"])], 0);
         // Binding 6 (object boxes) serves box_vs's objects tested alone, which the queries never draw.
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("query boxes"),
@@ -219,7 +215,7 @@ impl QueryRenderer {
                 wgpu::BindGroupEntry { binding: 6, resource: cx.bounds.as_entire_binding() },
             ],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("query boxes"), bind_group_layouts: &[Some(&layout)], immediate_size: 0 });
+        let pl = crate::reflect::pipeline_layout(gpu, "query boxes", &layout);
         // HROC's box vertex stage (group 0: frame, nodes, boxes; node = instance).
         let module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         // Depth-only: the occlusion query counts the samples that pass.
@@ -264,9 +260,13 @@ impl QueryRenderer {
         self.staging = gpu.buffer("query read-back", bytes, U::MAP_READ | U::COPY_DST);
     }
 
-    /// Starts a frame: list buffers are free again, counters restart.
+    /// Starts a frame: list buffers are free again, counters restart, and
+    /// whatever a frame that failed part-way left queued is forgotten.
     pub fn begin_frame(&mut self) {
-        debug_assert!(self.recorded == 0 && self.query_ends.is_empty() && self.draw_queue.is_empty());
+        self.recorded = 0;
+        self.query_boxes.clear();
+        self.query_ends.clear();
+        self.draw_queue.clear();
         self.pool.reset();
         self.tested.clear();
         self.stats = QueryStats::default();
@@ -310,7 +310,7 @@ impl QueryRenderer {
         }
         let cmds: Vec<DrawCommand> = self.draw_queue.drain(..).map(|o| self.commands[o as usize]).collect();
         let buf = self.pool.take(f.gpu, cmds.len());
-        f.gpu.queue.write_buffer(&buf, 0, bytemuck::cast_slice(&cmds));
+        f.write(&buf, 0, bytemuck::cast_slice(&cmds));
         // The renderer's count buffer holds N >= len: max_count bounds the draw.
         f.draw(Phase::Interleaved, &DrawList { commands: buf, count: self.all_count.clone(), max_count: cmds.len() as u32 }, None);
         self.stats.draws += 1;

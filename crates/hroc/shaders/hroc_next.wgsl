@@ -1,0 +1,35 @@
+// HROC step 5, the next frame's occluders V (Lee et al. 2021 §3.1, §4.2):
+// merge  — next V = O ∪ D;
+// filter — next V = the objects owning a pixel of the ID target (OF).
+// Bindings as in hroc_groups.wgsl.
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(3) var<storage, read> occluders: array<u32>;      // O marks
+@group(0) @binding(8) var<storage, read> drawn: array<u32>;           // D marks
+@group(0) @binding(9) var<storage, read_write> visible: array<u32>;   // next V
+@group(0) @binding(10) var ids: texture_2d<u32>;
+
+@compute @workgroup_size(256)
+fn merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = flat_id(wid, nwg, lid, 256u);
+    if i < frame.object_count {
+        visible[i] = select(0u, 1u, occluders[i] != 0u || drawn[i] != 0u);
+    }
+}
+
+// Occluder filtering (§4.2): the item buffer decides the next occluders.
+// One thread reads the centre pixel of each FILTER_STRIDE² square.
+override FILTER_STRIDE: u32 = 1u;
+
+@compute @workgroup_size(16, 16)
+fn filter_occluders(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(ids);
+    let px = gid.xy * FILTER_STRIDE + vec2<u32>(FILTER_STRIDE / 2u);
+    if px.x >= size.x || px.y >= size.y {
+        return;
+    }
+    let id = textureLoad(ids, px, 0).r;
+    if id != 0u {
+        visible[id - 1u] = 1u;
+    }
+}
