@@ -14,7 +14,7 @@ use clap::Parser;
 use glam::{Mat4, Vec2, Vec4};
 use hroc_bench::bench::{parse_resolution, Session};
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 use hroc_bench::scene::{Aabb, ClusterOptions};
 use rayon::prelude::*;
 
@@ -35,7 +35,7 @@ struct Args {
 
 fn main() -> hroc_bench::Result<()> {
     let a = Args::parse();
-    let gpu = Gpu::new()?;
+    let gpu = Headless::new()?;
     let mut scene = hroc_bench::scene::load(&a.scene, a.objects, 0)?;
     if let Some(t) = a.clusters {
         scene = scene.clustered(ClusterOptions::new(t))?;

@@ -5,9 +5,11 @@
 //! `cargo run --release --example bvh_build -- [--objects 120000] [--runs 9]`
 
 use clap::Parser;
-use glam::Vec3;
 use hroc_bench::bvh::{Bvh, Split};
-use hroc_bench::scene::Aabb;
+
+#[path = "shared/random_boxes.rs"]
+mod random_boxes;
+use random_boxes::{random_boxes, Dist};
 
 #[derive(Parser)]
 struct Args {
@@ -25,50 +27,6 @@ struct Args {
     /// Only this split (default: all).
     #[arg(long)]
     split: Option<Split>,
-}
-
-/// SplitMix64: deterministic, dependency-free.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn vec(&mut self) -> Vec3 {
-        Vec3::new(self.next(), self.next(), self.next())
-    }
-}
-
-#[derive(Clone, Copy, Debug, clap::ValueEnum)]
-pub enum Dist {
-    /// Centres uniform in a 100³ cube, sides uniform in [0.1, 2].
-    Uniform,
-    /// The same boxes gathered around 64 random cluster centres.
-    Clustered,
-    /// Uniform centres, sizes log-uniform over two decades (0.05–5), like
-    /// the `satellites` scene's mix of small and large objects.
-    Varied,
-}
-
-pub fn random_boxes(n: usize, seed: u64, dist: Dist) -> Vec<Aabb> {
-    let mut rng = Rng(seed);
-    let clusters: Vec<Vec3> = (0..64).map(|_| rng.vec() * 100.0).collect();
-    (0..n)
-        .map(|i| {
-            let c = match dist {
-                Dist::Clustered => clusters[i % clusters.len()] + (rng.vec() - 0.5) * 8.0,
-                _ => rng.vec() * 100.0,
-            };
-            let h = match dist {
-                Dist::Varied => Vec3::splat(0.05 * 100f32.powf(rng.next())) * (Vec3::splat(0.5) + rng.vec()) * 0.5,
-                _ => (Vec3::splat(0.1) + rng.vec() * 1.9) * 0.5,
-            };
-            Aabb::new(c - h, c + h)
-        })
-        .collect()
 }
 
 fn main() {

@@ -1,9 +1,9 @@
 //! Counts objects HROC draws in both of its lists in one frame.
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 fn main() -> hroc_bench::Result<()> {
-    let gpu = Gpu::new()?;
+    let gpu = Headless::new()?;
     let scene = hroc_bench::scene::load("radial-city", Some(2000), 3)?;
     let mut s = Session::new(&gpu, scene, None, 16, (160, 96), Split::Sah)?;
     for m in ["hroc", "hroc-na", "hzb", "roc"] {

@@ -17,8 +17,11 @@ use std::time::Instant;
 use hroc_bench::bench::{self, BenchOptions, BenchReport, MethodRow};
 use hroc_bench::bvh::{Bvh, Split};
 use hroc_bench::cull::{Method, MethodOptions, Variant};
-use hroc_bench::gpu::Gpu;
-use hroc_bench::scene::Aabb;
+use hroc_bench::gpu::Headless;
+
+#[path = "shared/random_boxes.rs"]
+mod random_boxes;
+use random_boxes::{random_boxes, Dist};
 
 /// `hroc bench`'s defaults for `scene`, `objects` and `methods`.
 fn options(scene: &str, objects: Option<usize>, methods: &str) -> BenchOptions {
@@ -66,36 +69,13 @@ impl Guard {
     }
 }
 
-fn run(gpu: &Gpu, o: &BenchOptions) -> BenchReport {
+fn run(gpu: &Headless, o: &BenchOptions) -> BenchReport {
     bench::run(gpu, o).unwrap_or_else(|e| panic!("{}: {e}", o.scene))
-}
-
-/// SplitMix64 boxes as `examples/bvh_build.rs --dist uniform` draws them.
-fn random_boxes(n: usize) -> Vec<Aabb> {
-    let mut s = 1u64;
-    let mut next = || {
-        s = s.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 40) as f32 / (1u64 << 24) as f32
-    };
-    // bvh_build draws 64 cluster centres first.
-    (0..192).for_each(|_| {
-        next();
-    });
-    (0..n)
-        .map(|_| {
-            let c = glam::Vec3::new(next(), next(), next()) * 100.0;
-            let h = glam::Vec3::new(0.1 + 1.9 * next(), 0.1 + 1.9 * next(), 0.1 + 1.9 * next()) * 0.5;
-            Aabb::new(c - h, c + h)
-        })
-        .collect()
 }
 
 fn main() {
     let quick = std::env::args().any(|a| a == "--quick");
-    let gpu = Gpu::new().expect("a Vulkan device (scripts/ensure-vulkan.sh)");
+    let gpu = Headless::new().expect("a Vulkan device (scripts/ensure-vulkan.sh)");
     let out = PathBuf::from(std::env::var("GUARD_DIR").unwrap_or_else(|_| "target/guard".into()));
     std::fs::create_dir_all(&out).expect("guard folder");
     println!("# hroc guard | {} | {} cores", gpu.adapter_name(), std::thread::available_parallelism().map_or(1, |n| n.get()));
@@ -172,7 +152,7 @@ fn main() {
     g.check("big glTF: load s", load_s, Limit::AtMost(2.0), &cmd);
 
     // The BVH: 4M boxes (accepted 1.12 s on this 2-core machine), median of 3 builds after one.
-    let boxes = random_boxes(if quick { 1_000_000 } else { 4_000_000 });
+    let boxes = random_boxes(if quick { 1_000_000 } else { 4_000_000 }, 1, Dist::Uniform);
     let mut times: Vec<f64> = (0..4).map(|_| Bvh::build(&boxes, Split::Sah).build_ms / 1e3).skip(1).collect();
     times.sort_by(f64::total_cmp);
     let limit = if quick { 0.32 } else { 1.25 };

@@ -2,7 +2,7 @@
 use hroc::testing::cull::hroc::{cpu, Hroc};
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 
 fn main() -> hroc_bench::Result<()> {
     let args: Vec<String> = std::env::args().collect();
@@ -17,7 +17,7 @@ fn main() -> hroc_bench::Result<()> {
             o.bounds = scene.meshes[o.mesh as usize].bounds.transformed(&o.transform);
         }
     }
-    let gpu = Gpu::new()?;
+    let gpu = Headless::new()?;
     let mut s = Session::new(&gpu, scene, None, frames, (640, 360), Split::Sah)?;
     let mut h = s.create(variant.parse()?)?;
     for k in 0..s.cameras.len() {

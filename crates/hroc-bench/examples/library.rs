@@ -4,11 +4,11 @@
 
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 
 fn main() -> hroc_bench::Result<()> {
     let scene = hroc_bench::scene::load("radial-city", Some(5_000), 0)?;
-    let gpu = Gpu::new()?;
+    let gpu = Headless::new()?;
     let mut s = Session::new(&gpu, scene, None, 30, (640, 360), Split::Sah)?;
     let mut vfc = s.create("vfc".parse().unwrap())?;
     for k in 0..s.cameras.len() {

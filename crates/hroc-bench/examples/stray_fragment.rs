@@ -2,14 +2,14 @@
 //! pixel: tells a rasterizer's stray fragment from a culling miss.
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 
 fn main() -> hroc_bench::Result<()> {
     let a: Vec<String> = std::env::args().collect();
     let arg = |i: usize| a[i].parse::<usize>().unwrap();
     let (key, n, frames, k, obj, px, py) = (&a[1], arg(2), arg(3), arg(4), arg(5) as u32, arg(6) as i64, arg(7) as i64);
     let scene = hroc_bench::scene::load(key, Some(n), 0)?;
-    let gpu = Gpu::new()?;
+    let gpu = Headless::new()?;
     let mut s = Session::new(&gpu, scene, None, frames, (640, 360), Split::Sah)?;
     let mut r = s.create("ref".parse().unwrap())?;
     r.set_oracle(&s.culler, &[obj])?;

@@ -2,14 +2,14 @@
 use hroc::testing::cull::hroc::Hroc;
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 use std::collections::BTreeMap;
 
 fn main() -> hroc_bench::Result<()> {
     let args: Vec<String> = std::env::args().collect();
     let key = args.get(1).map(String::as_str).unwrap_or("factory");
     let scene = hroc_bench::scene::load(key, Some(10000), 0)?;
-    let gpu = Gpu::new()?;
+    let gpu = Headless::new()?;
     let mut s = Session::new(&gpu, scene, None, 150, (640, 360), Split::Sah)?;
     let mut h = s.create("hroc-of".parse().unwrap())?;
     let mut waste: BTreeMap<String, (u32, u32)> = BTreeMap::new();

@@ -13,7 +13,7 @@ pub const FEATURES: wgpu::Features = hroc::REQUIRED_FEATURES.union(hroc::TIMESTA
 pub const LAVAPIPE_HINT: &str = "install the Vulkan software driver (lavapipe): sudo apt-get install -y mesa-vulkan-drivers libvulkan1";
 
 /// An opened adapter and device; derefs to [`hroc::testing::gpu::Gpu`]'s helpers.
-pub struct Gpu {
+pub struct Headless {
     /// The adapter the device was opened on.
     pub adapter: wgpu::Adapter,
     /// Its name, type and driver.
@@ -21,7 +21,7 @@ pub struct Gpu {
     base: hroc::testing::gpu::Gpu,
 }
 
-impl Deref for Gpu {
+impl Deref for Headless {
     type Target = hroc::testing::gpu::Gpu;
     fn deref(&self) -> &hroc::testing::gpu::Gpu {
         &self.base
@@ -38,22 +38,22 @@ fn rank(t: wgpu::DeviceType) -> u32 {
     }
 }
 
-impl Gpu {
+impl Headless {
     /// Opens the best Vulkan adapter that has every needed feature:
     /// a discrete GPU over an integrated one over a CPU device.
-    pub fn new() -> Result<Gpu> {
+    pub fn new() -> Result<Headless> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
         desc.backends = wgpu::Backends::VULKAN;
         Self::with_instance(&wgpu::Instance::new(desc))
     }
 
-    /// As [`Gpu::new`], on the adapters of `instance`: a window's surface
+    /// As [`Headless::new`], on the adapters of `instance`: a window's surface
     /// can only present what a device of its own instance renders (the viewer).
-    pub fn with_instance(instance: &wgpu::Instance) -> Result<Gpu> {
+    pub fn with_instance(instance: &wgpu::Instance) -> Result<Headless> {
         pollster::block_on(Self::new_async(instance))
     }
 
-    async fn new_async(instance: &wgpu::Instance) -> Result<Gpu> {
+    async fn new_async(instance: &wgpu::Instance) -> Result<Headless> {
         let adapters = instance.enumerate_adapters(wgpu::Backends::VULKAN).await;
         if adapters.is_empty() {
             return Err(Error::NoAdapter(format!("no Vulkan adapter found; {LAVAPIPE_HINT}")));
@@ -88,7 +88,7 @@ impl Gpu {
             .map_err(|e| Error::Gpu(format!("cannot open {}: {e}", info.name)))?;
         let base = hroc::testing::gpu::Gpu::from_device(&device, &queue);
         base.capture_errors();
-        Ok(Gpu { adapter, info, base })
+        Ok(Headless { adapter, info, base })
     }
 
     /// Adapter name, type and driver, for tables and reports.

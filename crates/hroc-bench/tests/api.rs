@@ -6,15 +6,15 @@
 use hroc::{ObjectFlags, View};
 use hroc_bench::bench::{FrameResult, Session};
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 use std::sync::OnceLock;
 
 const RES: (u32, u32) = (160, 96);
 const FRAMES: usize = 16;
 
-fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| Gpu::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
+fn gpu() -> &'static Headless {
+    static GPU: OnceLock<Headless> = OnceLock::new();
+    GPU.get_or_init(|| Headless::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
 }
 
 fn session() -> Session<'static> {

@@ -4,7 +4,7 @@
 
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 
 /// Satellites, 10,000 objects, frame 325 of 600: lavapipe (Mesa 22.3)
 /// draws object 9646, a rock 81 m away, with one fragment at pixel
@@ -16,7 +16,7 @@ const PIXEL: usize = 236 * 640 + 276;
 
 #[test]
 fn real_misses_count_and_strays_do_not() {
-    let gpu = Gpu::new().unwrap();
+    let gpu = Headless::new().unwrap();
     let scene = hroc_bench::scene::load("satellites", Some(10_000), 0).unwrap();
     let mut s = Session::new(&gpu, scene, None, 600, (640, 360), Split::Sah).unwrap();
     let (_, truth) = s.truth(FRAME).unwrap();

@@ -3,16 +3,16 @@
 
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 use hroc_bench::scene::{camera::aabb_in_frustum, paths, CameraPath, Scene};
 use std::sync::OnceLock;
 
 const RES: (u32, u32) = (160, 96);
 
 /// One device for the whole binary: opening lavapipe costs time.
-fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| Gpu::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
+fn gpu() -> &'static Headless {
+    static GPU: OnceLock<Headless> = OnceLock::new();
+    GPU.get_or_init(|| Headless::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
 }
 
 fn scene(key: &str, n: usize) -> Scene {

@@ -5,16 +5,16 @@
 use hroc::testing::cull::hroc::{cpu, Hroc};
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 use hroc_bench::scene::paths;
 use std::sync::OnceLock;
 
 const RES: (u32, u32) = (160, 96);
 const VARIANTS: [&str; 7] = ["hroc-na", "hroc-cr", "hroc-of", "hroc-cr+of", "hroc", "hroc-sf", "hroc-sf+of"];
 
-fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| Gpu::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
+fn gpu() -> &'static Headless {
+    static GPU: OnceLock<Headless> = OnceLock::new();
+    GPU.get_or_init(|| Headless::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
 }
 
 /// Runs every variant side by side over the session's path; every frame
@@ -353,7 +353,7 @@ fn stall_free_overflow_draws_what_the_estimate_misses() {
         let c_sf = s.check(&r, &truth).unwrap();
         assert_eq!((c_sf.false_negatives, c_sf.missing_pixels), (0, 0), "frame {k}");
         let h = sf.method_state::<Hroc>().unwrap();
-        let (est, c) = (h.estimates().unwrap(), h.counts(s.gpu).unwrap());
+        let (est, c) = (h.estimates().unwrap(), h.set_sizes(s.gpu).unwrap());
         overflowed += (c.v > est[0]) as usize + (c.g > est[1]) as usize + (c.u > est[2]) as usize;
         let r = s.run_frame(&mut na, k).unwrap();
         let c_na = s.check(&r, &truth).unwrap();

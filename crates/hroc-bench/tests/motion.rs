@@ -8,16 +8,16 @@ use glam::{Mat4, Vec3};
 use hroc::bvh::Bvh;
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 use std::sync::OnceLock;
 
 const RES: (u32, u32) = (160, 96);
 const FRAMES: usize = 20;
 const MOVING: [&str; 8] = ["vfc", "roc", "roc-all", "ioc", "hzb", "hroc", "hroc-na", "hroc-cr"];
 
-fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| Gpu::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
+fn gpu() -> &'static Headless {
+    static GPU: OnceLock<Headless> = OnceLock::new();
+    GPU.get_or_init(|| Headless::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
 }
 
 /// Frame k's moves: every tenth object slides back and forth across the

@@ -8,7 +8,7 @@ use hroc::testing::cull::queries::{box_distance, chc, front_to_back, oq, soq, Cl
 use hroc::testing::cull::MethodOptions;
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::{Bvh, Split};
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 use hroc_bench::scene::{paths, Aabb};
 use std::collections::BTreeMap;
 use std::sync::OnceLock;
@@ -16,9 +16,9 @@ use std::sync::OnceLock;
 const RES: (u32, u32) = (160, 96);
 const METHODS: [&str; 3] = ["oq", "soq", "chc++"];
 
-fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| Gpu::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
+fn gpu() -> &'static Headless {
+    static GPU: OnceLock<Headless> = OnceLock::new();
+    GPU.get_or_init(|| Headless::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
 }
 
 /// Runs the three methods side by side over the session's path: every frame

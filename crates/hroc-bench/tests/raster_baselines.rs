@@ -8,16 +8,16 @@ use hroc::testing::cull::hzb::{cpu as hzb_cpu, Hzb, Pyramid};
 use hroc::testing::cull::ioc::{cpu as ioc_cpu, Ioc};
 use hroc_bench::bench::{self, BenchOptions, Session};
 use hroc_bench::bvh::{Bvh, Split};
-use hroc_bench::gpu::Gpu;
+use hroc_bench::gpu::Headless;
 use hroc_bench::scene::{paths, Aabb};
 use std::sync::OnceLock;
 
 const RES: (u32, u32) = (160, 96);
 const CONSERVATIVE: [&str; 4] = ["roc", "roc-all", "ioc", "hzb"];
 
-fn gpu() -> &'static Gpu {
-    static GPU: OnceLock<Gpu> = OnceLock::new();
-    GPU.get_or_init(|| Gpu::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
+fn gpu() -> &'static Headless {
+    static GPU: OnceLock<Headless> = OnceLock::new();
+    GPU.get_or_init(|| Headless::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)"))
 }
 
 /// Runs the conservative methods and woc side by side over the session's

@@ -8,8 +8,8 @@ use hroc_bench::bench::{self, parse_resolution, BenchOptions, MethodList, Sessio
 use hroc_bench::bvh::{Bvh, Split};
 use hroc_bench::cull;
 use hroc_bench::cull::Method;
-use hroc_bench::gpu::Gpu;
-use hroc_bench::render::views::{self, View};
+use hroc_bench::gpu::Headless;
+use hroc_bench::render::pictures::{self, Picture};
 use hroc_bench::{Error, Result};
 
 mod viewer;
@@ -222,8 +222,8 @@ struct RenderArgs {
     frame: usize,
     #[arg(long)]
     out: PathBuf,
-    #[arg(long, default_value_t = View::Color)]
-    view: View,
+    #[arg(long, default_value_t = Picture::Color)]
+    view: Picture,
 }
 
 #[derive(Subcommand)]
@@ -349,7 +349,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         return Err(Error::Arg(format!("--moving {bad} is not a fraction from 0 to 1")));
     }
     let (scene, path) = loading(&opts.scene, || bench::load_inputs(&opts))?;
-    let gpu = Gpu::new()?;
+    let gpu = Headless::new()?;
     let mut reports = Vec::new();
     for (k, &moving) in a.moving.iter().enumerate() {
         let o = BenchOptions { moving, ..opts.clone() };
@@ -394,7 +394,7 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
         scene = scene.clustered(hroc_bench::scene::ClusterOptions::new(t))?;
     }
     let path = s.camera_path.as_deref().map(|p| bench::load_path(&scene, p)).transpose()?;
-    let gpu = Gpu::new()?;
+    let gpu = Headless::new()?;
     let mut session = Session::new(&gpu, scene, path, s.frames, s.resolution, s.split)?;
     session.set_oriented_boxes(s.oriented_boxes)?;
     session.options = s.m.options();
@@ -408,19 +408,19 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
         last = Some(session.run_frame(&mut culler, k)?);
     }
     let lists = last.map(|r| r.lists).unwrap_or_default();
-    let px = if a.view == View::Groups {
+    let px = if a.view == Picture::Groups {
         let nodes = culler
             .tested_nodes(&session.culler)?
             .ok_or_else(|| Error::Arg(format!("{method} tests no boxes; the groups view is for box-testing methods (hroc, roc, roc-all, ioc)")))?;
-        let mut px = views::capture(&gpu, &session.renderer, View::Color, &lists)?;
+        let mut px = pictures::capture(&gpu, &session.renderer, Picture::Color, &lists)?;
         let boxes: Vec<_> = nodes.iter().map(|&n| (session.bvh().aabb(n), if session.bvh().is_leaf(n) { [255, 220, 0, 255] } else { [255, 40, 40, 255] })).collect();
         let vp = session.cameras[a.frame].view_proj(session.renderer.aspect());
-        views::draw_boxes(&mut px, s.resolution, &vp, &boxes);
+        pictures::draw_boxes(&mut px, s.resolution, &vp, &boxes);
         px
     } else {
-        views::capture(&gpu, &session.renderer, a.view, &lists)?
+        pictures::capture(&gpu, &session.renderer, a.view, &lists)?
     };
-    views::save_png(&a.out, s.resolution.0, s.resolution.1, &px)?;
+    pictures::save_png(&a.out, s.resolution.0, s.resolution.1, &px)?;
     eprintln!("wrote {}", a.out.display());
     Ok(())
 }

@@ -24,7 +24,10 @@ macro_rules! named_enum {
 }
 
 named_enum!(
-    /// A GPU stage of a frame, timed by timestamps when the device has them.
+    /// A GPU stage of a frame, timed by timestamps when the device has them:
+    /// a step of the method's frame, its passes and the host's draws in it.
+    /// (A [`Phase`](crate::Phase) names one list's role for the host; a
+    /// stage is where the frame's time goes.)
     Stage {
         /// Draws of a method without stages of its own.
         Draw => "draw",
@@ -34,7 +37,8 @@ named_enum!(
         Compact => "compact",
         /// HROC's ray-grid seed of V after a camera cut.
         Seed => "occluder seed",
-        /// Drawing last frame's visible set (HROC §3.1).
+        /// Drawing last frame's visible set (HROC §3.1): the host's draws of
+        /// [`Phase::Occluders`](crate::Phase::Occluders).
         OcclusionMap => "occlusion map",
         /// HROC's front-to-back round over V: nearest boxes, the re-test
         /// and their lists ([`MethodOptions::hroc_occluder_rounds`](crate::MethodOptions::hroc_occluder_rounds)).
@@ -43,7 +47,8 @@ named_enum!(
         GroupExtraction => "group extraction",
         /// Box rasterization, ray casting or Hi-Z tests (HROC §3.3).
         OcclusionTest => "occlusion test",
-        /// Drawing the objects that passed (HROC §3.4).
+        /// Drawing the objects that passed (HROC §3.4): the host's draws of
+        /// [`Phase::Occludees`](crate::Phase::Occludees).
         OccludeeRendering => "occludee rendering",
         /// HROC's front-to-back occludee rounds: nearest boxes, re-tests
         /// and their lists ([`MethodOptions::hroc_rounds`](crate::MethodOptions::hroc_rounds)).

@@ -12,6 +12,9 @@ use crate::shaders;
 /// One entry point's bindings: (group, binding) → (type, its stage).
 type Bindings = BTreeMap<(u32, u32), (wgpu::BindingType, wgpu::ShaderStages)>;
 
+/// Each entry point of a pass, by name, with its bindings.
+type EntryPoints = Arc<Vec<(String, Bindings)>>;
+
 /// The entry points of a pass that one layout serves: the pass's name in
 /// [`shaders::SHADERS`], and its entry points (all of them when empty).
 pub type Pass<'a> = (&'a str, &'a [&'a str]);
@@ -60,8 +63,8 @@ pub fn entries(passes: &[Pass], group: u32) -> Vec<wgpu::BindGroupLayoutEntry> {
 
 /// The bindings of each entry point of pass `name`, reflected once per
 /// process.
-fn reflect(name: &str) -> Arc<Vec<(String, Bindings)>> {
-    static CACHE: OnceLock<Mutex<HashMap<String, Arc<Vec<(String, Bindings)>>>>> = OnceLock::new();
+fn reflect(name: &str) -> EntryPoints {
+    static CACHE: OnceLock<Mutex<HashMap<String, EntryPoints>>> = OnceLock::new();
     let cache = CACHE.get_or_init(Default::default);
     if let Some(b) = cache.lock().unwrap_or_else(|p| p.into_inner()).get(name) {
         return b.clone();

@@ -13,7 +13,7 @@ use std::path::PathBuf;
 use crate::bvh::Split;
 use crate::cull::Method;
 use crate::error::Result;
-use crate::gpu::Gpu;
+use crate::gpu::Headless;
 use crate::scene::{CameraPath, Scene};
 pub use session::{Check, FrameResult, Session, Truth};
 
@@ -254,12 +254,12 @@ pub fn frame_count(o: &BenchOptions, path: &CameraPath) -> Result<usize> {
     Ok((fps * dur).round() as usize + 1)
 }
 
-pub fn run(gpu: &Gpu, o: &BenchOptions) -> Result<BenchReport> {
+pub fn run(gpu: &Headless, o: &BenchOptions) -> Result<BenchReport> {
     let (scene, path) = load_inputs(o)?;
     run_scene(gpu, o, scene, path)
 }
 
-pub fn run_scene(gpu: &Gpu, o: &BenchOptions, scene: Scene, path: Option<CameraPath>) -> Result<BenchReport> {
+pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<CameraPath>) -> Result<BenchReport> {
     if !(0.0..=1.0).contains(&o.moving) {
         return Err(crate::Error::Arg(format!("--moving {} is not a fraction from 0 to 1", o.moving)));
     }

@@ -6,7 +6,7 @@ use std::path::Path;
 use crate::bvh::{Bvh, Split};
 use crate::cull::{Method, MethodOptions, Stage};
 use crate::error::Result;
-use crate::gpu::Gpu;
+use crate::gpu::Headless;
 use crate::render::{DrawList, Recorder, Renderer};
 use crate::scene::{camera::clip_planes, Camera, CameraPath, Scene};
 use hroc::{Culler, CullerDesc, FrameInput, View, ViewDesc};
@@ -16,7 +16,7 @@ use hroc::{Culler, CullerDesc, FrameInput, View, ViewDesc};
 /// through the public API ([`View::cull`]), so the benchmark measures what
 /// a user gets.
 pub struct Session<'g> {
-    pub gpu: &'g Gpu,
+    pub gpu: &'g Headless,
     pub scene: Scene,
     pub culler: Culler,
     pub renderer: Renderer,
@@ -74,13 +74,13 @@ pub struct Check {
 impl<'g> Session<'g> {
     /// `path` overrides the scene's own camera path.
     /// Stages are timed with GPU timestamps.
-    pub fn new(gpu: &'g Gpu, scene: Scene, path: Option<CameraPath>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {
+    pub fn new(gpu: &'g Headless, scene: Scene, path: Option<CameraPath>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {
         Self::new_timed(gpu, scene, path, frames, res, split, true)
     }
 
     /// [`Session::new`], with per-stage GPU timestamps or without; with
     /// them, also per-stage pipeline statistics where the device has them.
-    pub fn new_timed(gpu: &'g Gpu, mut scene: Scene, path: Option<CameraPath>, frames: usize, (w, h): (u32, u32), split: Split, timestamps: bool) -> Result<Self> {
+    pub fn new_timed(gpu: &'g Headless, mut scene: Scene, path: Option<CameraPath>, frames: usize, (w, h): (u32, u32), split: Split, timestamps: bool) -> Result<Self> {
         if let Some(p) = path {
             scene.path = p;
         }
@@ -99,7 +99,7 @@ impl<'g> Session<'g> {
         Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc), oriented_boxes: true })
     }
 
-    pub fn load(gpu: &'g Gpu, spec: &str, objects: Option<usize>, camera_path: Option<&Path>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {
+    pub fn load(gpu: &'g Headless, spec: &str, objects: Option<usize>, camera_path: Option<&Path>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {
         let scene = crate::scene::load(spec, objects, 0)?;
         let path = camera_path.map(CameraPath::from_file).transpose()?;
         Self::new(gpu, scene, path, frames, res, split)

@@ -5,12 +5,12 @@
 //! with forced early-Z and hroc's marks snippet, as the crate docs of
 //! `hroc` ask of any host.
 
-pub mod views;
+pub mod pictures;
 
 use glam::{Mat4, Vec3};
 
 use crate::error::{Error, Result};
-use crate::gpu::Gpu;
+use crate::gpu::Headless;
 use crate::scene::Scene;
 pub use hroc::DrawList;
 
@@ -53,7 +53,7 @@ pub struct Targets {
     pub id_view: wgpu::TextureView,
 }
 
-fn target(gpu: &Gpu, label: &str, w: u32, h: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
+fn target(gpu: &Headless, label: &str, w: u32, h: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
     gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
@@ -144,7 +144,7 @@ pub struct Renderer {
 impl Renderer {
     /// `marks_layout`: the culler's ([`hroc::Culler::marks_layout`]), which
     /// the draw pipelines take at group 1.
-    pub fn new(gpu: &Gpu, scene: &Scene, width: u32, height: u32, marks_layout: &wgpu::BindGroupLayout) -> Result<Renderer> {
+    pub fn new(gpu: &Headless, scene: &Scene, width: u32, height: u32, marks_layout: &wgpu::BindGroupLayout) -> Result<Renderer> {
         scene.validate()?;
         check_limits(scene, &gpu.limits())?;
         let max_dim = gpu.limits().max_texture_dimension_2d;
@@ -165,9 +165,16 @@ impl Renderer {
         let n = scene.objects.len() as u32;
         let frame = gpu.buffer("frame", std::mem::size_of::<ViewUniform>() as u64, U::UNIFORM | U::COPY_DST);
         let objects_buf = gpu.buffer_init("objects", bytemuck::cast_slice(&objects), U::STORAGE | U::COPY_DST);
+        // The view uniform and the objects' transforms and colours.
+        let buffer = |binding, ty| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+            ty: wgpu::BindingType::Buffer { ty, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        };
         let frame_layout = gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("frame"),
-            entries: &[hroc::testing::compact::uniform_entry(0), hroc::testing::compact::storage_entry(1, true)],
+            entries: &[buffer(0, wgpu::BufferBindingType::Uniform), buffer(1, wgpu::BufferBindingType::Storage { read_only: true })],
         });
         let frame_bind = gpu.bind_buffers(&frame_layout, &[&frame, &objects_buf]);
         let dummy = gpu.buffer("no marks", n as u64 * 4, U::STORAGE);
@@ -257,7 +264,7 @@ impl Renderer {
     }
 
     /// New transforms for some objects (the renderer's side of motion).
-    pub fn set_transforms(&self, gpu: &Gpu, moves: &[(u32, Mat4)], colors: &[[f32; 3]]) {
+    pub fn set_transforms(&self, gpu: &Headless, moves: &[(u32, Mat4)], colors: &[[f32; 3]]) {
         for &(i, m) in moves {
             let c = colors[i as usize];
             let d = ObjectData { model: m.to_cols_array_2d(), color: [c[0], c[1], c[2], 1.0] };
@@ -266,7 +273,7 @@ impl Renderer {
     }
 
     /// Writes the view-projection this frame is drawn with.
-    pub fn write_view(&self, gpu: &Gpu, view_proj: &Mat4) {
+    pub fn write_view(&self, gpu: &Headless, view_proj: &Mat4) {
         let u = ViewUniform { view_proj: view_proj.to_cols_array_2d(), light_dir: self.light_dir.extend(0.0).to_array() };
         gpu.queue.write_buffer(&self.frame, 0, bytemuck::bytes_of(&u));
     }
@@ -336,7 +343,7 @@ impl Renderer {
     }
 
     /// Fragments per pixel of `lists` (no depth test): the overdraw view.
-    pub fn overdraw(&self, gpu: &Gpu, lists: &[DrawList]) -> Result<Vec<f32>> {
+    pub fn overdraw(&self, gpu: &Headless, lists: &[DrawList]) -> Result<Vec<f32>> {
         let (w, h) = (self.targets.width, self.targets.height);
         let tex = target(gpu, "overdraw", w, h, OVERDRAW_FORMAT);
         let view = tex.create_view(&Default::default());

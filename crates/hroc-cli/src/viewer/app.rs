@@ -16,10 +16,10 @@ use winit::window::{Window, WindowId};
 
 use super::fly::{Fly, Move};
 use super::ui::{self, Action, Status, VIEWS};
-use hroc::{Method, View as CullView};
+use hroc::{Method, View};
 use hroc_bench::bench::Session;
 use hroc_bench::error::{Error, Result};
-use hroc_bench::render::{views, views::View, DrawList};
+use hroc_bench::render::{pictures, pictures::Picture, DrawList};
 use hroc_bench::scene::{Camera, Scene};
 
 /// Path seconds per frame under `--frames`, so a run is deterministic.
@@ -34,7 +34,7 @@ const GROUP_BOX: [u8; 4] = [255, 40, 40, 255];
 pub struct Options {
     /// Index into `METHODS`.
     pub method: usize,
-    pub view: View,
+    pub view: Picture,
     /// Frames to present before exiting; `None` runs until the window closes.
     pub frames: Option<u64>,
     /// Where the last of `frames` is saved.
@@ -58,7 +58,7 @@ struct Display {
 pub struct App<'g> {
     instance: &'g wgpu::Instance,
     session: Session<'g>,
-    culler: CullView,
+    culler: View,
     opts: Options,
     /// The viewer's state as the panel shows it (method, view, play, time...).
     status: Status,
@@ -246,12 +246,12 @@ impl<'g> App<'g> {
         if let Some(px) = &pixels {
             let (w, h) = (self.session.renderer.targets.width, self.session.renderer.targets.height);
             if let (true, Some(path)) = (last_frame, &self.opts.screenshot) {
-                views::save_png(path, w, h, px)?;
+                pictures::save_png(path, w, h, px)?;
             }
             if shot {
                 // A failed interactive screenshot is reported, not fatal.
                 let path = screenshot_name();
-                self.status.message = match views::save_png(&path, w, h, px) {
+                self.status.message = match pictures::save_png(&path, w, h, px) {
                     Ok(()) => format!("saved {}", path.display()),
                     Err(e) => e.to_string(),
                 };
@@ -295,13 +295,13 @@ impl<'g> App<'g> {
             }
             _ => self.status.drawn = self.session.drawn(&r.lists)?.iter().filter(|&&d| d).count(),
         }
-        let nodes = if self.status.view == View::Groups { self.culler.tested_nodes(&self.session.culler)? } else { None };
+        let nodes = if self.status.view == Picture::Groups { self.culler.tested_nodes(&self.session.culler)? } else { None };
         self.status.boxes = nodes.as_ref().map(Vec::len);
-        if self.status.view == View::Color && !want_pixels {
+        if self.status.view == Picture::Color && !want_pixels {
             return Ok(None);
         }
         let px = self.picture(&r.lists, camera, nodes.as_deref())?;
-        if let (false, Some(d)) = (self.status.view == View::Color, &self.display) {
+        if let (false, Some(d)) = (self.status.view == Picture::Color, &self.display) {
             let t = &self.session.renderer.targets;
             gpu.queue.write_texture(
                 d.overlay.as_image_copy(),
@@ -316,13 +316,13 @@ impl<'g> App<'g> {
     /// RGBA8 pixels of the current view of the frame just drawn.
     fn picture(&self, lists: &[DrawList], camera: &Camera, nodes: Option<&[u32]>) -> Result<Vec<[u8; 4]>> {
         let (gpu, r, bvh) = (self.session.gpu, &self.session.renderer, &self.session.bvh());
-        if self.status.view != View::Groups {
-            return views::capture(gpu, r, self.status.view, lists);
+        if self.status.view != Picture::Groups {
+            return pictures::capture(gpu, r, self.status.view, lists);
         }
-        let mut px = views::capture(gpu, r, View::Color, lists)?;
+        let mut px = pictures::capture(gpu, r, Picture::Color, lists)?;
         if let Some(nodes) = nodes {
             let boxes: Vec<_> = nodes.iter().map(|&n| (bvh.aabb(n), if bvh.is_leaf(n) { LEAF_BOX } else { GROUP_BOX })).collect();
-            views::draw_boxes(&mut px, (r.targets.width, r.targets.height), &camera.view_proj(r.aspect()), &boxes);
+            pictures::draw_boxes(&mut px, (r.targets.width, r.targets.height), &camera.view_proj(r.aspect()), &boxes);
         }
         Ok(px)
     }
@@ -348,7 +348,7 @@ impl<'g> App<'g> {
             }
         };
 
-        let texture = if self.status.view == View::Color { d.color_tex } else { d.overlay_tex };
+        let texture = if self.status.view == Picture::Color { d.color_tex } else { d.overlay_tex };
         let aspect = self.session.renderer.aspect();
         let status = &self.status;
         let mut actions = Vec::new();

@@ -17,8 +17,8 @@ use hroc::Method;
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
 use hroc_bench::error::{Error, Result};
-use hroc_bench::gpu::Gpu;
-use hroc_bench::render::views::View;
+use hroc_bench::gpu::Headless;
+use hroc_bench::render::pictures::Picture;
 use hroc_bench::scene::CameraPath;
 
 /// Command-line options of `hroc view`.
@@ -44,8 +44,8 @@ pub struct ViewArgs {
     #[arg(long, default_value = "960x540", value_parser = hroc_bench::bench::parse_resolution)]
     pub resolution: (u32, u32),
     /// View to start with (keys 1-4).
-    #[arg(long, default_value_t = View::Color)]
-    pub view: View,
+    #[arg(long, default_value_t = Picture::Color)]
+    pub view: Picture,
     #[arg(long, default_value_t = Split::Sah)]
     pub split: Split,
     /// Clusters of at most T triangles, `off`, or `auto` (as `hroc bench`).
@@ -78,7 +78,7 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let mut desc = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
     desc.backends = wgpu::Backends::VULKAN;
     let instance = wgpu::Instance::new(desc);
-    let gpu = Gpu::with_instance(&instance)?;
+    let gpu = Headless::with_instance(&instance)?;
     let session = Session::new(&gpu, scene, path, 1, args.resolution, args.split)?;
     let opts = app::Options { method, view: args.view, frames: args.frames, screenshot: args.screenshot };
     let mut app = app::App::new(&instance, session, opts)?;

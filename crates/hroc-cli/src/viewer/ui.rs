@@ -4,14 +4,14 @@
 
 use hroc::Method;
 use hroc_bench::bench::Check;
-use hroc_bench::render::views::View;
+use hroc_bench::render::pictures::Picture;
 
 /// What the user asked for this frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Action {
     /// Switch to `Method::ALL[i]` (a new culler: its first frame is a frame 0).
     Method(usize),
-    View(View),
+    View(Picture),
     /// Play (back on the path, where it was left) or pause.
     Play(bool),
     /// Jump to a path time (leaves free flight).
@@ -22,7 +22,7 @@ pub enum Action {
 }
 
 /// The views, with their keys.
-pub const VIEWS: [(View, &str); 4] = [(View::Color, "colour"), (View::Overdraw, "overdraw"), (View::Id, "object ID"), (View::Groups, "tested boxes")];
+pub const VIEWS: [(Picture, &str); 4] = [(Picture::Color, "colour"), (Picture::Overdraw, "overdraw"), (Picture::Id, "object ID"), (Picture::Groups, "tested boxes")];
 
 /// Everything the panel shows.
 pub struct Status {
@@ -31,7 +31,7 @@ pub struct Status {
     pub adapter: String,
     pub objects: usize,
     pub method: usize,
-    pub view: View,
+    pub view: Picture,
     pub playing: bool,
     /// The fly camera drives the view (the path is paused).
     pub free: bool,
@@ -77,7 +77,7 @@ pub fn panel(ctx: &egui::Context, s: &Status) -> Vec<Action> {
                 }
             }
         });
-        if s.view == View::Groups && s.boxes.is_none() {
+        if s.view == Picture::Groups && s.boxes.is_none() {
             ui.colored_label(egui::Color32::YELLOW, "this method tests no boxes");
         }
 

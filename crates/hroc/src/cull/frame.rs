@@ -50,7 +50,7 @@ pub struct Frame<'a> {
 /// mid-frame submits, waits for the GPU, and bytes read back to the CPU.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct WorkCounts {
-    /// Mid-frame submits ([`Frame::flush`]).
+    /// Mid-frame submits (each read-back's).
     pub submits: u64,
     /// Mid-frame waits for the GPU (read-backs that block).
     pub waits: u64,

@@ -7,8 +7,8 @@ use std::path::Path;
 use crate::bench::Session;
 use crate::bvh::Split;
 use crate::error::Result;
-use crate::gpu::Gpu;
-use crate::render::views;
+use crate::gpu::Headless;
+use crate::render::pictures;
 use crate::scene::Scene;
 use hroc::Method;
 
@@ -35,7 +35,7 @@ pub struct HeatMaps {
 
 /// Runs each method from frame 0 to `frame` (they depend on the previous
 /// frame's visibility) and saves its overdraw at `frame` into `dir`.
-pub fn render(gpu: &Gpu, scene: &Scene, frames: usize, res: (u32, u32), frame: usize, dir: &Path) -> Result<HeatMaps> {
+pub fn render(gpu: &Headless, scene: &Scene, frames: usize, res: (u32, u32), frame: usize, dir: &Path) -> Result<HeatMaps> {
     let mut s = Session::new(gpu, scene.clone(), None, frames, res, Split::Sah)?;
     let mut counts = Vec::new();
     let mut maps = Vec::new();
@@ -51,7 +51,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, frames: usize, res: (u32, u32), frame: u
         }
         let od = s.renderer.overdraw(gpu, &lists)?;
         let file = format!("images/overdraw-{m}.png");
-        views::save_png(&dir.join(format!("overdraw-{m}.png")), res.0, res.1, &od.iter().map(|&v| views::heat(v)).collect::<Vec<_>>())?;
+        pictures::save_png(&dir.join(format!("overdraw-{m}.png")), res.0, res.1, &od.iter().map(|&v| pictures::heat(v)).collect::<Vec<_>>())?;
         maps.push(HeatMap { name: m.to_string(), file, mean: mean(&od) });
         counts.push(od);
     }
@@ -61,7 +61,7 @@ pub fn render(gpu: &Gpu, scene: &Scene, frames: usize, res: (u32, u32), frame: u
         let (Some(x), Some(y)) = (at(a), at(b)) else { continue };
         let d: Vec<f32> = x.iter().zip(y).map(|(p, q)| p - q).collect();
         let stem = format!("overdraw-{a}-minus-{b}");
-        views::save_png(&dir.join(format!("{stem}.png")), res.0, res.1, &d.iter().map(|&v| diverging(v)).collect::<Vec<_>>())?;
+        pictures::save_png(&dir.join(format!("{stem}.png")), res.0, res.1, &d.iter().map(|&v| diverging(v)).collect::<Vec<_>>())?;
         diffs.push(HeatMap { name: format!("{a} − {b}"), file: format!("images/{stem}.png"), mean: mean(&d) });
     }
     Ok(HeatMaps { frame, maps, diffs })

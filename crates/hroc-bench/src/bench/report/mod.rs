@@ -18,7 +18,7 @@ use super::{parse_resolution, BenchOptions, BenchReport, MethodList};
 use crate::bvh::{Bvh, Split};
 use crate::cull::{Method, MethodOptions, Variant};
 use crate::error::{Error, Result};
-use crate::gpu::Gpu;
+use crate::gpu::Headless;
 use crate::scene::{self, generators, Scene};
 
 /// The default set: the HROC paper's three large scenes (RC, FC, ST), sized
@@ -270,7 +270,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
     if !plan.clusters.is_empty() {
         scene::load(&a.cluster_scene, Some(a.objects), 0)?;
     }
-    let gpu = Gpu::new()?;
+    let gpu = Headless::new()?;
     for dir in [a.out.clone(), a.out.join("plots"), a.out.join("images")] {
         std::fs::create_dir_all(&dir).map_err(|e| Error::Io { path: dir, source: e })?;
     }
@@ -322,7 +322,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
 
 /// Runs the report's measurements, numbering them on stderr.
 struct Runner<'a> {
-    gpu: &'a Gpu,
+    gpu: &'a Headless,
     a: &'a ReportArgs,
     plan: &'a Plan,
     step: usize,

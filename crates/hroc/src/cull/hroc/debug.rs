@@ -9,7 +9,7 @@ use crate::layout::DrawArgs;
 
 /// Per-frame sizes of the paper's sets, read after the frame (untimed).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct FrameCounts {
+pub struct SetSizes {
     /// |V|: objects in the occluder list (last frame's visible set), drawn
     /// for the occlusion map. With occluder rounds, those of V hidden
     /// behind V's front list are not drawn there but tested as occludees.
@@ -34,10 +34,10 @@ pub struct FrameCounts {
 impl Hroc {
     /// Sizes of V, O, G, U, D and ray statistics of the last frame (reads
     /// back; call after the frame).
-    pub fn counts(&self, gpu: &Gpu) -> Result<FrameCounts> {
+    pub fn set_sizes(&self, gpu: &Gpu) -> Result<SetSizes> {
         let sum = |b: &wgpu::Buffer| -> Result<u32> { Ok(gpu.read::<u32>(b, 0, self.n as u64)?.iter().filter(|&&x| x != 0).count() as u32) };
         let stats: Vec<u32> = gpu.read(&self.ray_stats, 0, STAT_SLOTS * 2)?;
-        Ok(FrameCounts {
+        Ok(SetSizes {
             v: gpu.read::<u32>(&self.v_list.count, 0, 1)?[0],
             o: sum(&self.occluders)?,
             g: gpu.read::<u32>(&self.group_count, 0, 1)?[0],

@@ -32,7 +32,7 @@ pub mod stall_free;
 
 pub use blocks::test_scale;
 use blocks::{Blocks, BLOCK_FORMAT};
-pub use debug::{DebugState, FrameCounts};
+pub use debug::{DebugState, SetSizes};
 use rounds::{Rounds, RoundsOf};
 
 use super::{Counters, CullMethod, Frame, Method, MethodContext, Seed, Stage, Stat};
@@ -96,7 +96,7 @@ pub struct Hroc {
     boxes: wgpu::RenderPipeline,
     /// With a test scale above 1: the blocks' occlusion map and the pass that reduces the host's depth to it.
     blocks: Option<Blocks>,
-    last: FrameCounts,
+    last: SetSizes,
     seed_mode: Seed,
     /// Seed V this frame (the first one, or after a cut).
     seed_next: bool,
@@ -245,7 +245,7 @@ impl Hroc {
             test_bind,
             boxes,
             blocks,
-            last: FrameCounts::default(),
+            last: SetSizes::default(),
             seed_mode: cx.options.hroc_seed,
             seed_next: true,
             seeded: false,
@@ -408,7 +408,7 @@ impl CullMethod for Hroc {
     }
 
     fn stats(&mut self, gpu: &Gpu) -> Result<Vec<(Stat, f64)>> {
-        let c = self.counts(gpu)?;
+        let c = self.set_sizes(gpu)?;
         self.last = c;
         Ok(vec![
             (Stat::V, c.v as f64),

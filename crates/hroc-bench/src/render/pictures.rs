@@ -1,12 +1,13 @@
 //! Pictures of a frame: colour, object IDs, overdraw heat map.
 
 use crate::error::{Error, Result};
-use crate::gpu::Gpu;
+use crate::gpu::Headless;
 use crate::render::{DrawList, Renderer};
 use std::path::Path;
 
+/// Which picture of a frame to show or save.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum View {
+pub enum Picture {
     Color,
     Overdraw,
     Id,
@@ -14,26 +15,26 @@ pub enum View {
     Groups,
 }
 
-impl std::str::FromStr for View {
+impl std::str::FromStr for Picture {
     type Err = String;
-    fn from_str(s: &str) -> std::result::Result<View, String> {
+    fn from_str(s: &str) -> std::result::Result<Picture, String> {
         Ok(match s {
-            "color" => View::Color,
-            "overdraw" => View::Overdraw,
-            "id" => View::Id,
-            "groups" => View::Groups,
-            _ => return Err(format!("unknown view '{s}' (expected color, overdraw, id or groups)")),
+            "color" => Picture::Color,
+            "overdraw" => Picture::Overdraw,
+            "id" => Picture::Id,
+            "groups" => Picture::Groups,
+            _ => return Err(format!("unknown picture '{s}' (expected color, overdraw, id or groups)")),
         })
     }
 }
 
-impl std::fmt::Display for View {
+impl std::fmt::Display for Picture {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.write_str(match self {
-            View::Color => "color",
-            View::Overdraw => "overdraw",
-            View::Id => "id",
-            View::Groups => "groups",
+            Picture::Color => "color",
+            Picture::Overdraw => "overdraw",
+            Picture::Id => "id",
+            Picture::Groups => "groups",
         })
     }
 }
@@ -59,12 +60,12 @@ pub fn heat(v: f32) -> [u8; 4] {
 
 /// RGBA8 pixels of `view` for what the renderer's targets hold now;
 /// `lists` are the frame's draw lists (for the overdraw view).
-pub fn capture(gpu: &Gpu, r: &Renderer, view: View, lists: &[DrawList]) -> Result<Vec<[u8; 4]>> {
+pub fn capture(gpu: &Headless, r: &Renderer, view: Picture, lists: &[DrawList]) -> Result<Vec<[u8; 4]>> {
     Ok(match view {
-        View::Color => gpu.read_texture(&r.targets.color, wgpu::TextureAspect::All)?,
-        View::Id => gpu.read_texture::<u32>(&r.targets.id, wgpu::TextureAspect::All)?.into_iter().map(id_color).collect(),
-        View::Overdraw => r.overdraw(gpu, lists)?.into_iter().map(heat).collect(),
-        View::Groups => return Err(Error::Arg("the groups view needs the tested boxes: use draw_boxes".into())),
+        Picture::Color => gpu.read_texture(&r.targets.color, wgpu::TextureAspect::All)?,
+        Picture::Id => gpu.read_texture::<u32>(&r.targets.id, wgpu::TextureAspect::All)?.into_iter().map(id_color).collect(),
+        Picture::Overdraw => r.overdraw(gpu, lists)?.into_iter().map(heat).collect(),
+        Picture::Groups => return Err(Error::Arg("the groups view needs the tested boxes: use draw_boxes".into())),
     })
 }
 
