@@ -33,7 +33,7 @@ impl Compactor {
         let blocks = n.div_ceil(WG * ITEMS).max(1);
         let params = gpu.buffer_init("compact params", bytemuck::bytes_of(&CompactParams { n, blocks, select: 0, _pad: 0 }), wgpu::BufferUsages::UNIFORM);
         let block_sums = gpu.buffer("block sums", blocks as u64 * 4, wgpu::BufferUsages::STORAGE);
-        let layout = crate::reflect::layout(gpu, "compact", &[("compact.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::Compact.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "compact", &layout);
         let module = gpu.shader("compact.wgsl", &crate::shaders::source("compact.wgsl"));
         Compactor {

@@ -28,7 +28,7 @@ impl FlagSplit {
     pub(super) fn new(gpu: &Gpu, objects: &SharedObjects) -> Self {
         let n = objects.count;
         use wgpu::BufferUsages as U;
-        let layout = crate::reflect::layout(gpu, "hroc flag split", &[("split.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::FlagSplit.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "hroc flag split", &layout);
         let module = gpu.shader("split.wgsl", &shaders::source("split.wgsl"));
         let deferred = gpu.buffer("hroc non-occluders", n as u64 * 4, U::STORAGE | U::COPY_DST);

@@ -19,25 +19,183 @@ type EntryPoints = Arc<Vec<(String, Bindings)>>;
 /// [`shaders::SHADERS`], and its entry points (all of them when empty).
 pub type Pass<'a> = (&'a str, &'a [&'a str]);
 
-/// The bind-group layout of `group` that `passes` declare: one entry per
-/// binding any of their entry points uses, visible to those entry points'
-/// stages.
+/// Every bind-group layout the culler creates, each named after what it
+/// binds, with the pass entry points it serves (all in group 0).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Layout {
+    /// Ordered compaction of flagged draw commands.
+    Compact,
+    /// The GPU refit of moving objects' boxes and the BVH.
+    Refit,
+    /// The split of flagged objects out of a method's lists.
+    FlagSplit,
+    /// The per-list count of objects and triangles drawn.
+    Tally,
+    /// `vfc`'s frustum test.
+    Vfc,
+    /// The Hi-Z pyramid's build (`hzb`, `woc`).
+    HiZBuild,
+    /// The Hi-Z test of boxes (`hzb`, `woc`).
+    HiZTest,
+    /// `woc`'s warp of last frame's depth.
+    WocWarp,
+    /// ROC's raster box test.
+    RocBoxes,
+    /// ROC's selection and split of marked boxes.
+    Roc,
+    /// IOC's level-by-level traversal.
+    Ioc,
+    /// The query methods' box pass.
+    QueryBoxes,
+    /// HROC's step 0 after a cut: the ray-grid seed of V.
+    HrocSeed,
+    /// HROC's step 2: the occludee groups.
+    HrocGroups,
+    /// HROC's step 5: the next V.
+    HrocNext,
+    /// HROC's batch occlusion test (step 3).
+    HrocTest,
+    /// HROC's front-to-back rounds.
+    HrocRounds,
+    /// The first round's set-up: what the rounds bind, and the list's count.
+    HrocRoundsInit,
+    /// HROC's reduction of depth to blocks of pixels.
+    HrocReduce,
+    /// The stall-free counters' overflow lists.
+    Overflow,
+}
+
+const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
+
+impl Layout {
+    /// Every layout.
+    pub const ALL: [Layout; 20] = [
+        Layout::Compact,
+        Layout::Refit,
+        Layout::FlagSplit,
+        Layout::Tally,
+        Layout::Vfc,
+        Layout::HiZBuild,
+        Layout::HiZTest,
+        Layout::WocWarp,
+        Layout::RocBoxes,
+        Layout::Roc,
+        Layout::Ioc,
+        Layout::QueryBoxes,
+        Layout::HrocSeed,
+        Layout::HrocGroups,
+        Layout::HrocNext,
+        Layout::HrocTest,
+        Layout::HrocRounds,
+        Layout::HrocRoundsInit,
+        Layout::HrocReduce,
+        Layout::Overflow,
+    ];
+
+    /// The label of the layout, its pipelines and bind groups.
+    pub fn label(self) -> &'static str {
+        match self {
+            Layout::Compact => "compact",
+            Layout::Refit => "hroc refit",
+            Layout::FlagSplit => "hroc flag split",
+            Layout::Tally => "hroc tally",
+            Layout::Vfc => "vfc",
+            Layout::HiZBuild => "hi-z build",
+            Layout::HiZTest => "hi-z test",
+            Layout::WocWarp => "woc warp",
+            Layout::RocBoxes => "roc boxes",
+            Layout::Roc => "roc",
+            Layout::Ioc => "ioc",
+            Layout::QueryBoxes => "query boxes",
+            Layout::HrocSeed => "hroc seed",
+            Layout::HrocGroups => "hroc groups",
+            Layout::HrocNext => "hroc next occluders",
+            Layout::HrocTest => "hroc test",
+            Layout::HrocRounds => "hroc rounds",
+            Layout::HrocRoundsInit => "hroc rounds init",
+            Layout::HrocReduce => "hroc reduce",
+            Layout::Overflow => "hroc overflow",
+        }
+    }
+
+    /// The entry points it serves.
+    pub fn passes(self) -> &'static [Pass<'static>] {
+        match self {
+            Layout::Compact => &[("compact.wgsl", &[])],
+            Layout::Refit => &[("refit.wgsl", &[])],
+            Layout::FlagSplit => &[("split.wgsl", &[])],
+            Layout::Tally => &[("tally.wgsl", &[])],
+            Layout::Vfc => &[("vfc.wgsl", &[])],
+            Layout::HiZBuild => &[("hzb_pyramid.wgsl", &[])],
+            Layout::HiZTest => &[("hzb_test.wgsl", &[])],
+            Layout::WocWarp => &[("woc_warp.wgsl", &[])],
+            Layout::RocBoxes => &[("roc_boxes.wgsl", &["box_vs", "box_fs"])],
+            Layout::Roc => &[("roc.wgsl", &[])],
+            Layout::Ioc => &[("ioc.wgsl", &[])],
+            // Binding 6 (object boxes) serves box_vs's objects tested alone,
+            // which the queries never draw.
+            Layout::QueryBoxes => &[("hroc_test.wgsl", &["box_vs"])],
+            Layout::HrocSeed => &[("hroc_seed.wgsl", &[])],
+            Layout::HrocGroups => &[("hroc_groups.wgsl", &[])],
+            Layout::HrocNext => &[("hroc_next.wgsl", &[])],
+            Layout::HrocTest => &[("hroc_test.wgsl", &["box_vs", "box_fs"])],
+            Layout::HrocRounds => &[("hroc_test.wgsl", ROUNDS)],
+            Layout::HrocRoundsInit => &[("hroc_test.wgsl", ROUNDS), ("hroc_test.wgsl", &["rounds_init"])],
+            Layout::HrocReduce => &[("hroc_test.wgsl", &["reduce_vs", "reduce_fs"])],
+            Layout::Overflow => &[("overflow.wgsl", &[])],
+        }
+    }
+
+    /// Its entries, in binding order ([`entries`]).
+    pub fn entries(self) -> Vec<wgpu::BindGroupLayoutEntry> {
+        entries(self.passes(), 0)
+    }
+
+    /// Creates it on `gpu`'s device.
+    pub fn create(self, gpu: &Gpu) -> wgpu::BindGroupLayout {
+        gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(self.label()), entries: &self.entries() })
+    }
+
+    /// A bind group of `layout` (created from this) holding, for each of
+    /// its entries, the resource `resources` gives that binding (others
+    /// are ignored). Panics when an entry has none (a programming error).
+    pub fn bind(self, gpu: &Gpu, layout: &wgpu::BindGroupLayout, resources: &[(u32, wgpu::BindingResource)]) -> wgpu::BindGroup {
+        let entries: Vec<wgpu::BindGroupEntry> = self
+            .entries()
+            .iter()
+            .map(|e| {
+                let resource = resources.iter().find(|(b, _)| *b == e.binding).unwrap_or_else(|| panic!("{self:?}: nothing for binding {}", e.binding)).1.clone();
+                wgpu::BindGroupEntry { binding: e.binding, resource }
+            })
+            .collect();
+        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(self.label()), layout, entries: &entries })
+    }
+
+    /// Its storage buffers in the stage that sees the most of them: what
+    /// `max_storage_buffers_per_shader_stage` must allow.
+    pub fn storage_buffers_per_stage(self) -> u32 {
+        let entries = self.entries();
+        [wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE]
+            .iter()
+            .map(|&stage| entries.iter().filter(|e| e.visibility.contains(stage) && matches!(e.ty, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { .. }, .. })).count() as u32)
+            .max()
+            .unwrap_or(0)
+    }
+}
+
+/// A pipeline layout of one bind group.
+pub fn pipeline_layout(gpu: &Gpu, label: &str, layout: &wgpu::BindGroupLayout) -> wgpu::PipelineLayout {
+    gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(label), bind_group_layouts: &[Some(layout)], immediate_size: 0 })
+}
+
+/// The bind-group layout entries of `group` that `passes` declare, in
+/// binding order: one entry per binding any of their entry points uses,
+/// visible to those entry points' stages.
 ///
 /// Preconditions (programming errors, checked by the tests that create
 /// every pipeline): every pass and entry point exists; the passes parse and
 /// validate; a binding shared by several entry points has one type in all
 /// of them.
-pub fn layout(gpu: &Gpu, label: &str, passes: &[Pass], group: u32) -> wgpu::BindGroupLayout {
-    let entries = entries(passes, group);
-    gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(label), entries: &entries })
-}
-
-/// A pipeline layout of one bind group, [`layout`]'s.
-pub fn pipeline_layout(gpu: &Gpu, label: &str, layout: &wgpu::BindGroupLayout) -> wgpu::PipelineLayout {
-    gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(label), bind_group_layouts: &[Some(layout)], immediate_size: 0 })
-}
-
-/// [`layout`]'s entries, in binding order.
 pub fn entries(passes: &[Pass], group: u32) -> Vec<wgpu::BindGroupLayoutEntry> {
     let mut merged: BTreeMap<u32, (wgpu::BindingType, wgpu::ShaderStages, String)> = BTreeMap::new();
     for &(name, entry_points) in passes {

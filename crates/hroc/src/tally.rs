@@ -8,6 +8,7 @@ use std::collections::HashMap;
 
 use crate::contract::DrawList;
 use crate::gpu::{dispatch_size, Gpu, Readback, Uploads};
+use crate::reflect::Layout;
 
 /// Staging buffers in flight: counts arrive one to three frames late.
 const RING: usize = 3;
@@ -39,6 +40,7 @@ pub struct FrameStats {
 /// Per-view counter of what its lists draw.
 pub(crate) struct DrawTally {
     pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
     /// `[objects, triangles]` of the frame being recorded.
     totals: wgpu::Buffer,
     /// The `max_count` of the list counted next, written in the encoder
@@ -54,8 +56,10 @@ impl DrawTally {
     pub(crate) fn new(gpu: &Gpu) -> Self {
         let module = gpu.shader("tally.wgsl", &crate::shaders::source("tally.wgsl"));
         use wgpu::BufferUsages as U;
+        let layout = Layout::Tally.create(gpu);
         DrawTally {
-            pipeline: gpu.compute_pipeline(&module, "tally", None, &[]),
+            pipeline: gpu.compute_pipeline(&module, "tally", Some(&crate::reflect::pipeline_layout(gpu, "hroc tally", &layout)), &[]),
+            layout,
             totals: gpu.buffer("hroc tally", 8, U::STORAGE | U::COPY_SRC | U::COPY_DST),
             limit: gpu.buffer("hroc tally limit", 16, U::UNIFORM | U::COPY_DST),
             binds: HashMap::new(),
@@ -82,11 +86,11 @@ impl DrawTally {
             self.binds.clear();
         }
         let key = (list.commands.clone(), list.count.clone());
-        let (pipeline, limit, totals) = (&self.pipeline, &self.limit, &self.totals);
-        let bind = self.binds.entry(key).or_insert_with(|| gpu.bind_buffers(&pipeline.get_bind_group_layout(0), &[&list.commands, &list.count, limit, totals]));
+        let (layout, limit, totals) = (&self.layout, &self.limit, &self.totals);
+        let bind = self.binds.entry(key).or_insert_with(|| gpu.bind_buffers(layout, &[&list.commands, &list.count, limit, totals]));
         let (x, y) = dispatch_size(list.max_count, 64);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc tally"), timestamp_writes: None });
-        pass.set_pipeline(pipeline);
+        pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &*bind, &[]);
         pass.dispatch_workgroups(x, y, 1);
     }

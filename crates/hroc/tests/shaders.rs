@@ -30,10 +30,14 @@ fn every_shader_validates() {
 /// exactly the stages that use it.
 #[test]
 fn layouts_come_from_the_shaders() {
-    use hroc::testing::reflect::entries;
+    use hroc::testing::reflect::{entries, Layout};
     use wgpu::{BindingType, BufferBindingType, ShaderStages, TextureSampleType};
     for (name, _) in SHADERS {
         assert!(!entries(&[(name, &[])], 0).is_empty(), "{name} binds nothing");
+    }
+    for layout in Layout::ALL {
+        assert!(!layout.entries().is_empty(), "{layout:?} binds nothing");
+        println!("{layout:?}: {} storage buffers in one stage", layout.storage_buffers_per_stage());
     }
     let test = entries(&[("hroc_test.wgsl", &["box_vs", "box_fs"])], 0);
     let entry = |b: u32| test.iter().find(|e| e.binding == b).unwrap_or_else(|| panic!("no binding {b}: {test:?}"));

@@ -54,7 +54,7 @@ pub(crate) enum BoxCount<'a> {
 impl BoxPass {
     pub(crate) fn new(cx: &MethodContext) -> Self {
         let gpu = cx.gpu;
-        let layout = crate::reflect::layout(gpu, "roc boxes", &[("roc_boxes.wgsl", &["box_vs", "box_fs"])], 0);
+        let layout = crate::reflect::Layout::RocBoxes.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "roc boxes", &layout);
         let module = gpu.shader("roc_boxes.wgsl", &shader_source("roc_boxes.wgsl"));
         let pipeline = crate::shaders::box_test_pipeline(gpu, "roc boxes", &pl, &module, Some("box_fs"), (cx.targets.depth_format, cx.targets.depth), &[]);
@@ -126,7 +126,7 @@ impl Roc {
         let compactor = Compactor::new(gpu, n);
         let (v_list, v_job) = compactor.packed_list(gpu, "roc V list", &visible, cx.commands);
         let (u_list, u_job) = compactor.packed_list(gpu, "roc U list", if all { &fresh } else { &tested }, cx.commands);
-        let layout = crate::reflect::layout(gpu, "roc", &[("roc.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::Roc.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "roc", &layout);
         let module = gpu.shader("roc.wgsl", &shader_source("roc.wgsl"));
         let constants = [("ALL", if all { 1.0 } else { 0.0 })];

@@ -25,7 +25,7 @@ impl FrustumCuller {
         let n = cx.object_count;
         use wgpu::BufferUsages as U;
         let flags = gpu.buffer("vfc flags", n as u64 * 4, U::STORAGE);
-        let layout = crate::reflect::layout(gpu, "vfc", &[("vfc.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::Vfc.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "vfc", &layout);
         let module = gpu.shader("vfc.wgsl", &shader_source("vfc.wgsl"));
         let compactor = Compactor::new(gpu, n);

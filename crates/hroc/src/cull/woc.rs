@@ -74,7 +74,7 @@ impl Woc {
         gpu.queue.write_buffer(&pyramid.levels, 0, bytemuck::cast_slice(&far));
         let holes = gpu.buffer("woc holes", 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let test = HizTest::new(cx, &pyramid, &unused, &flags, false);
-        let layout = crate::reflect::layout(gpu, "woc warp", &[("woc_warp.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::WocWarp.create(gpu);
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("woc warp"),
             layout: &layout,

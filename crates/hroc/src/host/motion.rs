@@ -77,7 +77,7 @@ pub(super) struct GpuRefit {
 impl GpuRefit {
     pub(super) fn new(gpu: &Gpu, slots: u32) -> GpuRefit {
         use wgpu::BufferUsages as U;
-        let layout = crate::reflect::layout(gpu, "hroc refit", &[("refit.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::Refit.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "hroc refit", &layout);
         let module = gpu.shader("refit.wgsl", &shaders::source("refit.wgsl"));
         GpuRefit {

@@ -37,7 +37,7 @@ impl Blocks {
                 view_formats: &[],
             })
             .create_view(&Default::default());
-        let layout = crate::reflect::layout(gpu, "hroc reduce", &[("hroc_test.wgsl", &["reduce_vs", "reduce_fs"])], 0);
+        let layout = crate::reflect::Layout::HrocReduce.create(gpu);
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc reduce"),
             layout: &layout,

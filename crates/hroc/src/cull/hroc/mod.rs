@@ -41,6 +41,7 @@ use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
 use crate::gpu::{dispatch_size, Gpu};
+use crate::reflect::Layout;
 use crate::shaders::source as shader_source;
 use stall_free::{Counted, StallFree};
 
@@ -84,15 +85,14 @@ pub struct Hroc {
     u_job: CompactJob,
     marks_o: wgpu::BindGroup,
     marks_d: wgpu::BindGroup,
-    group_bind: wgpu::BindGroup,
     test_bind: wgpu::BindGroup,
-    extract: wgpu::ComputePipeline,
-    collect: wgpu::ComputePipeline,
-    merge: wgpu::ComputePipeline,
-    filter: wgpu::ComputePipeline,
+    extract: Step,
+    collect: Step,
+    merge: Step,
+    filter: Step,
     /// One ID pixel read in every `filter_stride²` ([`MethodOptions::hroc_filter_stride`](super::MethodOptions)).
     filter_stride: u32,
-    seed: wgpu::ComputePipeline,
+    seed: Step,
     boxes: wgpu::RenderPipeline,
     /// With a test scale above 1: the blocks' occlusion map and the pass that reduces the host's depth to it.
     blocks: Option<Blocks>,
@@ -115,6 +115,12 @@ pub struct Hroc {
 /// that prunes behind its nearest hit: about as much work as the
 /// occlusion test's rays over a few group boxes.
 pub const SEED_GRID: (u32, u32) = (64, 36);
+
+/// A compute pass of HROC's frame: its pipeline and bindings.
+struct Step {
+    pipeline: wgpu::ComputePipeline,
+    bind: wgpu::BindGroup,
+}
 
 impl Hroc {
     /// Creates the method's buffers and pipelines; fails if the BVH is deeper than [`MAX_DEPTH`].
@@ -144,10 +150,6 @@ impl Hroc {
         let leaf_of_object = cx.leaf_of_object.clone();
 
         let device = &gpu.device;
-        // Steps 0 (seed), 2 (groups) and 5 (next V) share one bind group.
-        let group_layout = crate::reflect::layout(gpu, "hroc groups", &[("hroc_seed.wgsl", &[]), ("hroc_groups.wgsl", &[]), ("hroc_next.wgsl", &[])], 0);
-        let bufs = [cx.frame, &nodes_buf, &leaf_of_object, &occluders, &state, &groups, &group_count, &occludees, &drawn, &visible];
-        let mut entries: Vec<_> = bufs.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
         // Without OF no pass reads the ID target; a 1x1 stand-in fills the binding.
         let stand_in;
         let ids = match cx.targets.ids.as_ref() {
@@ -168,13 +170,24 @@ impl Hroc {
                 &stand_in
             }
         };
-        entries.push(wgpu::BindGroupEntry { binding: 10, resource: wgpu::BindingResource::TextureView(ids) });
-        entries.push(wgpu::BindGroupEntry { binding: 11, resource: cx.bounds.as_entire_binding() });
-        let group_bind = device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("hroc groups"), layout: &group_layout, entries: &entries });
-        let pl = crate::reflect::pipeline_layout(gpu, "hroc groups", &group_layout);
-        let [seed_module, module, next_module] = ["hroc_seed.wgsl", "hroc_groups.wgsl", "hroc_next.wgsl"].map(|m| gpu.shader(m, &shader_source(m)));
+        // Steps 0, 2 and 5 number their bindings alike (hroc_groups.wgsl).
+        let bufs = [cx.frame, &nodes_buf, &leaf_of_object, &occluders, &state, &groups, &group_count, &occludees, &drawn, &visible];
+        let mut resources: Vec<(u32, wgpu::BindingResource)> = bufs.iter().enumerate().map(|(i, b)| (i as u32, b.as_entire_binding())).collect();
+        resources.extend([(10, wgpu::BindingResource::TextureView(ids)), (11, cx.bounds.as_entire_binding())]);
+        let step = |layout: Layout, pass: &str, entry: &str, constants: &[(&str, f64)]| {
+            let bind_layout = layout.create(gpu);
+            let module = gpu.shader(pass, &shader_source(pass));
+            let pipeline = gpu.compute_pipeline(&module, entry, Some(&crate::reflect::pipeline_layout(gpu, layout.label(), &bind_layout)), constants);
+            Step { pipeline, bind: layout.bind(gpu, &bind_layout, &resources) }
+        };
+        let test_scale = [("TEST_SCALE", scale as f64)];
+        let seed = step(Layout::HrocSeed, "hroc_seed.wgsl", "seed", &[("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)]);
+        let extract = step(Layout::HrocGroups, "hroc_groups.wgsl", "extract", &test_scale);
+        let collect = step(Layout::HrocGroups, "hroc_groups.wgsl", "collect", &test_scale);
+        let merge = step(Layout::HrocNext, "hroc_next.wgsl", "merge", &[]);
+        let filter = step(Layout::HrocNext, "hroc_next.wgsl", "filter_occluders", &[("FILTER_STRIDE", filter_stride as f64)]);
 
-        let test_layout = crate::reflect::layout(gpu, "hroc test", &[("hroc_test.wgsl", &["box_vs", "box_fs"])], 0);
+        let test_layout = Layout::HrocTest.create(gpu);
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         let blocks = (scale > 1).then(|| Blocks::new(gpu, cx, &test_module, scale));
         let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| &b.view);
@@ -221,12 +234,12 @@ impl Hroc {
             tree_nodes: bvh.nodes.len() as u32,
             marks_o: cx.marks_bind(&occluders),
             marks_d: cx.marks_bind(&drawn),
-            extract: gpu.compute_pipeline(&module, "extract", Some(&pl), &[("TEST_SCALE", scale as f64)]),
-            collect: gpu.compute_pipeline(&module, "collect", Some(&pl), &[("TEST_SCALE", scale as f64)]),
-            merge: gpu.compute_pipeline(&next_module, "merge", Some(&pl), &[]),
-            filter: gpu.compute_pipeline(&next_module, "filter_occluders", Some(&pl), &[("FILTER_STRIDE", filter_stride as f64)]),
+            extract,
+            collect,
+            merge,
+            filter,
             filter_stride,
-            seed: gpu.compute_pipeline(&seed_module, "seed", Some(&pl), &[("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)]),
+            seed,
             visible,
             occluders,
             occludees,
@@ -241,7 +254,6 @@ impl Hroc {
             compactor,
             v_job,
             u_job,
-            group_bind,
             test_bind,
             boxes,
             blocks,
@@ -255,12 +267,12 @@ impl Hroc {
         })
     }
 
-    fn dispatch(&self, f: &mut Frame, label: &str, pipeline: &wgpu::ComputePipeline, (x, y): (u32, u32)) {
+    fn dispatch(&self, f: &mut Frame, label: &str, step: &Step, (x, y): (u32, u32)) {
         let (enc, q) = f.counted();
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, &self.group_bind, &[]);
+            pass.set_pipeline(&step.pipeline);
+            pass.set_bind_group(0, &step.bind, &[]);
             pass.dispatch_workgroups(x, y, 1);
         });
     }

@@ -155,10 +155,8 @@ impl Rounds {
         let (front, alive) = (flags("hroc front marks"), [flags("hroc round candidates"), flags("hroc round candidates")]);
         let unused = gpu.buffer("hroc unused", 4, U::STORAGE);
         let box_args = gpu.buffer_init("hroc round boxes", bytemuck::cast_slice(&[0u32, 1, 0, 0]), U::INDIRECT | U::STORAGE);
-        const ROUND: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
-        let layout = crate::reflect::layout(gpu, "hroc rounds", &[("hroc_test.wgsl", ROUND)], 0);
-        // The first round's set-up binds what the rounds bind, and the list's count.
-        let init_layout = crate::reflect::layout(gpu, "hroc rounds init", &[("hroc_test.wgsl", ROUND), ("hroc_test.wgsl", &["rounds_init"])], 0);
+        let layout = crate::reflect::Layout::HrocRounds.create(gpu);
+        let init_layout = crate::reflect::Layout::HrocRoundsInit.create(gpu);
         let candidates = |k: u32| if k == 0 { list_marks } else { &alive[(k as usize - 1) % 2] };
         let (mut front_binds, mut late_binds, mut init_bind) = (Vec::new(), Vec::new(), None);
         for k in 0..count {

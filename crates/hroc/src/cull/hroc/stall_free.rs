@@ -77,7 +77,7 @@ impl StallFree {
     /// rounds: nothing is allocated, copied or read back for them), and the
     /// occludee rounds' front lists.
     pub fn new(gpu: &Gpu, lists: &[Option<(&wgpu::Buffer, &wgpu::Buffer, u32, u32)>]) -> Self {
-        let layout = crate::reflect::layout(gpu, "hroc overflow", &[("overflow.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::Overflow.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "hroc overflow", &layout);
         let module = gpu.shader("overflow.wgsl", &crate::shaders::source("overflow.wgsl"));
         use wgpu::BufferUsages as U;

@@ -56,7 +56,7 @@ impl Pyramid {
         let texels = mips.last().map_or(1, |m| m.offset + 1);
         let levels = gpu.buffer("hi-z levels", texels as u64 * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST);
         let mip_table = gpu.buffer_init("hi-z mips", bytemuck::cast_slice(&mips), U::STORAGE);
-        let layout = crate::reflect::layout(gpu, "hi-z build", &[("hzb_pyramid.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::HiZBuild.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "hi-z build", &layout);
         let module = gpu.shader("hzb_pyramid.wgsl", &shader_source("hzb_pyramid.wgsl"));
         let binds = (0..mips.len() as u32)
@@ -147,7 +147,7 @@ impl HizTest {
     pub(crate) fn new(cx: &MethodContext, pyramid: &Pyramid, visible: &wgpu::Buffer, fresh: &wgpu::Buffer, two_phase: bool) -> Self {
         let gpu = cx.gpu;
         let stats = gpu.buffer("hi-z test stats", 8, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC);
-        let layout = crate::reflect::layout(gpu, "hi-z test", &[("hzb_test.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::HiZTest.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "hi-z test", &layout);
         let module = gpu.shader("hzb_test.wgsl", &shader_source("hzb_test.wgsl"));
         HizTest {

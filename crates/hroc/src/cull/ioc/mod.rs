@@ -113,7 +113,7 @@ impl Ioc {
         let leaf_range = gpu.buffer_init("ioc leaf ranges", bytemuck::cast_slice(&ranges), U::STORAGE);
         let nodes = cx.bvh_nodes.clone();
 
-        let layout = crate::reflect::layout(gpu, "ioc", &[("ioc.wgsl", &[])], 0);
+        let layout = crate::reflect::Layout::Ioc.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "ioc", &layout);
         let module = gpu.shader("ioc.wgsl", &shader_source("ioc.wgsl"));
         let expand_binds = (0..3)

@@ -204,8 +204,7 @@ impl QueryRenderer {
         use wgpu::BufferUsages as U;
         let nodes = gpu.buffer_init("query bvh nodes", bytemuck::cast_slice(&bvh.nodes), U::STORAGE);
         let device = &gpu.device;
-        let layout = crate::reflect::layout(gpu, "query boxes", &[("hroc_test.wgsl", &["box_vs"])], 0);
-        // Binding 6 (object boxes) serves box_vs's objects tested alone, which the queries never draw.
+        let layout = crate::reflect::Layout::QueryBoxes.create(gpu);
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("query boxes"),
             layout: &layout,
