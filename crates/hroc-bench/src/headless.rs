@@ -6,8 +6,59 @@ use std::ops::Deref;
 
 use crate::error::{Error, Result};
 
-/// What the benchmark asks of a device: the culler's features and GPU timestamps.
+/// What the benchmark needs of a device: what every culler needs, and GPU
+/// timestamps. It also asks for the rest of [`hroc::FULL_FEATURES`] and for
+/// pipeline statistics where the adapter has them.
 pub const FEATURES: wgpu::Features = hroc::REQUIRED_FEATURES.union(hroc::TIMESTAMP_FEATURES).union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
+
+/// The graphics API a headless device runs on.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Backend {
+    /// Vulkan (lavapipe where there is no GPU).
+    #[default]
+    Vulkan,
+    /// OpenGL through EGL, without a display (llvmpipe where there is no GPU).
+    Gl,
+}
+
+impl Backend {
+    fn wgpu(self) -> wgpu::Backends {
+        match self {
+            Backend::Vulkan => wgpu::Backends::VULKAN,
+            Backend::Gl => wgpu::Backends::GL,
+        }
+    }
+
+    fn hint(self) -> &'static str {
+        match self {
+            Backend::Vulkan => LAVAPIPE_HINT,
+            Backend::Gl => LLVMPIPE_HINT,
+        }
+    }
+}
+
+impl std::str::FromStr for Backend {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Backend, String> {
+        match s {
+            "vulkan" => Ok(Backend::Vulkan),
+            "gl" => Ok(Backend::Gl),
+            _ => Err(format!("unknown backend '{s}' (expected vulkan or gl)")),
+        }
+    }
+}
+
+impl std::fmt::Display for Backend {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Backend::Vulkan => "vulkan",
+            Backend::Gl => "gl",
+        })
+    }
+}
+
+/// How to get OpenGL on a machine without a display.
+pub const LLVMPIPE_HINT: &str = "install Mesa's EGL and GL drivers (llvmpipe): sudo apt-get install -y libegl1 libegl-mesa0 libgles2 libgl1-mesa-dri";
 
 /// How to get a Vulkan device on a machine without a GPU.
 pub const LAVAPIPE_HINT: &str = "install the Vulkan software driver (lavapipe): sudo apt-get install -y mesa-vulkan-drivers libvulkan1";
@@ -42,21 +93,27 @@ impl Headless {
     /// Opens the best Vulkan adapter that has every needed feature:
     /// a discrete GPU over an integrated one over a CPU device.
     pub fn new() -> Result<Headless> {
+        Self::open(Backend::Vulkan)
+    }
+
+    /// As [`Headless::new`], on `backend`.
+    pub fn open(backend: Backend) -> Result<Headless> {
         let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
-        desc.backends = wgpu::Backends::VULKAN;
-        Self::with_instance(&wgpu::Instance::new(desc))
+        desc.backends = backend.wgpu();
+        pollster::block_on(Self::new_async(&wgpu::Instance::new(desc), backend))
     }
 
     /// As [`Headless::new`], on the adapters of `instance`: a window's surface
     /// can only present what a device of its own instance renders (the viewer).
     pub fn with_instance(instance: &wgpu::Instance) -> Result<Headless> {
-        pollster::block_on(Self::new_async(instance))
+        pollster::block_on(Self::new_async(instance, Backend::Vulkan))
     }
 
-    async fn new_async(instance: &wgpu::Instance) -> Result<Headless> {
-        let adapters = instance.enumerate_adapters(wgpu::Backends::VULKAN).await;
+    async fn new_async(instance: &wgpu::Instance, backend: Backend) -> Result<Headless> {
+        let hint = backend.hint();
+        let adapters = instance.enumerate_adapters(backend.wgpu()).await;
         if adapters.is_empty() {
-            return Err(Error::NoAdapter(format!("no Vulkan adapter found; {LAVAPIPE_HINT}")));
+            return Err(Error::NoAdapter(format!("no {backend} adapter found; {hint}")));
         }
         let mut names = Vec::new();
         let mut best: Option<wgpu::Adapter> = None;
@@ -72,14 +129,15 @@ impl Headless {
             }
         }
         let Some(adapter) = best else {
-            return Err(Error::NoAdapter(format!("no suitable Vulkan adapter: {}; {LAVAPIPE_HINT}", names.join(", "))));
+            return Err(Error::NoAdapter(format!("no suitable {backend} adapter: {}; {hint}", names.join(", "))));
         };
         let info = adapter.get_info();
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("hroc"),
-                // Pipeline statistics where the adapter has them (`--breakdown`'s counts).
-                required_features: FEATURES | (adapter.features() & hroc::PIPELINE_STATISTICS_FEATURES),
+                // The culler's full capabilities and pipeline statistics
+                // (`--breakdown`'s counts) where the adapter has them.
+                required_features: FEATURES | hroc::features(&adapter) | (adapter.features() & hroc::PIPELINE_STATISTICS_FEATURES),
                 // The adapter's own limits: large scenes need large buffers.
                 required_limits: adapter.limits(),
                 ..Default::default()

@@ -1,13 +1,10 @@
 //! The host contract's types: the device features, the marks snippet and
 //! its layout, the phases, the draws handed to the host, and its targets.
 
+use crate::capabilities::DrawCount;
 use crate::error::{Error, Result};
 use crate::frustum::DepthRange;
 use crate::gpu::PassCount;
-
-/// The device features every method needs.
-pub const REQUIRED_FEATURES: wgpu::Features =
-    wgpu::Features::MULTI_DRAW_INDIRECT_COUNT.union(wgpu::Features::INDIRECT_FIRST_INSTANCE).union(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
 
 /// The features [`CullerDesc::timestamps`](crate::CullerDesc::timestamps) needs.
 pub const TIMESTAMP_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY.union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
@@ -98,6 +95,10 @@ pub struct Draw<'a> {
     pub count: &'a wgpu::Buffer,
     /// Upper bound for `multi_draw_indexed_indirect_count`.
     pub max_count: u32,
+    /// How to draw up to the GPU's count: with [`DrawCount::Emulated`],
+    /// `multi_draw_indexed_indirect(commands, 0, max_count)`, the commands
+    /// past the count having `instance_count` 0.
+    pub draw_count: DrawCount,
     /// Bind at the host's marks group ([`marks_wgsl`]).
     pub marks: &'a wgpu::BindGroup,
     /// True when the method reads the marks: the fragment shader must call
@@ -116,7 +117,10 @@ impl Draw<'_> {
     pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, marks_group: u32) {
         self.statistics.around(pass, |pass| {
             pass.set_bind_group(marks_group, self.marks, &[]);
-            pass.multi_draw_indexed_indirect_count(self.commands, 0, self.count, 0, self.max_count);
+            match self.draw_count {
+                DrawCount::Indirect => pass.multi_draw_indexed_indirect_count(self.commands, 0, self.count, 0, self.max_count),
+                DrawCount::Emulated => pass.multi_draw_indexed_indirect(self.commands, 0, self.max_count),
+            }
         });
     }
 }

@@ -11,6 +11,26 @@ pub enum Error {
         /// The features the device lacks.
         missing: wgpu::Features,
     },
+    /// A limit of the device is below what the culler needs.
+    #[error("{what} needs the device's {limit} to be at least {needed}, and it is {have}: request hroc::limits(&adapter) when creating the device")]
+    DeviceLimit {
+        /// What needs it.
+        what: String,
+        /// The `wgpu::Limits` field.
+        limit: &'static str,
+        /// The value needed.
+        needed: u64,
+        /// The device's value.
+        have: u64,
+    },
+    /// A method this culler cannot serve on its device, and why.
+    #[error("{method} cannot run on this culler: {reason}")]
+    MethodUnavailable {
+        /// The method's name.
+        method: String,
+        /// What it lacks.
+        reason: String,
+    },
     /// An object the host registered is unusable.
     #[error("invalid object: {0}")]
     InvalidObject(String),

@@ -12,6 +12,7 @@
 //! #          objects: &[hroc::ObjectDesc], view: glam::Mat4, proj: glam::Mat4,
 //! #          draw_with_my_pipeline: &mut dyn FnMut(&mut wgpu::CommandEncoder, &hroc::Draw)) -> hroc::Result<()> {
 //! use hroc::{Culler, CullerDesc, DepthRange, FrameInput, Method, ViewDesc, ViewTargets};
+//! // The device was requested with hroc::features(&adapter) and hroc::limits(&adapter).
 //! // Once: the objects (world box + the host's own indexed draw each), then a view.
 //! let culler = Culler::new(device, queue, &CullerDesc::new(objects))?;
 //! let targets = ViewTargets { depth, depth_range: DepthRange::Standard, ids: Some(ids) };
@@ -29,12 +30,20 @@
 //! ## The host contract
 //! What every method needs from the host's pipelines. Break one and a method
 //! may cull a visible object.
-//! - **Device.** Features [`REQUIRED_FEATURES`] (multi-draw-indirect-count,
-//!   `first_instance` in indirect draws, forced early depth test), plus
-//!   [`TIMESTAMP_FEATURES`] for per-stage GPU times and
-//!   [`PIPELINE_STATISTICS_FEATURES`] for per-stage shader invocations
+//! - **Device.** Request [`features`] and [`limits`] of the adapter. Every
+//!   culler needs [`REQUIRED_FEATURES`] (`first_instance` in indirect
+//!   draws: Vulkan, DX12, Metal, desktop GL 4.2+; not GLES or WebGL). It
+//!   runs with the [`Capabilities`] the device allows: the indirect draw
+//!   count where it exists (Vulkan, DX12), else an emulated one
+//!   ([`DrawCount`]); forced early-Z where it exists (Vulkan, GL), which
+//!   ROC, IOC and HROC need ([`Culler::serves`] refuses them by name
+//!   otherwise, with the reason; [`Culler::methods`] lists what it
+//!   serves). [`Culler::new`] and [`Culler::view`] name any missing
+//!   feature, and any device limit below what is needed with the value
+//!   needed. [`TIMESTAMP_FEATURES`] add per-stage GPU times and
+//!   [`PIPELINE_STATISTICS_FEATURES`] per-stage shader invocations
 //!   (counted in the host's draws when it records them with
-//!   [`Draw::record`]). [`Culler::new`] names what is missing.
+//!   [`Draw::record`]).
 //! - **Objects.** Object `i` is one indexed draw of the host's index buffer
 //!   ([`ObjectDesc`]) with a world box that holds every vertex it can
 //!   rasterize this frame. The culler hands back
@@ -47,7 +56,8 @@
 //!   panels, rings and beams is far less than the world box alone.
 //! - **Draws.** For each [`Draw`], in the order handed over, the host records
 //!   `multi_draw_indexed_indirect_count(commands, 0, count, 0, max_count)`
-//!   into a render pass on the view's depth attachment, before returning
+//!   (with [`DrawCount::Emulated`], `multi_draw_indexed_indirect(commands,
+//!   0, max_count)`) into a render pass on the view's depth attachment, before returning
 //!   ([`Draw::record`]). Object order within a list is kept; the host must
 //!   not reorder, split or skip a list, because the culler's next pass reads
 //!   the depth it left. A phase may come several times in one frame (HROC's
@@ -160,7 +170,8 @@
 //! - methods and statistics: [`Method`], [`MethodOptions`], [`Variant`],
 //!   [`Counters`], [`Seed`], [`Stage`], [`Stat`], [`FrameStats`],
 //!   [`Invocations`];
-//! - the device: [`REQUIRED_FEATURES`], [`TIMESTAMP_FEATURES`],
+//! - the device: [`features`], [`limits`], [`Capabilities`], [`DrawCount`],
+//!   [`REQUIRED_FEATURES`], [`FULL_FEATURES`], [`TIMESTAMP_FEATURES`],
 //!   [`PIPELINE_STATISTICS_FEATURES`];
 //! - errors: [`Error`], [`Result`];
 //! - and the modules [`aabb`], [`bvh`] (the object BVH: [`CullerDesc::split`],
@@ -176,6 +187,7 @@
 
 pub mod aabb;
 pub mod bvh;
+mod capabilities;
 mod compact;
 mod contract;
 mod cull;
@@ -185,6 +197,7 @@ pub mod frustum;
 mod gpu;
 mod host;
 mod layout;
+mod list_pass;
 mod metrics;
 mod objects;
 mod reflect;
@@ -194,12 +207,13 @@ mod tally;
 pub mod testing;
 
 pub use aabb::{Aabb, OrientedBox};
+pub use capabilities::{features, limits, Capabilities, DrawCount, FULL_FEATURES, REQUIRED_FEATURES};
 pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Variant};
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc, ViewGeometry};
 pub use gpu::Invocations;
 pub use host::{
     marks_layout, marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets,
-    PIPELINE_STATISTICS_FEATURES, REQUIRED_FEATURES, TIMESTAMP_FEATURES,
+    PIPELINE_STATISTICS_FEATURES, TIMESTAMP_FEATURES,
 };
 pub use tally::FrameStats;

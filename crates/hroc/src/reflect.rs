@@ -31,6 +31,8 @@ pub enum Layout {
     FlagSplit,
     /// The per-list count of objects and triangles drawn.
     Tally,
+    /// The zeroed tail of a list drawn without a GPU count.
+    Tail,
     /// `vfc`'s frustum test.
     Vfc,
     /// The Hi-Z pyramid's build (`hzb`, `woc`).
@@ -69,11 +71,12 @@ const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 20] = [
+    pub const ALL: [Layout; 21] = [
         Layout::Compact,
         Layout::Refit,
         Layout::FlagSplit,
         Layout::Tally,
+        Layout::Tail,
         Layout::Vfc,
         Layout::HiZBuild,
         Layout::HiZTest,
@@ -99,6 +102,7 @@ impl Layout {
             Layout::Refit => "hroc refit",
             Layout::FlagSplit => "hroc flag split",
             Layout::Tally => "hroc tally",
+            Layout::Tail => "hroc emulated count",
             Layout::Vfc => "vfc",
             Layout::HiZBuild => "hi-z build",
             Layout::HiZTest => "hi-z test",
@@ -125,6 +129,7 @@ impl Layout {
             Layout::Refit => &[("refit.wgsl", &[])],
             Layout::FlagSplit => &[("split.wgsl", &[])],
             Layout::Tally => &[("tally.wgsl", &[])],
+            Layout::Tail => &[("tail.wgsl", &[])],
             Layout::Vfc => &[("vfc.wgsl", &[])],
             Layout::HiZBuild => &[("hzb_pyramid.wgsl", &[])],
             Layout::HiZTest => &[("hzb_test.wgsl", &[])],
@@ -177,7 +182,10 @@ impl Layout {
         let entries = self.entries();
         [wgpu::ShaderStages::VERTEX, wgpu::ShaderStages::FRAGMENT, wgpu::ShaderStages::COMPUTE]
             .iter()
-            .map(|&stage| entries.iter().filter(|e| e.visibility.contains(stage) && matches!(e.ty, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { .. }, .. })).count() as u32)
+            .map(|&stage| {
+                entries.iter().filter(|e| e.visibility.contains(stage) && matches!(e.ty, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { .. }, .. })).count()
+                    as u32
+            })
             .max()
             .unwrap_or(0)
     }

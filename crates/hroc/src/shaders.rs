@@ -23,6 +23,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("hzb_test.wgsl", include_str!("../shaders/hzb_test.wgsl")),
     ("woc_warp.wgsl", include_str!("../shaders/woc_warp.wgsl")),
     ("tally.wgsl", include_str!("../shaders/tally.wgsl")),
+    ("tail.wgsl", include_str!("../shaders/tail.wgsl")),
 ];
 
 /// The shared header: the `Frame` uniform, object boxes, BVH nodes, draw

@@ -4,16 +4,13 @@
 //! mapped once the frame's encoder is submitted and done, and tagged with
 //! the frame they describe ([`crate::View::frame_stats`]).
 
-use std::collections::HashMap;
-
 use crate::contract::DrawList;
-use crate::gpu::{dispatch_size, Gpu, Readback, Uploads};
+use crate::gpu::{Gpu, Readback, Uploads};
+use crate::list_pass::ListPass;
 use crate::reflect::Layout;
 
 /// Staging buffers in flight: counts arrive one to three frames late.
 const RING: usize = 3;
-/// Bind groups kept for the lists seen lately.
-const BINDS: usize = 256;
 
 /// Statistics every method shares, of one frame of one view, read back
 /// without waiting ([`crate::View::frame_stats`]).
@@ -39,30 +36,20 @@ pub struct FrameStats {
 
 /// Per-view counter of what its lists draw.
 pub(crate) struct DrawTally {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+    pass: ListPass,
     /// `[objects, triangles]` of the frame being recorded.
     totals: wgpu::Buffer,
-    /// The `max_count` of the list counted next, written in the encoder
-    /// before each count.
-    limit: wgpu::Buffer,
-    /// Per (commands, count): the tally's bindings.
-    binds: HashMap<(wgpu::Buffer, wgpu::Buffer), wgpu::BindGroup>,
     ring: Vec<(wgpu::Buffer, Readback<FrameStats>)>,
     latest: Option<FrameStats>,
 }
 
 impl DrawTally {
     pub(crate) fn new(gpu: &Gpu) -> Self {
-        let module = gpu.shader("tally.wgsl", &crate::shaders::source("tally.wgsl"));
         use wgpu::BufferUsages as U;
-        let layout = Layout::Tally.create(gpu);
+        let totals = gpu.buffer("hroc tally", 8, U::STORAGE | U::COPY_SRC | U::COPY_DST);
         DrawTally {
-            pipeline: gpu.compute_pipeline(&module, "tally", Some(&crate::reflect::pipeline_layout(gpu, "hroc tally", &layout)), &[]),
-            layout,
-            totals: gpu.buffer("hroc tally", 8, U::STORAGE | U::COPY_SRC | U::COPY_DST),
-            limit: gpu.buffer("hroc tally limit", 16, U::UNIFORM | U::COPY_DST),
-            binds: HashMap::new(),
+            pass: ListPass::new(gpu, Layout::Tally, "tally.wgsl", "tally", Some(totals.clone())),
+            totals,
             ring: (0..RING).map(|_| (gpu.buffer("hroc tally staging", 8, U::MAP_READ | U::COPY_DST), Readback::Free)).collect(),
             latest: None,
         }
@@ -77,22 +64,7 @@ impl DrawTally {
 
     /// Counts what `list` draws, after the host recorded its draw.
     pub(crate) fn count(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, list: &DrawList) {
-        if list.max_count == 0 {
-            return;
-        }
-        uploads.write(enc, &self.limit, 0, bytemuck::cast_slice(&[list.max_count, 0, 0, 0]));
-        // Lists are mostly the same buffers every frame: a bounded cache.
-        if self.binds.len() > BINDS {
-            self.binds.clear();
-        }
-        let key = (list.commands.clone(), list.count.clone());
-        let (layout, limit, totals) = (&self.layout, &self.limit, &self.totals);
-        let bind = self.binds.entry(key).or_insert_with(|| gpu.bind_buffers(layout, &[&list.commands, &list.count, limit, totals]));
-        let (x, y) = dispatch_size(list.max_count, 64);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc tally"), timestamp_writes: None });
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &*bind, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        self.pass.record(gpu, enc, uploads, &list.commands, &list.count, list.max_count, 5, 0);
     }
 
     /// Ends a frame: copies the totals, with `stats` (the frame's number

@@ -6,15 +6,16 @@
 
 use common::street::{look, street};
 use glam::Vec3;
-use hroc::{Culler, CullerDesc, Method, Variant, ViewDesc};
+use hroc::{Capabilities, Culler, CullerDesc, DrawCount, Method, Variant, ViewDesc};
 
 mod common;
 
 #[test]
 fn every_method_family_draws_every_visible_object() {
-    let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
+    let (device, queue) = common::device(hroc::FULL_FEATURES);
     let (host, objects) = street(&device);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    assert_eq!(culler.capabilities(), Capabilities::FULL);
     // A walk along the street, a cut to above the wall, and the eye inside
     // the last box (which crosses the near plane).
     let mut path: Vec<(ViewDesc, bool)> = (0..6).map(|k| (look(Vec3::new(-3.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
@@ -30,15 +31,26 @@ fn every_method_family_draws_every_visible_object() {
         })
         .collect();
     assert!(visible.iter().all(|v| !v.is_empty()) && visible[0].len() < objects.len() / 2, "the wall hides most of the street: {visible:?}");
-    for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
-        let mut view = culler.view(method, &host.targets()).unwrap();
-        let mut culled = 0;
-        for (k, &(desc, cut)) in path.iter().enumerate() {
-            let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
-            let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
-            assert!(missed.is_empty(), "{method} frame {k}: visible objects {missed:?} not drawn");
-            culled += objects.len() - drawn.len();
+    // The full tier, the emulated count alone, and the portable tier (the
+    // methods it serves).
+    let emulated = Capabilities { draw_count: DrawCount::Emulated, early_z: true };
+    for caps in [Capabilities::FULL, emulated, Capabilities::PORTABLE] {
+        let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
+        assert_eq!(culler.capabilities(), caps);
+        for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
+            if !caps.early_z && method.needs_early_z() {
+                assert!(culler.serves(method).is_err(), "{method} served without early-Z");
+                continue;
+            }
+            let mut view = culler.view(method, &host.targets()).unwrap();
+            let mut culled = 0;
+            for (k, &(desc, cut)) in path.iter().enumerate() {
+                let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
+                let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
+                assert!(missed.is_empty(), "{method} ({caps:?}) frame {k}: visible objects {missed:?} not drawn");
+                culled += objects.len() - drawn.len();
+            }
+            assert!(culled > 0, "{method} ({caps:?}) culled nothing");
         }
-        assert!(culled > 0, "{method} culled nothing");
     }
 }

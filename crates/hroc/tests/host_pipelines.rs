@@ -38,7 +38,7 @@ fn pass<'e>(encoder: &'e mut wgpu::CommandEncoder, depth: &wgpu::TextureView, lo
 
 #[test]
 fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
-    let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
+    let (device, queue) = common::device(hroc::FULL_FEATURES);
     // The host's pipeline first: camera at group 0, hroc's marks at group 1.
     let (pipeline, camera_layout) = common::host_pipeline(&device, false);
 

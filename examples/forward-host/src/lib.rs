@@ -55,8 +55,8 @@ pub fn open_device() -> Result<(wgpu::Device, wgpu::Queue), String> {
         adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("forward host"),
-                required_features: hroc::REQUIRED_FEATURES,
-                required_limits: adapter.limits(),
+                required_features: hroc::features(&adapter),
+                required_limits: hroc::limits(&adapter),
                 ..Default::default()
             })
             .await

@@ -3,12 +3,14 @@
 
 use super::*;
 use crate::bvh::Bvh;
+use crate::capabilities::DrawCount;
 use crate::contract::{Draw, DrawHost, Phase, Targets};
 use crate::error::{Error, Result};
 use crate::flag_split::FlagSplit;
 use crate::frustum::ViewGeometry;
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount, Submission, Uploads};
 use crate::layout::FrameUniform;
+use crate::list_pass::ListPass;
 use crate::objects::SharedObjects;
 
 /// Recorded in place of a method's frame (`View::cull_with`, for tests).
@@ -38,6 +40,10 @@ pub struct Frame<'a> {
     pub(crate) work: &'a mut WorkCounts,
     pub(crate) tally: &'a mut crate::tally::DrawTally,
     pub(crate) uploads: &'a mut Uploads,
+    /// How lists are drawn up to their GPU count.
+    pub(crate) draw_count: DrawCount,
+    /// With an emulated draw count: the pass that empties a list's tail.
+    pub(crate) tail: Option<&'a mut ListPass>,
     /// For methods that submit mid-frame: the encoder that holds the end of
     /// the view's previous frame, checked at the first submit.
     pub(crate) prior: Option<Submission>,
@@ -104,10 +110,43 @@ impl<'a> Frame<'a> {
             }
             None => list,
         };
+        self.hand(phase, list, marks);
+    }
+
+    /// Hands `list` to the host as it is: with an emulated draw count, the
+    /// commands past its GPU count are emptied first; what it draws is
+    /// tallied after.
+    pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&wgpu::BindGroup>) {
+        if let Some(tail) = self.tail.as_deref_mut() {
+            tail.record(self.gpu, self.encoder, self.uploads, &list.commands, &list.count, list.max_count, 5, 0);
+        }
         let statistics = self.pass_count();
-        let draw = Draw { phase, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: marks.unwrap_or(self.sink), mark: marks.is_some(), statistics };
+        let draw = Draw {
+            phase,
+            commands: &list.commands,
+            count: &list.count,
+            max_count: list.max_count,
+            draw_count: self.draw_count,
+            marks: marks.unwrap_or(self.sink),
+            mark: marks.is_some(),
+            statistics,
+        };
         self.host.draw(self.encoder, &draw);
         self.tally.count(self.gpu, self.encoder, self.uploads, list);
+    }
+
+    /// With an emulated draw count, empties the commands `[count,
+    /// max_count)` of the culler's own list of `words`-u32 commands that
+    /// starts at command `first` of `commands` (HROC's group boxes).
+    pub fn empty_tail(&mut self, commands: &wgpu::Buffer, first: u32, count: &wgpu::Buffer, max_count: u32, words: u32) {
+        if let Some(tail) = self.tail.as_deref_mut() {
+            tail.record(self.gpu, self.encoder, self.uploads, commands, count, max_count, words, first);
+        }
+    }
+
+    /// How lists are drawn up to their GPU count.
+    pub fn draw_count(&self) -> DrawCount {
+        self.draw_count
     }
 
     /// Submits what is recorded so far and continues in a fresh encoder (for

@@ -5,6 +5,7 @@ use std::str::FromStr;
 
 use super::*;
 use crate::error::{Error, Result};
+use crate::reflect::Layout;
 
 /// How HROC bounds its indirect draws' `max_count` (HROC §4.1, §6).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -180,6 +181,37 @@ impl Method {
     /// dropped); otherwise the cull fails with [`crate::Error::SubmitOrder`].
     pub fn submits_mid_frame(self) -> bool {
         matches!(self, Method::Hroc(Variant { counters: Counters::ReadBack, .. }) | Method::Ioc | Method::Oq | Method::Soq | Method::Chc)
+    }
+
+    /// True when the method's own box tests mark boxes from fragments that
+    /// pass forced early-Z (ROC, IOC, HROC): it needs
+    /// [`crate::Capabilities::early_z`].
+    pub fn needs_early_z(self) -> bool {
+        matches!(self, Method::Roc | Method::RocAll | Method::Ioc | Method::Hroc(_))
+    }
+
+    /// The bind-group layouts of the method's own passes.
+    pub(crate) fn layouts(self) -> &'static [Layout] {
+        match self {
+            Method::Noc | Method::Ref => &[],
+            Method::Vfc => &[Layout::Vfc, Layout::Compact],
+            Method::Oq | Method::Soq | Method::Chc => &[Layout::QueryBoxes],
+            Method::Roc | Method::RocAll => &[Layout::RocBoxes, Layout::Roc, Layout::Compact],
+            Method::Ioc => &[Layout::Ioc, Layout::RocBoxes, Layout::Compact],
+            Method::Hzb => &[Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
+            Method::Woc => &[Layout::WocWarp, Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
+            Method::Hroc(_) => &[
+                Layout::HrocSeed,
+                Layout::HrocGroups,
+                Layout::HrocNext,
+                Layout::HrocTest,
+                Layout::HrocRounds,
+                Layout::HrocRoundsInit,
+                Layout::HrocReduce,
+                Layout::Overflow,
+                Layout::Compact,
+            ],
+        }
     }
 
     /// True for `ref`, which only the benchmark can feed (`View::set_oracle`).

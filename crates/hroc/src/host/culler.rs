@@ -2,12 +2,15 @@
 
 use super::*;
 use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
+use crate::capabilities::{Capabilities, DrawCount};
 use crate::cull::{DrawList, Method, MethodContext, MethodOptions, WorkCounts};
 use crate::error::{Error, Result};
 use crate::frustum::DepthRange;
 use crate::gpu::Uploads;
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter};
 use crate::layout::{DrawCommand, FrameUniform, ObjectBounds, OrientedBounds};
+use crate::list_pass::ListPass;
+use crate::reflect::Layout;
 use crate::tally::DrawTally;
 use crate::{Aabb, OrientedBox};
 
@@ -36,13 +39,26 @@ pub struct CullerDesc<'a> {
     /// [`PIPELINE_STATISTICS_FEATURES`]. The host's draws are counted when
     /// it records them with [`Draw::record`].
     pub pipeline_statistics: bool,
+    /// What to run with; `None`: the most the device allows
+    /// ([`Capabilities::of`] its features). Asking for more than the
+    /// device has is an error.
+    pub capabilities: Option<Capabilities>,
 }
 
 impl<'a> CullerDesc<'a> {
     /// SAH BVH, no spare slots, default parameters, no timestamps, no
     /// pipeline statistics.
     pub fn new(objects: &'a [ObjectDesc]) -> Self {
-        CullerDesc { objects, capacity: 0, split: Split::Sah, options: MethodOptions::default(), motion: MotionOptions::default(), timestamps: false, pipeline_statistics: false }
+        CullerDesc {
+            objects,
+            capacity: 0,
+            split: Split::Sah,
+            options: MethodOptions::default(),
+            motion: MotionOptions::default(),
+            timestamps: false,
+            pipeline_statistics: false,
+            capabilities: None,
+        }
     }
 }
 
@@ -87,17 +103,22 @@ pub struct Culler {
     pub(super) last_update: UpdateStats,
     pub(super) timestamps: bool,
     pub(super) pipeline_statistics: bool,
+    /// What the culler runs with.
+    pub(super) caps: Capabilities,
 }
 
 impl Culler {
     /// Creates a culler on the host's device. Errors, never panics, when the
-    /// device lacks [`REQUIRED_FEATURES`] (or [`TIMESTAMP_FEATURES`] when
+    /// device lacks the features of the capabilities asked for
+    /// ([`CullerDesc::capabilities`]; at least [`crate::REQUIRED_FEATURES`]) or
+    /// a limit the culler's shared passes need (or [`TIMESTAMP_FEATURES`] when
     /// asked for timestamps, [`PIPELINE_STATISTICS_FEATURES`] when asked
     /// for pipeline statistics), when an object's box is not finite, or when the
     /// objects exceed the device's buffer limits. Objects flagged
     /// [`ObjectFlags::DYNAMIC`] are left out of the BVH.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, desc: &CullerDesc) -> Result<Culler> {
-        let mut needed = REQUIRED_FEATURES;
+        let caps = desc.capabilities.unwrap_or_else(|| Capabilities::of(device.features()));
+        let mut needed = caps.features();
         if desc.timestamps {
             needed |= TIMESTAMP_FEATURES;
         }
@@ -108,6 +129,11 @@ impl Culler {
         if !missing.is_empty() {
             return Err(Error::MissingFeatures { what: "hroc::Culler".into(), missing });
         }
+        let mut shared: Vec<Layout> = vec![Layout::Compact, Layout::FlagSplit, Layout::Tally, Layout::Refit];
+        if caps.draw_count == DrawCount::Emulated {
+            shared.push(Layout::Tail);
+        }
+        check_limits(&device.limits(), "hroc::Culler", &shared)?;
         let gpu = Gpu::from_device(device, queue);
         let objects = desc.objects;
         for (i, o) in objects.iter().enumerate() {
@@ -155,6 +181,7 @@ impl Culler {
             last_update: UpdateStats { sah_growth: Some(1.0), ..Default::default() },
             timestamps: desc.timestamps,
             pipeline_statistics: desc.pipeline_statistics,
+            caps,
         };
         culler.rebuild_tree()?;
         culler.upload_bounds();
@@ -553,6 +580,7 @@ impl Culler {
 
     /// [`Culler::view`] with method parameters other than the culler's.
     pub fn view_with(&self, method: Method, targets: &ViewTargets, options: &MethodOptions) -> Result<View> {
+        self.serves(method)?;
         let t = Targets::new(targets)?;
         if method.needs_ids() && t.ids.is_none() {
             return Err(Error::InvalidTargets(format!("{method} filters occluders by the object-ID target (OF, HROC §4.2): pass ViewTargets::ids, or use hroc-cr / hroc-na")));
@@ -588,6 +616,7 @@ impl Culler {
             tally: DrawTally::new(&self.gpu),
             uploads: Uploads::new(&self.gpu.device),
             tail: None,
+            tail_pass: (self.caps.draw_count == DrawCount::Emulated).then(|| ListPass::new(&self.gpu, Layout::Tail, "tail.wgsl", "tail", None)),
             interrupted: false,
             frames: 0,
         })
@@ -643,6 +672,23 @@ pub(super) fn allocate(gpu: &Gpu, slots: u32, commands: &[DrawCommand], flags: V
     (shared, nodes, leaves)
 }
 
+/// Checks the device's limits against what `layouts` and the culler's
+/// compute passes need.
+fn check_limits(limits: &wgpu::Limits, what: &str, layouts: &[Layout]) -> Result<()> {
+    let storage = layouts.iter().map(|l| l.storage_buffers_per_stage()).max().unwrap_or(0) as u64;
+    let needs = [
+        ("max_storage_buffers_per_shader_stage", storage, limits.max_storage_buffers_per_shader_stage as u64),
+        ("max_bind_groups", 1, limits.max_bind_groups as u64),
+        ("max_compute_invocations_per_workgroup", 256, limits.max_compute_invocations_per_workgroup as u64),
+        ("max_compute_workgroup_size_x", 256, limits.max_compute_workgroup_size_x as u64),
+        ("max_compute_workgroup_size_y", 16, limits.max_compute_workgroup_size_y as u64),
+    ];
+    match needs.into_iter().find(|&(_, needed, have)| have < needed) {
+        Some((limit, needed, have)) => Err(Error::DeviceLimit { what: what.to_string(), limit, needed, have }),
+        None => Ok(()),
+    }
+}
+
 pub(super) fn check_capacity(device: &wgpu::Device, n: u64) -> Result<()> {
     let limits = device.limits();
     let storage = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
@@ -657,4 +703,31 @@ pub(super) fn check_capacity(device: &wgpu::Device, n: u64) -> Result<()> {
         return Err(Error::OverDeviceLimits(format!("{n} object slots exceed 2^30")));
     }
     Ok(())
+}
+
+/// What the culler runs with, and which methods it serves.
+impl Culler {
+    /// The capabilities the culler runs with.
+    pub fn capabilities(&self) -> Capabilities {
+        self.caps
+    }
+
+    /// `Ok` when this culler can serve `method` on its device; otherwise
+    /// [`Error::MethodUnavailable`] with the reason (a capability it runs
+    /// without, or a device limit, named with the value needed).
+    pub fn serves(&self, method: Method) -> Result<()> {
+        let refuse = |reason: String| Err(Error::MethodUnavailable { method: method.to_string(), reason });
+        if method.needs_early_z() && !self.caps.early_z {
+            return refuse("its box tests mark boxes under forced early-Z, and this culler runs without it (SHADER_EARLY_DEPTH_TEST)".into());
+        }
+        match check_limits(&self.gpu.device.limits(), method.name(), method.layouts()) {
+            Err(Error::DeviceLimit { limit, needed, have, .. }) => refuse(format!("it needs the device's {limit} to be at least {needed}, and it is {have}")),
+            other => other,
+        }
+    }
+
+    /// The methods of [`Method::ALL`] this culler serves ([`Culler::serves`]).
+    pub fn methods(&self) -> Vec<Method> {
+        Method::ALL.into_iter().filter(|&m| self.serves(m).is_ok()).collect()
+    }
 }

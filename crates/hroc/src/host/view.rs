@@ -6,6 +6,7 @@ use crate::cull::{CullMethod, Frame, FrameBody, Method, MethodContext, MethodOpt
 use crate::error::{Error, Result};
 use crate::frustum::ViewDesc;
 use crate::gpu::{GpuTimer, InvocationCounter, Invocations, Submission, Uploads};
+use crate::list_pass::ListPass;
 use crate::tally::{DrawTally, FrameStats};
 
 /// What the host hands in per frame of a view.
@@ -52,6 +53,8 @@ pub struct View {
     pub(super) uploads: Uploads,
     /// Methods that submit mid-frame: the encoder the last frame ended in.
     pub(super) tail: Option<Submission>,
+    /// With an emulated draw count: empties the lists' tails.
+    pub(super) tail_pass: Option<ListPass>,
     /// The last frame failed part-way: the next starts over as after a cut.
     pub(super) interrupted: bool,
 }
@@ -145,6 +148,8 @@ impl View {
         let mut f = Frame {
             tally: &mut self.tally,
             uploads: &mut self.uploads,
+            draw_count: culler.caps.draw_count,
+            tail: self.tail_pass.as_mut(),
             prior: if self.method.submits_mid_frame() { self.tail.take() } else { None },
             group_open: false,
             work: &mut self.work,
@@ -164,10 +169,7 @@ impl View {
         };
         if let Some(always) = culler.objects.always.as_ref() {
             f.stage(Stage::FlaggedObjects);
-            let statistics = f.pass_count();
-            let d = Draw { phase: Phase::Always, commands: &always.commands, count: &always.count, max_count: always.max_count, marks: f.sink, mark: false, statistics };
-            f.host.draw(f.encoder, &d);
-            f.tally.count(f.gpu, f.encoder, f.uploads, always);
+            f.hand(Phase::Always, always, None);
         }
         let recorded = match body {
             Some(body) => body(&mut f),
@@ -188,10 +190,7 @@ impl View {
             f.stage(Stage::FlaggedObjects);
             let (enc, q) = f.counted();
             let list = s.finish(enc, &q);
-            let statistics = f.pass_count();
-            let d = Draw { phase: Phase::NonOccluders, commands: &list.commands, count: &list.count, max_count: list.max_count, marks: f.sink, mark: false, statistics };
-            f.host.draw(f.encoder, &d);
-            f.tally.count(f.gpu, f.encoder, f.uploads, &list);
+            f.hand(Phase::NonOccluders, &list, None);
         }
         if let Some(t) = f.timer.take() {
             t.end(f.encoder);

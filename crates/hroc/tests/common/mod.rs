@@ -10,14 +10,22 @@ pub mod street;
 /// A device on the first Vulkan adapter, with `features` and the adapter's
 /// own limits.
 pub fn device(features: wgpu::Features) -> (wgpu::Device, wgpu::Queue) {
+    device_with(features, |adapter| adapter.limits())
+}
+
+/// The first Vulkan adapter (lavapipe in CI).
+pub fn adapter() -> wgpu::Adapter {
     let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
     desc.backends = wgpu::Backends::VULKAN;
     let instance = wgpu::Instance::new(desc);
-    pollster::block_on(async {
-        let adapter = instance.request_adapter(&wgpu::RequestAdapterOptions::default()).await.expect("a Vulkan adapter: install lavapipe (scripts/ensure-vulkan.sh)");
-        let desc = wgpu::DeviceDescriptor { required_features: features, required_limits: adapter.limits(), ..Default::default() };
-        adapter.request_device(&desc).await.expect("a device with the features asked for")
-    })
+    pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default())).expect("a Vulkan adapter: install lavapipe (scripts/ensure-vulkan.sh)")
+}
+
+/// A device on [`adapter`] with `features` and the limits `limits` picks.
+pub fn device_with(features: wgpu::Features, limits: impl FnOnce(&wgpu::Adapter) -> wgpu::Limits) -> (wgpu::Device, wgpu::Queue) {
+    let adapter = adapter();
+    let desc = wgpu::DeviceDescriptor { required_features: features, required_limits: limits(&adapter), ..Default::default() };
+    pollster::block_on(adapter.request_device(&desc)).expect("a device with the features and limits asked for")
 }
 
 /// A `Depth32Float` target of `size` × `size`, drawn into and sampled.

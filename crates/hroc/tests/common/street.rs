@@ -2,7 +2,7 @@
 //! it: one pipeline writing depth and `object + 1`, marking its object.
 
 use glam::{Mat4, Vec3};
-use hroc::{Aabb, Culler, DepthRange, Draw, FrameInput, ObjectDesc, ObjectFlags, View, ViewDesc, ViewTargets};
+use hroc::{Aabb, Culler, DepthRange, Draw, DrawCount, FrameInput, ObjectDesc, ObjectFlags, View, ViewDesc, ViewTargets};
 use wgpu::util::DeviceExt;
 
 /// Width and height of the targets.
@@ -107,7 +107,7 @@ impl Host {
         view: &mut View,
         desc: ViewDesc,
         cut: bool,
-    ) -> Vec<(wgpu::Buffer, wgpu::Buffer, u32)> {
+    ) -> Vec<(wgpu::Buffer, wgpu::Buffer, u32, DrawCount)> {
         let camera = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("camera upload"),
             contents: bytemuck::bytes_of(&(desc.proj * desc.view)),
@@ -123,20 +123,33 @@ impl Host {
             pass.set_vertex_buffer(0, self.vertices.slice(..));
             pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
             draw.record(&mut pass, 1);
-            lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count));
+            lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count, draw.draw_count));
         })
         .unwrap();
         lists
     }
 
-    /// One frame of `view`, submitted. Returns the objects the lists drew.
+    /// One frame of `view`, submitted. Returns the objects the lists drew:
+    /// with an emulated count, every command up to the bound that has an
+    /// instance (and none past the GPU's count may have one).
     pub fn frame(&self, device: &wgpu::Device, queue: &wgpu::Queue, culler: &Culler, view: &mut View, desc: ViewDesc, cut: bool) -> Vec<u32> {
         let mut enc = device.create_command_encoder(&Default::default());
         let lists = self.record(device, &mut enc, culler, view, desc, cut);
         queue.submit([enc.finish()]);
         let gpu = hroc::testing::gpu::Gpu::from_device(device, queue);
-        let mut drawn: Vec<u32> =
-            lists.iter().flat_map(|(c, n, m)| gpu.read_list(c, n, *m).unwrap()).filter(|c| c.instance_count > 0 && c.index_count > 0).map(|c| c.first_instance).collect();
+        let mut drawn = Vec::new();
+        for (commands, count, max_count, draw_count) in &lists {
+            let within = gpu.read_list(commands, count, *max_count).unwrap();
+            let drawn_commands = match draw_count {
+                DrawCount::Indirect => within,
+                DrawCount::Emulated => {
+                    let all: Vec<hroc::testing::layout::DrawCommand> = gpu.read(commands, 0, *max_count as u64).unwrap();
+                    assert!(all[within.len()..].iter().all(|c| c.instance_count == 0), "an emulated count drew a command past the GPU's count");
+                    all
+                }
+            };
+            drawn.extend(drawn_commands.iter().filter(|c| c.instance_count > 0 && c.index_count > 0).map(|c| c.first_instance));
+        }
         drawn.sort_unstable();
         drawn.dedup();
         drawn

@@ -36,6 +36,7 @@ pub use debug::{DebugState, SetSizes};
 use rounds::{Rounds, RoundsOf};
 
 use super::{Counters, CullMethod, Frame, Method, MethodContext, Seed, Stage, Stat};
+use crate::capabilities::DrawCount;
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
@@ -365,6 +366,12 @@ impl CullMethod for Hroc {
                 b.reduce(enc, &q);
             }
             let depth_view = self.blocks.as_ref().map_or(&targets.depth_attachment, |b| &b.view);
+            // Group boxes are `DrawArgs`, 4 words; the overflow follows the estimate.
+            f.empty_tail(&self.groups, 0, &self.group_count, max_groups, 4);
+            if let Some(over) = &over {
+                f.empty_tail(&self.groups, max_groups, &over.count, over.max_count, 4);
+            }
+            let emulated = f.draw_count() == DrawCount::Emulated;
             let (enc, q) = f.counted();
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hroc occlusion test"),
@@ -377,10 +384,14 @@ impl CullMethod for Hroc {
             q.around(&mut pass, |pass| {
                 pass.set_pipeline(&self.boxes);
                 pass.set_bind_group(0, &self.test_bind, &[]);
-                pass.multi_draw_indirect_count(&self.groups, 0, &self.group_count, 0, max_groups);
+                let mut draw = |offset: u64, count: &wgpu::Buffer, max: u32| match emulated {
+                    true => pass.multi_draw_indirect(&self.groups, offset, max),
+                    false => pass.multi_draw_indirect_count(&self.groups, offset, count, 0, max),
+                };
+                draw(0, &self.group_count, max_groups);
                 if let Some(over) = over {
                     // The groups past the estimate, from where the first draw stopped.
-                    pass.multi_draw_indirect_count(&self.groups, max_groups as u64 * 16, &over.count, 0, over.max_count);
+                    draw(max_groups as u64 * 16, &over.count, over.max_count);
                 }
             });
         }

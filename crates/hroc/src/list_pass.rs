@@ -1,0 +1,74 @@
+//! [`ListPass`]: a compute pass run on one draw list at a time, one thread
+//! per command up to the list's bound: the per-list tally of what is drawn
+//! (`tally.wgsl`) and the zeroed tail of an emulated draw count
+//! (`tail.wgsl`).
+
+use std::collections::HashMap;
+
+use crate::gpu::{dispatch_size, Gpu, Uploads};
+use crate::reflect::{pipeline_layout, Layout};
+
+/// Bind groups kept for the lists seen lately.
+const BINDS: usize = 256;
+
+/// One pass over a list's commands: binding 0 the commands, 1 the GPU
+/// count, 2 a uniform `(max_count, u32 words per command, first command,
+/// 0)` written
+/// in the encoder before each dispatch, 3 the pass's own buffer (if any).
+pub(crate) struct ListPass {
+    label: &'static str,
+    which: Layout,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    params: wgpu::Buffer,
+    own: Option<wgpu::Buffer>,
+    /// Per (commands, count): the bindings; lists are mostly the same
+    /// buffers every frame.
+    binds: HashMap<(wgpu::Buffer, wgpu::Buffer), wgpu::BindGroup>,
+}
+
+impl ListPass {
+    /// The pass `entry` of `pass` (WGSL workgroups of 64), bound by `which`.
+    pub(crate) fn new(gpu: &Gpu, which: Layout, pass: &str, entry: &str, own: Option<wgpu::Buffer>) -> Self {
+        let module = gpu.shader(pass, &crate::shaders::source(pass));
+        let layout = which.create(gpu);
+        let pipeline = gpu.compute_pipeline(&module, entry, Some(&pipeline_layout(gpu, which.label(), &layout)), &[]);
+        let params = gpu.buffer(which.label(), 16, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
+        ListPass { label: which.label(), which, pipeline, layout, params, own, binds: HashMap::new() }
+    }
+
+    /// Records the pass over the commands `[0, max_count)` of a list
+    /// (`words` u32s each, the list starting at command `first` of
+    /// `commands`) whose GPU count is in `count`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn record(
+        &mut self,
+        gpu: &Gpu,
+        enc: &mut wgpu::CommandEncoder,
+        uploads: &mut Uploads,
+        commands: &wgpu::Buffer,
+        count: &wgpu::Buffer,
+        max_count: u32,
+        words: u32,
+        first: u32,
+    ) {
+        if max_count == 0 {
+            return;
+        }
+        uploads.write(enc, &self.params, 0, bytemuck::cast_slice(&[max_count, words, first, 0]));
+        if self.binds.len() > BINDS {
+            self.binds.clear();
+        }
+        let (which, layout, params, own) = (self.which, &self.layout, &self.params, &self.own);
+        let bind = self.binds.entry((commands.clone(), count.clone())).or_insert_with(|| {
+            let mut resources = vec![(0, commands.as_entire_binding()), (1, count.as_entire_binding()), (2, params.as_entire_binding())];
+            resources.extend(own.iter().map(|b| (3, b.as_entire_binding())));
+            which.bind(gpu, layout, &resources)
+        });
+        let (x, y) = dispatch_size(max_count, 64);
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.label), timestamp_writes: None });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &*bind, &[]);
+        pass.dispatch_workgroups(x, y, 1);
+    }
+}
