@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # What building and running hroc needs on a fresh Debian machine with Rust:
-# a C++ compiler (the meshopt crate builds meshoptimizer's sources) and a
-# Vulkan driver (lavapipe where there is none). Installs only what is missing.
+# a C++ compiler (the meshopt crate builds meshoptimizer's sources), a
+# Vulkan driver (lavapipe where there is none) and OpenGL through EGL
+# without a display (llvmpipe). Installs only what is missing.
 set -eu
 cd "$(dirname "$0")"
 if ! command -v c++ >/dev/null; then
@@ -11,3 +12,4 @@ if ! command -v c++ >/dev/null; then
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends g++ >/dev/null
 fi
 ./ensure-vulkan.sh
+./ensure-gl.sh

@@ -57,6 +57,45 @@ impl std::fmt::Display for Backend {
     }
 }
 
+/// What the culler runs with (`--tier`): a preset of [`hroc::Capabilities`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Tier {
+    /// [`hroc::Capabilities::FULL`]: the indirect draw count and forced early-Z.
+    Full,
+    /// [`hroc::Capabilities::PORTABLE`]: what every backend has.
+    Portable,
+}
+
+impl Tier {
+    /// The capabilities of the tier.
+    pub fn capabilities(self) -> hroc::Capabilities {
+        match self {
+            Tier::Full => hroc::Capabilities::FULL,
+            Tier::Portable => hroc::Capabilities::PORTABLE,
+        }
+    }
+}
+
+impl std::str::FromStr for Tier {
+    type Err = String;
+    fn from_str(s: &str) -> std::result::Result<Tier, String> {
+        match s {
+            "full" => Ok(Tier::Full),
+            "portable" => Ok(Tier::Portable),
+            _ => Err(format!("unknown tier '{s}' (expected full or portable)")),
+        }
+    }
+}
+
+impl std::fmt::Display for Tier {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Tier::Full => "full",
+            Tier::Portable => "portable",
+        })
+    }
+}
+
 /// How to get OpenGL on a machine without a display.
 pub const LLVMPIPE_HINT: &str = "install Mesa's EGL and GL drivers (llvmpipe): sudo apt-get install -y libegl1 libegl-mesa0 libgles2 libgl1-mesa-dri";
 
@@ -69,6 +108,9 @@ pub struct Headless {
     pub adapter: wgpu::Adapter,
     /// Its name, type and driver.
     pub info: wgpu::AdapterInfo,
+    /// What the cullers made on this device run with: `None`, the most it
+    /// allows (`--tier`).
+    pub capabilities: Option<hroc::Capabilities>,
     base: hroc::testing::gpu::Gpu,
 }
 
@@ -146,11 +188,11 @@ impl Headless {
             .map_err(|e| Error::Gpu(format!("cannot open {}: {e}", info.name)))?;
         let base = hroc::testing::gpu::Gpu::from_device(&device, &queue);
         base.capture_errors();
-        Ok(Headless { adapter, info, base })
+        Ok(Headless { adapter, info, capabilities: None, base })
     }
 
     /// Adapter name, type and driver, for tables and reports.
     pub fn adapter_name(&self) -> String {
-        format!("{} ({:?}, {})", self.info.name, self.info.device_type, self.info.driver_info)
+        format!("{} ({:?}, {:?}, {})", self.info.name, self.info.device_type, self.info.backend, self.info.driver_info)
     }
 }

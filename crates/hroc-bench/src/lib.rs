@@ -11,7 +11,7 @@ pub mod bench;
 pub mod headless;
 /// The headless device and the culler's GPU helpers.
 pub mod gpu {
-    pub use crate::headless::Headless;
+    pub use crate::headless::{Backend, Headless, Tier};
     pub use hroc::testing::gpu::{dispatch_size, GpuTimer};
 }
 pub mod render;

@@ -8,7 +8,7 @@ use hroc_bench::bench::{self, parse_resolution, BenchOptions, MethodList, Sessio
 use hroc_bench::bvh::{Bvh, Split};
 use hroc_bench::cull;
 use hroc_bench::cull::Method;
-use hroc_bench::gpu::Headless;
+use hroc_bench::gpu::{Backend, Headless, Tier};
 use hroc_bench::render::pictures::{self, Picture};
 use hroc_bench::{Error, Result};
 
@@ -82,8 +82,29 @@ struct SceneArgs {
     /// random eye and height, 720°/s turns).
     #[arg(long)]
     camera_path: Option<PathBuf>,
+    /// Graphics API: `vulkan`, or `gl` (OpenGL through EGL, no display).
+    #[arg(long, default_value_t = Backend::Vulkan)]
+    backend: Backend,
+    /// What the culler runs with: `full` (the indirect draw count and
+    /// forced early-Z) or `portable` (an emulated count, no forced
+    /// early-Z); the most the device allows when omitted.
+    #[arg(long)]
+    tier: Option<Tier>,
     #[command(flatten)]
     m: MethodArgs,
+}
+
+impl SceneArgs {
+    /// The device these arguments ask for.
+    fn device(&self) -> Result<Headless> {
+        open_device(self.backend, self.tier)
+    }
+}
+
+fn open_device(backend: Backend, tier: Option<Tier>) -> Result<Headless> {
+    let mut gpu = Headless::open(backend)?;
+    gpu.capabilities = tier.map(Tier::capabilities);
+    Ok(gpu)
 }
 
 /// Method parameters (`cull::MethodOptions`; defaults as documented there).
@@ -327,6 +348,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
     let methods = a.methods.0.clone();
     // Load and check the inputs before touching the GPU: bad files fail fast.
     let clusters = a.s.clusters.triangles(&a.s.scene);
+    let (backend, tier) = (a.s.backend, a.s.tier);
     let opts = BenchOptions {
         scene: a.s.scene,
         objects: a.s.objects,
@@ -349,7 +371,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         return Err(Error::Arg(format!("--moving {bad} is not a fraction from 0 to 1")));
     }
     let (scene, path) = loading(&opts.scene, || bench::load_inputs(&opts))?;
-    let gpu = Headless::new()?;
+    let gpu = open_device(backend, tier)?;
     let mut reports = Vec::new();
     for (k, &moving) in a.moving.iter().enumerate() {
         let o = BenchOptions { moving, ..opts.clone() };
@@ -394,7 +416,7 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
         scene = scene.clustered(hroc_bench::scene::ClusterOptions::new(t))?;
     }
     let path = s.camera_path.as_deref().map(|p| bench::load_path(&scene, p)).transpose()?;
-    let gpu = Headless::new()?;
+    let gpu = s.device()?;
     let mut session = Session::new(&gpu, scene, path, s.frames, s.resolution, s.split)?;
     session.set_oriented_boxes(s.oriented_boxes)?;
     session.options = s.m.options();

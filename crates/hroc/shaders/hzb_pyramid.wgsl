@@ -25,10 +25,10 @@ struct Step {
 @group(0) @binding(0) var<uniform> step: Step;
 @group(0) @binding(1) var<storage, read> mips: array<Mip>;
 @group(0) @binding(2) var<storage, read_write> hiz: array<f32>;
-@group(0) @binding(3) var depth: texture_depth_2d;
+@group(0) @binding(3) var depth: texture_2d<f32>;
 
 fn load_depth(p: vec2<u32>) -> f32 {
-    let d = textureLoad(depth, p, 0);
+    let d = textureLoad(depth, p, 0).r;
     return select(d, 1.0 - d, step.reversed != 0u);
 }
 

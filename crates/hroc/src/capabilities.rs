@@ -31,19 +31,29 @@ pub struct Capabilities {
     /// host's `hroc_mark` and the culler's own box tests. Without it, the
     /// methods that read marks (`roc` and HROC) are refused.
     pub early_z: bool,
+    /// A depth attachment may be read-only while the same texture is
+    /// sampled (wgpu's `READ_ONLY_DEPTH_STENCIL`: every backend but GL).
+    /// Without it, HROC's occlusion test binds no depth attachment and
+    /// compares each box fragment against the depth it loads, as the
+    /// attachment's test would.
+    pub read_only_depth: bool,
 }
 
 impl Capabilities {
     /// Everything: the indirect count and forced early-Z (Vulkan).
-    pub const FULL: Capabilities = Capabilities { draw_count: DrawCount::Indirect, early_z: true };
-    /// What every backend has: an emulated count, no forced early-Z.
-    pub const PORTABLE: Capabilities = Capabilities { draw_count: DrawCount::Emulated, early_z: false };
+    pub const FULL: Capabilities = Capabilities { draw_count: DrawCount::Indirect, early_z: true, read_only_depth: true };
+    /// What every backend has: an emulated count, no forced early-Z, no
+    /// read-only depth attachments.
+    pub const PORTABLE: Capabilities = Capabilities { draw_count: DrawCount::Emulated, early_z: false, read_only_depth: false };
 
-    /// The most that `features` (a device's) allow.
-    pub fn of(features: wgpu::Features) -> Capabilities {
+    /// The most that `device` allows.
+    pub fn of(device: &wgpu::Device) -> Capabilities {
+        let features = device.features();
         Capabilities {
             draw_count: if features.contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT) { DrawCount::Indirect } else { DrawCount::Emulated },
             early_z: features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
+            // wgpu: "The WebGL2 and GLES backends do not support RODS".
+            read_only_depth: device.adapter_info().backend != wgpu::Backend::Gl,
         }
     }
 

@@ -1,5 +1,7 @@
 //! Every WGSL pass of the culler. Each is compiled with `common.wgsl`
-//! prepended; `tests/shaders.rs` validates each with naga and checks the
+//! prepended. Depth is bound as `texture_2d<f32>` (unfilterable float, which
+//! wgpu accepts for depth views): naga's GLSL back end cannot load from a
+//! `texture_depth_2d`. `tests/shaders.rs` validates each with naga and checks the
 //! Rust mirrors in [`crate::layout`] against the WGSL structs.
 
 use crate::frustum::DepthRange;
@@ -81,7 +83,16 @@ pub enum BoxDepth {
     Test,
     /// Writes the nearest box depth (`Less`, or `Greater` reversed), no bias.
     Write,
+    /// No depth attachment: the fragment stage makes [`BoxDepth::Test`]'s
+    /// comparison itself (HROC's `MANUAL_DEPTH`). A render pass needs an
+    /// attachment, so the pass has one colour target of
+    /// [`MANUAL_TARGET`] that nothing writes.
+    Manual,
 }
+
+/// The format of the colour target a [`BoxDepth::Manual`] pass binds in
+/// place of the depth attachment (never written).
+pub const MANUAL_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
 /// [`box_test_pipeline`] with other entry points (`stages`: vertex,
 /// fragment) or, with [`BoxDepth::Write`], a pass that writes box depth.
@@ -98,17 +109,18 @@ pub fn box_pipeline(
 ) -> wgpu::RenderPipeline {
     let options = || wgpu::PipelineCompilationOptions { constants, ..Default::default() };
     let (compare, bias) = match (depth.1, mode) {
-        (DepthRange::Standard, BoxDepth::Test) => (wgpu::CompareFunction::LessEqual, -16),
-        (DepthRange::Reversed, BoxDepth::Test) => (wgpu::CompareFunction::GreaterEqual, 16),
+        (DepthRange::Standard, BoxDepth::Test | BoxDepth::Manual) => (wgpu::CompareFunction::LessEqual, -16),
+        (DepthRange::Reversed, BoxDepth::Test | BoxDepth::Manual) => (wgpu::CompareFunction::GreaterEqual, 16),
         (DepthRange::Standard, BoxDepth::Write) => (wgpu::CompareFunction::Less, 0),
         (DepthRange::Reversed, BoxDepth::Write) => (wgpu::CompareFunction::Greater, 0),
     };
+    let manual = [Some(wgpu::ColorTargetState { format: MANUAL_TARGET, blend: None, write_mask: wgpu::ColorWrites::empty() })];
     gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some(label),
         layout: Some(layout),
         vertex: wgpu::VertexState { module, entry_point: Some(vertex), compilation_options: options(), buffers: &[] },
         primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
-        depth_stencil: Some(wgpu::DepthStencilState {
+        depth_stencil: (mode != BoxDepth::Manual).then(|| wgpu::DepthStencilState {
             format: depth.0,
             depth_write_enabled: Some(mode == BoxDepth::Write),
             depth_compare: Some(compare),
@@ -116,7 +128,12 @@ pub fn box_pipeline(
             bias: wgpu::DepthBiasState { constant: bias, slope_scale: 0.0, clamp: 0.0 },
         }),
         multisample: Default::default(),
-        fragment: fragment.map(|entry| wgpu::FragmentState { module, entry_point: Some(entry), compilation_options: options(), targets: &[] }),
+        fragment: fragment.map(|entry| wgpu::FragmentState {
+            module,
+            entry_point: Some(entry),
+            compilation_options: options(),
+            targets: if mode == BoxDepth::Manual { &manual } else { &[] },
+        }),
         multiview_mask: None,
         cache: None,
     })

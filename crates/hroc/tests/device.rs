@@ -56,14 +56,14 @@ fn a_limit_below_the_cullers_own_is_named() {
 fn capabilities_follow_the_device() {
     let adapter = common::adapter();
     assert_eq!(hroc::features(&adapter) & hroc::FULL_FEATURES, hroc::FULL_FEATURES, "lavapipe has the full tier");
-    let (device, queue) = common::device_with(hroc::features(&adapter), |a| hroc::limits(a));
+    let (device, queue) = common::device_with(hroc::features(&adapter), hroc::limits);
     let objects = objects();
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     assert_eq!(culler.methods(), Method::ALL.to_vec());
 
     let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
-    assert_eq!(culler.capabilities(), Capabilities { draw_count: DrawCount::Emulated, early_z: false });
+    assert_eq!(culler.capabilities(), Capabilities { draw_count: DrawCount::Emulated, early_z: false, read_only_depth: true });
     let text = culler.serves(Method::HROC).unwrap_err().to_string();
     assert!(text.contains("hroc") && text.contains("early-Z"), "{text}");
     assert!(culler.serves(Method::Hzb).is_ok() && culler.serves(Method::Chc).is_ok());

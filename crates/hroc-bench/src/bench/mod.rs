@@ -163,6 +163,9 @@ pub struct BenchReport {
     pub triangles: u64,
     pub resolution: String,
     pub adapter: String,
+    /// What the culler ran with: `full`, `portable`, or the two capabilities.
+    #[serde(default)]
+    pub capabilities: String,
     pub frames: usize,
     /// Frames per second of camera path: how far apart in time the frames
     /// are (the coherence a method can rely on).
@@ -395,6 +398,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
         triangles: st.triangles,
         resolution: format!("{}x{}", o.resolution.0, o.resolution.1),
         adapter: gpu.adapter_name(),
+        capabilities: capabilities_name(s.culler.capabilities()),
         frames,
         frames_per_second: {
             let dur = s.times.last().copied().unwrap_or(0.0) - s.times.first().copied().unwrap_or(0.0);
@@ -491,6 +495,20 @@ pub fn percentile(v: &[f64], p: f64) -> f64 {
     s.sort_by(f64::total_cmp);
     let rank = ((p * s.len() as f64).ceil() as usize).clamp(1, s.len());
     s[rank - 1]
+}
+
+/// `full`, `portable`, or the two capabilities (draw count, early-Z).
+pub fn capabilities_name(c: hroc::Capabilities) -> String {
+    match c {
+        hroc::Capabilities::FULL => "full".into(),
+        hroc::Capabilities::PORTABLE => "portable".into(),
+        c => format!(
+            "{:?} draw count, {} forced early-Z, {} read-only depth",
+            c.draw_count,
+            if c.early_z { "with" } else { "without" },
+            if c.read_only_depth { "with" } else { "without" }
+        ),
+    }
 }
 
 #[cfg(test)]

@@ -93,7 +93,7 @@ impl<'g> Session<'g> {
         // culler takes the renderer's draws: build the objects first.
         let descs = crate::render::object_descs(&scene);
         let pipeline_statistics = timestamps && gpu.device.features().contains(hroc::PIPELINE_STATISTICS_FEATURES);
-        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, pipeline_statistics, ..CullerDesc::new(&descs) })?;
+        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, pipeline_statistics, capabilities: gpu.capabilities, ..CullerDesc::new(&descs) })?;
         let renderer = Renderer::new(gpu, &scene, w, h, culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
         Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc), oriented_boxes: true })
@@ -291,7 +291,7 @@ impl<'g> Session<'g> {
     }
 
     pub fn read_depth(&self) -> Result<Vec<f32>> {
-        Ok(self.gpu.read_texture(&self.renderer.targets.depth, wgpu::TextureAspect::DepthOnly)?)
+        Ok(self.gpu.read_depth(&self.renderer.targets.depth)?)
     }
 
     /// Which objects the lists drew (non-empty commands within the GPU count).

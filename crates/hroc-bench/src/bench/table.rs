@@ -88,7 +88,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{}scene {} | {} objects | {} triangles | {} | path {}: {} frames, {:.1} per path second ({} warm-up untimed) | BVH {} ({} nodes, {:.1} ms) | {}",
+        "{}scene {} | {} objects | {} triangles | {} | path {}: {} frames, {:.1} per path second ({} warm-up untimed) | BVH {} ({} nodes, {:.1} ms) | {} | {}",
         if markdown { "" } else { "# " },
         r.scene,
         r.objects,
@@ -101,7 +101,8 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
         r.split,
         r.bvh_nodes,
         r.bvh_build_ms,
-        r.adapter
+        r.adapter,
+        r.capabilities
     );
     if r.moved_objects > 0 {
         let _ = writeln!(

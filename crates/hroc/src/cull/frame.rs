@@ -266,6 +266,8 @@ pub struct MethodContext<'a> {
     pub marks_layout: &'a wgpu::BindGroupLayout,
     /// Method parameters.
     pub options: &'a MethodOptions,
+    /// What the culler runs with.
+    pub capabilities: crate::Capabilities,
 }
 
 impl MethodContext<'_> {

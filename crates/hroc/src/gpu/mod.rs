@@ -1,6 +1,7 @@
 //! The host's device and queue as the culler records with them, read-back
 //! helpers, GPU timestamps and pipeline statistics.
 
+mod depth_read;
 mod readback;
 pub mod stats;
 pub mod timer;

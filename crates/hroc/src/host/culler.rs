@@ -1,5 +1,6 @@
 //! [`Culler`]: the objects, their BVH and GPU buffers, shared by every view.
 
+use super::serving::check_limits;
 use super::*;
 use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
 use crate::capabilities::{Capabilities, DrawCount};
@@ -117,7 +118,13 @@ impl Culler {
     /// objects exceed the device's buffer limits. Objects flagged
     /// [`ObjectFlags::DYNAMIC`] are left out of the BVH.
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, desc: &CullerDesc) -> Result<Culler> {
-        let caps = desc.capabilities.unwrap_or_else(|| Capabilities::of(device.features()));
+        let caps = desc.capabilities.unwrap_or_else(|| Capabilities::of(device));
+        if caps.read_only_depth && !Capabilities::of(device).read_only_depth {
+            return Err(Error::MethodUnavailable {
+                method: "hroc::Culler".into(),
+                reason: "read-only depth attachments were asked for, and this backend has none (READ_ONLY_DEPTH_STENCIL)".into(),
+            });
+        }
         let mut needed = caps.features();
         if desc.timestamps {
             needed |= TIMESTAMP_FEATURES;
@@ -637,6 +644,7 @@ impl Culler {
             targets,
             marks_layout: &self.marks_layout,
             options: &self.options,
+            capabilities: self.caps,
         }
     }
 
@@ -672,23 +680,6 @@ pub(super) fn allocate(gpu: &Gpu, slots: u32, commands: &[DrawCommand], flags: V
     (shared, nodes, leaves)
 }
 
-/// Checks the device's limits against what `layouts` and the culler's
-/// compute passes need.
-fn check_limits(limits: &wgpu::Limits, what: &str, layouts: &[Layout]) -> Result<()> {
-    let storage = layouts.iter().map(|l| l.storage_buffers_per_stage()).max().unwrap_or(0) as u64;
-    let needs = [
-        ("max_storage_buffers_per_shader_stage", storage, limits.max_storage_buffers_per_shader_stage as u64),
-        ("max_bind_groups", 1, limits.max_bind_groups as u64),
-        ("max_compute_invocations_per_workgroup", 256, limits.max_compute_invocations_per_workgroup as u64),
-        ("max_compute_workgroup_size_x", 256, limits.max_compute_workgroup_size_x as u64),
-        ("max_compute_workgroup_size_y", 16, limits.max_compute_workgroup_size_y as u64),
-    ];
-    match needs.into_iter().find(|&(_, needed, have)| have < needed) {
-        Some((limit, needed, have)) => Err(Error::DeviceLimit { what: what.to_string(), limit, needed, have }),
-        None => Ok(()),
-    }
-}
-
 pub(super) fn check_capacity(device: &wgpu::Device, n: u64) -> Result<()> {
     let limits = device.limits();
     let storage = limits.max_storage_buffer_binding_size.min(limits.max_buffer_size);
@@ -703,31 +694,4 @@ pub(super) fn check_capacity(device: &wgpu::Device, n: u64) -> Result<()> {
         return Err(Error::OverDeviceLimits(format!("{n} object slots exceed 2^30")));
     }
     Ok(())
-}
-
-/// What the culler runs with, and which methods it serves.
-impl Culler {
-    /// The capabilities the culler runs with.
-    pub fn capabilities(&self) -> Capabilities {
-        self.caps
-    }
-
-    /// `Ok` when this culler can serve `method` on its device; otherwise
-    /// [`Error::MethodUnavailable`] with the reason (a capability it runs
-    /// without, or a device limit, named with the value needed).
-    pub fn serves(&self, method: Method) -> Result<()> {
-        let refuse = |reason: String| Err(Error::MethodUnavailable { method: method.to_string(), reason });
-        if method.needs_early_z() && !self.caps.early_z {
-            return refuse("its box tests mark boxes under forced early-Z, and this culler runs without it (SHADER_EARLY_DEPTH_TEST)".into());
-        }
-        match check_limits(&self.gpu.device.limits(), method.name(), method.layouts()) {
-            Err(Error::DeviceLimit { limit, needed, have, .. }) => refuse(format!("it needs the device's {limit} to be at least {needed}, and it is {have}")),
-            other => other,
-        }
-    }
-
-    /// The methods of [`Method::ALL`] this culler serves ([`Culler::serves`]).
-    pub fn methods(&self) -> Vec<Method> {
-        Method::ALL.into_iter().filter(|&m| self.serves(m).is_ok()).collect()
-    }
 }

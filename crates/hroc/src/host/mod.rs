@@ -4,6 +4,7 @@
 
 mod culler;
 mod motion;
+mod serving;
 mod view;
 
 pub use crate::contract::*;

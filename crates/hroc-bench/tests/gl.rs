@@ -1,0 +1,33 @@
+//! The culler on a second driver: wgpu's GL backend on Mesa's llvmpipe,
+//! through EGL without a display. It has no indirect draw count (the
+//! culler emulates it), no read-only depth attachments (HROC's test
+//! compares depth itself) and no depth copies (read-backs go through a
+//! shader), and its own rasterizer. Every method it serves draws every
+//! object `noc` shows, on the scene's own path, the hard path (cuts, the
+//! eye inside boxes, boxes across the near plane) and the cuts path.
+
+use hroc::{DrawCount, Method};
+use hroc_bench::bench::{self, BenchOptions};
+use hroc_bench::gpu::{Backend, Headless};
+
+#[test]
+fn gl_serves_its_methods_with_no_false_negatives() {
+    let gpu = Headless::open(Backend::Gl).expect("OpenGL through EGL (scripts/ensure-gl.sh)");
+    assert_eq!(gpu.info.backend, wgpu::Backend::Gl);
+    let methods = Method::parse_list("noc,vfc,roc,hroc,hroc-na,chc++").unwrap();
+    for path in [None, Some("hard"), Some("cuts")] {
+        let o = BenchOptions { frames: 12, resolution: (160, 90), camera_path: path.map(Into::into), ..BenchOptions::new("radial-city", Some(1500), methods.clone()) };
+        let r = bench::run(&gpu, &o).unwrap();
+        assert!(r.capabilities.starts_with("Emulated"), "{}", r.capabilities);
+        for row in &r.rows {
+            assert_eq!((row.false_negatives, row.missing_pixels), (0, 0), "{} on GL, path {path:?}", row.method);
+        }
+        let hroc = r.rows.iter().find(|row| row.method == Method::HROC).unwrap();
+        assert!(hroc.drawn_mean < r.objects as f64 / 2.0, "hroc culled little on GL: {}", hroc.drawn_mean);
+    }
+    // What it cannot serve, it refuses by name.
+    let s = hroc_bench::bench::Session::load(&gpu, "radial-city", Some(200), None, 2, (64, 36), hroc::bvh::Split::Sah).unwrap();
+    assert_eq!(s.culler.capabilities().draw_count, DrawCount::Emulated);
+    let text = s.culler.serves(Method::Hzb).unwrap_err().to_string();
+    assert!(text.contains("hzb") && text.contains("GL"), "{text}");
+}

@@ -1,0 +1,62 @@
+//! What a [`Culler`] runs with on its device, and which methods it serves:
+//! the capabilities it picked, the device limits each method's passes
+//! need, and the refusal of a method by name with the reason.
+
+use super::*;
+use crate::capabilities::Capabilities;
+use crate::cull::Method;
+use crate::error::{Error, Result};
+use crate::reflect::Layout;
+
+/// Checks the device's limits against what `layouts` and the culler's
+/// compute passes need.
+pub(super) fn check_limits(limits: &wgpu::Limits, what: &str, layouts: &[Layout]) -> Result<()> {
+    let storage = layouts.iter().map(|l| l.storage_buffers_per_stage()).max().unwrap_or(0) as u64;
+    let needs = [
+        ("max_storage_buffers_per_shader_stage", storage, limits.max_storage_buffers_per_shader_stage as u64),
+        ("max_bind_groups", 1, limits.max_bind_groups as u64),
+        ("max_compute_invocations_per_workgroup", 256, limits.max_compute_invocations_per_workgroup as u64),
+        ("max_compute_workgroup_size_x", 256, limits.max_compute_workgroup_size_x as u64),
+        ("max_compute_workgroup_size_y", 16, limits.max_compute_workgroup_size_y as u64),
+    ];
+    match needs.into_iter().find(|&(_, needed, have)| have < needed) {
+        Some((limit, needed, have)) => Err(Error::DeviceLimit { what: what.to_string(), limit, needed, have }),
+        None => Ok(()),
+    }
+}
+
+/// What the culler runs with, and which methods it serves.
+impl Culler {
+    /// The capabilities the culler runs with.
+    pub fn capabilities(&self) -> Capabilities {
+        self.caps
+    }
+
+    /// `Ok` when this culler can serve `method` on its device; otherwise
+    /// [`Error::MethodUnavailable`] with the reason (a capability it runs
+    /// without, or a device limit, named with the value needed).
+    pub fn serves(&self, method: Method) -> Result<()> {
+        let refuse = |reason: String| Err(Error::MethodUnavailable { method: method.to_string(), reason });
+        if method.needs_early_z() && !self.caps.early_z {
+            return refuse("its box tests mark boxes under forced early-Z, and this culler runs without it (SHADER_EARLY_DEPTH_TEST)".into());
+        }
+        if matches!(method, Method::Hzb | Method::Woc) && self.gpu.device.adapter_info().backend == wgpu::Backend::Gl {
+            return refuse(
+                "on wgpu's GL backend its Hi-Z test culls objects that its CPU reference keeps on the same pyramid (measured on llvmpipe), so it could miss visible objects".into(),
+            );
+        }
+        let rounds = self.options.hroc_rounds > 1 || self.options.hroc_occluder_rounds;
+        if matches!(method, Method::Hroc(_)) && rounds && !self.caps.read_only_depth {
+            return refuse("its rounds sample the depth they test against while it is attached, which needs read-only depth attachments (READ_ONLY_DEPTH_STENCIL)".into());
+        }
+        match check_limits(&self.gpu.device.limits(), method.name(), method.layouts()) {
+            Err(Error::DeviceLimit { limit, needed, have, .. }) => refuse(format!("it needs the device's {limit} to be at least {needed}, and it is {have}")),
+            other => other,
+        }
+    }
+
+    /// The methods of [`Method::ALL`] this culler serves ([`Culler::serves`]).
+    pub fn methods(&self) -> Vec<Method> {
+        Method::ALL.into_iter().filter(|&m| self.serves(m).is_ok()).collect()
+    }
+}
