@@ -4,7 +4,9 @@
 //! compares depth itself) and no depth copies (read-backs go through a
 //! shader), and its own rasterizer. Every method it serves draws every
 //! object `noc` shows, on the scene's own path, the hard path (cuts, the
-//! eye inside boxes, boxes across the near plane) and the cuts path.
+//! eye inside boxes, boxes across the near plane) and the cuts path, and
+//! with objects moving. (Both depth conventions on GL: the forward host's
+//! test.)
 
 use hroc::{DrawCount, Method};
 use hroc_bench::bench::{self, BenchOptions};
@@ -24,6 +26,15 @@ fn gl_serves_its_methods_with_no_false_negatives() {
         }
         let hroc = r.rows.iter().find(|row| row.method == Method::HROC).unwrap();
         assert!(hroc.drawn_mean < r.objects as f64 / 2.0, "hroc culled little on GL: {}", hroc.drawn_mean);
+    }
+    // A tenth of the objects moving every frame (refit on the CPU and the
+    // GPU's boxes), for the methods that follow motion.
+    let moving = Method::parse_list("noc,vfc,roc,hroc").unwrap();
+    let o = BenchOptions { frames: 12, resolution: (160, 90), moving: 0.1, ..BenchOptions::new("radial-city", Some(1500), moving) };
+    let r = bench::run(&gpu, &o).unwrap();
+    assert!(r.moved_objects > 0);
+    for row in &r.rows {
+        assert_eq!((row.false_negatives, row.missing_pixels), (0, 0), "{} on GL, moving", row.method);
     }
     // What it cannot serve, it refuses by name.
     let s = hroc_bench::bench::Session::load(&gpu, "radial-city", Some(200), None, 2, (64, 36), hroc::bvh::Split::Sah).unwrap();

@@ -45,8 +45,15 @@ const IDS: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 /// Opens a headless device with the features hroc needs.
 pub fn open_device() -> Result<(wgpu::Device, wgpu::Queue), String> {
+    open_device_on(wgpu::Backends::all())
+}
+
+/// [`open_device`] on one of `backends` (OpenGL: through EGL, no display).
+pub fn open_device_on(backends: wgpu::Backends) -> Result<(wgpu::Device, wgpu::Queue), String> {
     pollster::block_on(async {
-        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+        desc.backends = backends;
+        let instance = wgpu::Instance::new(desc);
         let adapter = instance.request_adapter(&wgpu::RequestAdapterOptions::default()).await.map_err(|e| format!("no adapter: {e}"))?;
         let missing = hroc::REQUIRED_FEATURES - adapter.features();
         if !missing.is_empty() {
@@ -337,7 +344,7 @@ impl ForwardHost {
         Ok(FrameOutput {
             visible,
             drawn,
-            depth: readback::texture(device, queue, &self.depth, wgpu::TextureAspect::DepthOnly)?,
+            depth: readback::depth(device, queue, &self.depth)?,
             color: bytemuck::cast_slice::<u32, u8>(&readback::texture::<u32>(device, queue, &self.color, wgpu::TextureAspect::All)?).to_vec(),
         })
     }

@@ -57,3 +57,65 @@ pub fn texture<T: Pod>(device: &wgpu::Device, queue: &wgpu::Queue, tex: &wgpu::T
     let bytes = map(device, &out)?;
     Ok((0..h as usize).flat_map(|y| bytemuck::pod_collect_to_vec::<u8, T>(&bytes[y * row as usize..][..w as usize * 4])).collect())
 }
+
+/// A depth texture's depth (mip 0, layer 0), row by row, read through a
+/// compute pass: GL cannot copy depth to a buffer.
+pub fn depth(device: &wgpu::Device, queue: &wgpu::Queue, tex: &wgpu::Texture) -> hroc::Result<Vec<f32>> {
+    const WGSL: &str = "@group(0) @binding(0) var depth: texture_2d<f32>;\n\
+        @group(0) @binding(1) var<storage, read_write> out: array<f32>;\n\
+        @compute @workgroup_size(8, 8) fn main(@builtin(global_invocation_id) id: vec3<u32>) {\n\
+            let size = textureDimensions(depth);\n\
+            if id.x < size.x && id.y < size.y { out[id.y * size.x + id.x] = textureLoad(depth, id.xy, 0).r; }\n\
+        }\n";
+    let (w, h) = (tex.width(), tex.height());
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("depth read-back"), source: wgpu::ShaderSource::Wgsl(WGSL.into()) });
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("depth read-back"),
+        entries: &[
+            // Depth loads as an unfilterable float texture on every backend.
+            entry(
+                0,
+                wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+            ),
+            entry(1, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: false }, has_dynamic_offset: false, min_binding_size: None }),
+        ],
+    });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("depth read-back"),
+        layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: None, bind_group_layouts: &[Some(&layout)], immediate_size: 0 })),
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let size = (w * h) as u64 * 4;
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("depth read-back"),
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let view = tex.create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
+    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("depth read-back"),
+        layout: &layout,
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) },
+            wgpu::BindGroupEntry { binding: 1, resource: out.as_entire_binding() },
+        ],
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    }
+    queue.submit([enc.finish()]);
+    buffer(device, queue, &out, (w * h) as u64)
+}
