@@ -141,5 +141,10 @@ named_enum!(
         Waits => "waits",
         /// Bytes read back to the CPU during the frame.
         BytesRead => "bytes_read",
+        /// Command slots of the lists handed to the host: the sum of their
+        /// `max_count`. With an emulated draw count the GPU walks every
+        /// slot (on GL and Metal, one driver call each); with the indirect
+        /// count, only those up to the GPU's count.
+        CommandSlots => "command_slots",
     }
 );

@@ -32,6 +32,9 @@ pub struct FrameStats {
     pub waits: u64,
     /// Bytes read back to the CPU, waited for or not.
     pub bytes_read: u64,
+    /// Command slots of the lists handed to the host (their `max_count`
+    /// summed): what an emulated draw count walks.
+    pub command_slots: u64,
 }
 
 /// Per-view counter of what its lists draw.

@@ -62,6 +62,8 @@ pub struct WorkCounts {
     pub waits: u64,
     /// Bytes read back to the CPU, waited for or not.
     pub bytes_read: u64,
+    /// Command slots of the lists handed to the host (`max_count` summed).
+    pub command_slots: u64,
 }
 
 impl<'a> Frame<'a> {
@@ -117,6 +119,7 @@ impl<'a> Frame<'a> {
     /// commands past its GPU count are emptied first; what it draws is
     /// tallied after.
     pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&wgpu::BindGroup>) {
+        self.work.command_slots += list.max_count as u64;
         if let Some(tail) = self.tail.as_deref_mut() {
             tail.record(self.gpu, self.encoder, self.uploads, &list.commands, &list.count, list.max_count, 5, 0);
         }
