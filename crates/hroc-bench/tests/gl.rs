@@ -16,7 +16,7 @@ use hroc_bench::gpu::{Backend, Headless};
 fn gl_serves_its_methods_with_no_false_negatives() {
     let gpu = Headless::open(Backend::Gl).expect("OpenGL through EGL (scripts/ensure-gl.sh)");
     assert_eq!(gpu.info.backend, wgpu::Backend::Gl);
-    let methods = Method::parse_list("noc,vfc,roc,hroc,hroc-na,chc++").unwrap();
+    let methods = Method::parse_list("noc,vfc,hzb,roc,hroc,hroc-na,chc++").unwrap();
     for path in [None, Some("hard"), Some("cuts")] {
         let o = BenchOptions { frames: 12, resolution: (160, 90), camera_path: path.map(Into::into), ..BenchOptions::new("radial-city", Some(1500), methods.clone()) };
         let r = bench::run(&gpu, &o).unwrap();
@@ -29,16 +29,19 @@ fn gl_serves_its_methods_with_no_false_negatives() {
     }
     // A tenth of the objects moving every frame (refit on the CPU and the
     // GPU's boxes), for the methods that follow motion.
-    let moving = Method::parse_list("noc,vfc,roc,hroc").unwrap();
+    let moving = Method::parse_list("noc,vfc,hzb,roc,hroc").unwrap();
     let o = BenchOptions { frames: 12, resolution: (160, 90), moving: 0.1, ..BenchOptions::new("radial-city", Some(1500), moving) };
     let r = bench::run(&gpu, &o).unwrap();
     assert!(r.moved_objects > 0);
     for row in &r.rows {
         assert_eq!((row.false_negatives, row.missing_pixels), (0, 0), "{} on GL, moving", row.method);
     }
-    // What it cannot serve, it refuses by name.
-    let s = hroc_bench::bench::Session::load(&gpu, "radial-city", Some(200), None, 2, (64, 36), hroc::bvh::Split::Sah).unwrap();
+    // What it cannot serve, it refuses by name: HROC's rounds sample the
+    // depth they test against while it is attached.
+    let mut s = hroc_bench::bench::Session::load(&gpu, "radial-city", Some(200), None, 2, (64, 36), hroc::bvh::Split::Sah).unwrap();
     assert_eq!(s.culler.capabilities().draw_count, DrawCount::Emulated);
-    let text = s.culler.serves(Method::Hzb).unwrap_err().to_string();
-    assert!(text.contains("hzb") && text.contains("GL"), "{text}");
+    assert!(s.culler.serves(Method::HROC).is_ok() && s.culler.serves(Method::Hzb).is_ok());
+    s.options = hroc::MethodOptions { hroc_rounds: 3, ..Default::default() };
+    let text = s.create(Method::HROC).err().expect("rounds refused on GL").to_string();
+    assert!(text.contains("hroc") && text.contains("READ_ONLY_DEPTH_STENCIL"), "{text}");
 }

@@ -45,21 +45,27 @@ fn hiz_visible(b: Box) -> bool {
     let r1 = vec2<f32>(hi.x * 0.5 + 0.5, 0.5 - lo.y * 0.5) * size;
     let p0 = vec2<u32>(clamp(floor(r0), vec2<f32>(0.0), size - 1.0));
     let p1 = vec2<u32>(clamp(floor(r1), vec2<f32>(0.0), size - 1.0));
+    // The coarsest level where the rect spans at most 2x2 texels. A level's
+    // side is the full side halved l times, at least 1 (mip_chain); the
+    // loop computes it rather than loading `mips[l]`, and loads the level
+    // once after: llvmpipe's GL compiles a struct loaded from storage in
+    // the loop to the first iteration's value after it (measured: hzb then
+    // culled visible objects on GL only).
     let levels = arrayLength(&mips);
+    let full = vec2<u32>(mips[0].width, mips[0].height);
     var l = 0u;
-    var m = mips[0];
-    var t0 = p0;
-    var t1 = p1;
     loop {
-        m = mips[l];
-        let last = vec2<u32>(m.width, m.height) - 1u;
-        t0 = min(p0 >> vec2<u32>(l), last);
-        t1 = min(p1 >> vec2<u32>(l), last);
-        if all(t1 - t0 <= vec2<u32>(1u)) || l + 1u >= levels {
+        let last = max(full >> vec2<u32>(l), vec2<u32>(1u)) - 1u;
+        let t = min(p1 >> vec2<u32>(l), last) - min(p0 >> vec2<u32>(l), last);
+        if all(t <= vec2<u32>(1u)) || l + 1u >= levels {
             break;
         }
         l++;
     }
+    let m = mips[l];
+    let last = vec2<u32>(m.width, m.height) - 1u;
+    let t0 = min(p0 >> vec2<u32>(l), last);
+    let t1 = min(p1 >> vec2<u32>(l), last);
     var far = 0.0;
     for (var y = t0.y; y <= t1.y; y++) {
         for (var x = t0.x; x <= t1.x; x++) {

@@ -587,7 +587,7 @@ impl Culler {
 
     /// [`Culler::view`] with method parameters other than the culler's.
     pub fn view_with(&self, method: Method, targets: &ViewTargets, options: &MethodOptions) -> Result<View> {
-        self.serves(method)?;
+        self.serves_with(method, options)?;
         let t = Targets::new(targets)?;
         if method.needs_ids() && t.ids.is_none() {
             return Err(Error::InvalidTargets(format!("{method} filters occluders by the object-ID target (OF, HROC §4.2): pass ViewTargets::ids, or use hroc-cr / hroc-na")));

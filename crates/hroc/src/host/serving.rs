@@ -4,7 +4,7 @@
 
 use super::*;
 use crate::capabilities::Capabilities;
-use crate::cull::Method;
+use crate::cull::{Method, MethodOptions};
 use crate::error::{Error, Result};
 use crate::reflect::Layout;
 
@@ -36,16 +36,16 @@ impl Culler {
     /// [`Error::MethodUnavailable`] with the reason (a capability it runs
     /// without, or a device limit, named with the value needed).
     pub fn serves(&self, method: Method) -> Result<()> {
+        self.serves_with(method, &self.options)
+    }
+
+    /// [`Culler::serves`] for a view with `options` ([`Culler::view_with`]).
+    pub fn serves_with(&self, method: Method, options: &MethodOptions) -> Result<()> {
         let refuse = |reason: String| Err(Error::MethodUnavailable { method: method.to_string(), reason });
         if method.needs_early_z() && !self.caps.early_z {
             return refuse("its box tests mark boxes under forced early-Z, and this culler runs without it (SHADER_EARLY_DEPTH_TEST)".into());
         }
-        if matches!(method, Method::Hzb | Method::Woc) && self.gpu.device.adapter_info().backend == wgpu::Backend::Gl {
-            return refuse(
-                "on wgpu's GL backend its Hi-Z test culls objects that its CPU reference keeps on the same pyramid (measured on llvmpipe), so it could miss visible objects".into(),
-            );
-        }
-        let rounds = self.options.hroc_rounds > 1 || self.options.hroc_occluder_rounds;
+        let rounds = options.hroc_rounds > 1 || options.hroc_occluder_rounds;
         if matches!(method, Method::Hroc(_)) && rounds && !self.caps.read_only_depth {
             return refuse("its rounds sample the depth they test against while it is attached, which needs read-only depth attachments (READ_ONLY_DEPTH_STENCIL)".into());
         }
