@@ -44,4 +44,9 @@ fn gl_serves_its_methods_with_no_false_negatives() {
     s.options = hroc::MethodOptions { hroc_rounds: 3, ..Default::default() };
     let text = s.create(Method::HROC).err().expect("rounds refused on GL").to_string();
     assert!(text.contains("hroc") && text.contains("READ_ONLY_DEPTH_STENCIL"), "{text}");
+    // Asking for the full tier on GL is an error that names what is missing.
+    let objects = hroc_bench::render::object_descs(&s.scene);
+    let full = hroc::CullerDesc { capabilities: Some(hroc::Capabilities::FULL), ..hroc::CullerDesc::new(&objects) };
+    let text = hroc::Culler::new(&gpu.device, &gpu.queue, &full).err().expect("the full tier refused on GL").to_string();
+    assert!(text.contains("MULTI_DRAW_INDIRECT_COUNT") || text.contains("READ_ONLY_DEPTH_STENCIL"), "{text}");
 }

@@ -16,7 +16,6 @@ const BINDS: usize = 256;
 /// 0)` written
 /// in the encoder before each dispatch, 3 the pass's own buffer (if any).
 pub(crate) struct ListPass {
-    label: &'static str,
     which: Layout,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
@@ -34,7 +33,7 @@ impl ListPass {
         let layout = which.create(gpu);
         let pipeline = gpu.compute_pipeline(&module, entry, Some(&pipeline_layout(gpu, which.label(), &layout)), &[]);
         let params = gpu.buffer(which.label(), 16, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
-        ListPass { label: which.label(), which, pipeline, layout, params, own, binds: HashMap::new() }
+        ListPass { which, pipeline, layout, params, own, binds: HashMap::new() }
     }
 
     /// Records the pass over the commands `[0, max_count)` of a list
@@ -66,7 +65,7 @@ impl ListPass {
             which.bind(gpu, layout, &resources)
         });
         let (x, y) = dispatch_size(max_count, 64);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.label), timestamp_writes: None });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.which.label()), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &*bind, &[]);
         pass.dispatch_workgroups(x, y, 1);

@@ -120,10 +120,7 @@ impl Culler {
     pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, desc: &CullerDesc) -> Result<Culler> {
         let caps = desc.capabilities.unwrap_or_else(|| Capabilities::of(device));
         if caps.read_only_depth && !Capabilities::of(device).read_only_depth {
-            return Err(Error::MethodUnavailable {
-                method: "hroc::Culler".into(),
-                reason: "read-only depth attachments were asked for, and this backend has none (READ_ONLY_DEPTH_STENCIL)".into(),
-            });
+            return Err(Error::Arg("CullerDesc::capabilities asks for read-only depth attachments, which this backend lacks (READ_ONLY_DEPTH_STENCIL)".into()));
         }
         let mut needed = caps.features();
         if desc.timestamps {
