@@ -12,6 +12,13 @@
 @group(0) @binding(1) var<storage, read> list: array<u32>;     // items to test, one per instance
 @group(0) @binding(2) var<storage, read> boxes: array<BvhNode>;
 @group(0) @binding(3) var<storage, read_write> marks: array<u32>; // per item: 1 = a fragment passed
+@group(0) @binding(4) var depth: texture_2d<f32>;                 // the depth tested against
+
+// Without early-Z marks or read-only depth attachments, the pass binds no
+// depth attachment and each fragment compares itself, as the attachment's
+// LessEqual (GreaterEqual reversed) with its bias toward the camera would,
+// and a little more (as HROC's test, hroc_test.wgsl).
+override MANUAL_DEPTH: bool = false;
 
 struct BoxOut {
     @builtin(position) clip: vec4<f32>,
@@ -34,5 +41,8 @@ fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> 
 
 @fragment @early_depth_test(force)
 fn box_fs(in: BoxOut) {
+    if MANUAL_DEPTH && std_depth(frame, in.clip.z) > std_depth(frame, textureLoad(depth, vec2<i32>(in.clip.xy), 0).r) + 4e-6 {
+        return;
+    }
     marks[in.item] = 1u;
 }

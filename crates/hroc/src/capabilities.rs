@@ -1,6 +1,7 @@
 //! What the culler runs with on a device: how it bounds draws by a GPU
-//! count, and whether fragment shaders can force early depth tests; and
-//! the features and limits a host requests for it.
+//! count, how it learns which objects a draw left visible, and whether it
+//! may test boxes against a depth attachment it also samples; and the
+//! features and limits a host requests for it.
 //!
 //! In wgpu 30, `MULTI_DRAW_INDIRECT_COUNT` exists on Vulkan and DX12;
 //! `SHADER_EARLY_DEPTH_TEST` on Vulkan and GL 4.2+ (naga's MSL and HLSL
@@ -20,38 +21,56 @@ pub enum DrawCount {
     Emulated,
 }
 
+/// How the culler learns which objects of a list the host drew visibly
+/// (the methods that read it: `roc`, `ioc` and HROC).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Marks {
+    /// The host's fragment shaders are declared `@early_depth_test(force)`
+    /// and call `hroc_mark(object)` ([`crate::marks_wgsl`]): a mark means a
+    /// fragment passed the depth test (`SHADER_EARLY_DEPTH_TEST`: Vulkan,
+    /// GL 4.2+). The culler's own box tests mark the same way.
+    EarlyZ,
+    /// After every occluding list whose marks it reads, the culler reads
+    /// the object-ID target ([`crate::ViewTargets::ids`]) and marks the
+    /// objects that own a pixel (everywhere wgpu runs; DX12 and Metal have
+    /// no forced early-Z). The ID target is then mandatory for those
+    /// methods, and the host's shaders need no hroc snippet. The culler's
+    /// box tests compare against the depth they load themselves.
+    Ids,
+}
+
 /// What the culler runs with: picked from the device
 /// ([`Capabilities::of`]), or asked for ([`crate::CullerDesc::capabilities`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Capabilities {
     /// How lists are drawn up to the GPU's count.
     pub draw_count: DrawCount,
-    /// Fragment shaders may force early depth tests
-    /// (`SHADER_EARLY_DEPTH_TEST`): what visibility marks need, the
-    /// host's `hroc_mark` and the culler's own box tests. Without it, the
-    /// methods that read marks (`roc` and HROC) are refused.
-    pub early_z: bool,
+    /// How the host's draws mark their objects.
+    pub marks: Marks,
     /// A depth attachment may be read-only while the same texture is
     /// sampled (wgpu's `READ_ONLY_DEPTH_STENCIL`: every backend but GL).
-    /// Without it, HROC's occlusion test binds no depth attachment and
-    /// compares each box fragment against the depth it loads, as the
-    /// attachment's test would.
+    /// With it and [`Marks::EarlyZ`], the box tests (`roc`, `ioc`, HROC)
+    /// rasterize against the attached depth under forced early-Z;
+    /// otherwise they bind no depth attachment and compare each fragment
+    /// against the depth they load, as the attachment's test would, and
+    /// HROC's rounds are refused.
     pub read_only_depth: bool,
 }
 
 impl Capabilities {
-    /// Everything: the indirect count and forced early-Z (Vulkan).
-    pub const FULL: Capabilities = Capabilities { draw_count: DrawCount::Indirect, early_z: true, read_only_depth: true };
-    /// What every backend has: an emulated count, no forced early-Z, no
-    /// read-only depth attachments.
-    pub const PORTABLE: Capabilities = Capabilities { draw_count: DrawCount::Emulated, early_z: false, read_only_depth: false };
+    /// Everything: the indirect count, early-Z marks and read-only depth
+    /// attachments (Vulkan).
+    pub const FULL: Capabilities = Capabilities { draw_count: DrawCount::Indirect, marks: Marks::EarlyZ, read_only_depth: true };
+    /// What every backend has: an emulated count, ID marks, no read-only
+    /// depth attachments.
+    pub const PORTABLE: Capabilities = Capabilities { draw_count: DrawCount::Emulated, marks: Marks::Ids, read_only_depth: false };
 
     /// The most that `device` allows.
     pub fn of(device: &wgpu::Device) -> Capabilities {
         let features = device.features();
         Capabilities {
             draw_count: if features.contains(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT) { DrawCount::Indirect } else { DrawCount::Emulated },
-            early_z: features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
+            marks: if features.contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST) { Marks::EarlyZ } else { Marks::Ids },
             // wgpu: "The WebGL2 and GLES backends do not support RODS".
             read_only_depth: device.adapter_info().backend != wgpu::Backend::Gl,
         }
@@ -63,10 +82,16 @@ impl Capabilities {
         if self.draw_count == DrawCount::Indirect {
             f |= wgpu::Features::MULTI_DRAW_INDIRECT_COUNT;
         }
-        if self.early_z {
+        if self.marks == Marks::EarlyZ {
             f |= wgpu::Features::SHADER_EARLY_DEPTH_TEST;
         }
         f
+    }
+
+    /// True when the culler's box tests rasterize against the attached
+    /// depth under forced early-Z; false when they load it and compare.
+    pub(crate) fn attached_box_tests(self) -> bool {
+        self.marks == Marks::EarlyZ && self.read_only_depth
     }
 }
 

@@ -170,7 +170,7 @@
 //! - methods and statistics: [`Method`], [`MethodOptions`], [`Variant`],
 //!   [`Counters`], [`Seed`], [`Stage`], [`Stat`], [`FrameStats`],
 //!   [`Invocations`];
-//! - the device: [`features`], [`limits`], [`Capabilities`], [`DrawCount`],
+//! - the device: [`features`], [`limits`], [`Capabilities`], [`DrawCount`], [`Marks`],
 //!   [`REQUIRED_FEATURES`], [`FULL_FEATURES`], [`TIMESTAMP_FEATURES`],
 //!   [`PIPELINE_STATISTICS_FEATURES`];
 //! - errors: [`Error`], [`Result`];
@@ -196,6 +196,7 @@ mod flag_split;
 pub mod frustum;
 mod gpu;
 mod host;
+mod id_marks;
 mod layout;
 mod list_pass;
 mod metrics;
@@ -207,7 +208,7 @@ mod tally;
 pub mod testing;
 
 pub use aabb::{Aabb, OrientedBox};
-pub use capabilities::{features, limits, Capabilities, DrawCount, FULL_FEATURES, REQUIRED_FEATURES};
+pub use capabilities::{features, limits, Capabilities, DrawCount, Marks, FULL_FEATURES, REQUIRED_FEATURES};
 pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Variant};
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc, ViewGeometry};

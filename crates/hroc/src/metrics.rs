@@ -146,5 +146,8 @@ named_enum!(
         /// slot (on GL and Metal, one driver call each); with the indirect
         /// count, only those up to the GPU's count.
         CommandSlots => "command_slots",
+        /// Passes over the object-ID target that mark the objects a list
+        /// drew ([`crate::Marks::Ids`]; 0 with early-Z marks).
+        IdPasses => "id_passes",
     }
 );

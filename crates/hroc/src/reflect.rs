@@ -33,6 +33,8 @@ pub enum Layout {
     Tally,
     /// The zeroed tail of a list drawn without a GPU count.
     Tail,
+    /// ID marks: the objects owning a pixel of the ID target.
+    IdMarks,
     /// `vfc`'s frustum test.
     Vfc,
     /// The Hi-Z pyramid's build (`hzb`, `woc`).
@@ -71,12 +73,13 @@ const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 21] = [
+    pub const ALL: [Layout; 22] = [
         Layout::Compact,
         Layout::Refit,
         Layout::FlagSplit,
         Layout::Tally,
         Layout::Tail,
+        Layout::IdMarks,
         Layout::Vfc,
         Layout::HiZBuild,
         Layout::HiZTest,
@@ -103,6 +106,7 @@ impl Layout {
             Layout::FlagSplit => "hroc flag split",
             Layout::Tally => "hroc tally",
             Layout::Tail => "hroc emulated count",
+            Layout::IdMarks => "hroc id marks",
             Layout::Vfc => "vfc",
             Layout::HiZBuild => "hi-z build",
             Layout::HiZTest => "hi-z test",
@@ -130,6 +134,7 @@ impl Layout {
             Layout::FlagSplit => &[("split.wgsl", &[])],
             Layout::Tally => &[("tally.wgsl", &[])],
             Layout::Tail => &[("tail.wgsl", &[])],
+            Layout::IdMarks => &[("id_marks.wgsl", &[])],
             Layout::Vfc => &[("vfc.wgsl", &[])],
             Layout::HiZBuild => &[("hzb_pyramid.wgsl", &[])],
             Layout::HiZTest => &[("hzb_test.wgsl", &[])],

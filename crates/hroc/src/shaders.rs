@@ -26,6 +26,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("woc_warp.wgsl", include_str!("../shaders/woc_warp.wgsl")),
     ("tally.wgsl", include_str!("../shaders/tally.wgsl")),
     ("tail.wgsl", include_str!("../shaders/tail.wgsl")),
+    ("id_marks.wgsl", include_str!("../shaders/id_marks.wgsl")),
 ];
 
 /// The shared header: the `Frame` uniform, object boxes, BVH nodes, draw
@@ -93,6 +94,69 @@ pub enum BoxDepth {
 /// The format of the colour target a [`BoxDepth::Manual`] pass binds in
 /// place of the depth attachment (never written).
 pub const MANUAL_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
+
+/// What a box-test pass renders into: the depth it tests against, attached
+/// read-only ([`BoxDepth::Test`]), or, where the culler runs without
+/// early-Z marks or read-only depth attachments
+/// ([`crate::Capabilities::read_only_depth`]), a colour target of
+/// [`MANUAL_TARGET`] that nothing writes ([`BoxDepth::Manual`]).
+pub struct BoxTarget(Option<wgpu::TextureView>);
+
+impl BoxTarget {
+    /// The target of box tests over `size` pixels with `caps`.
+    pub fn new(gpu: &Gpu, caps: crate::Capabilities, size: (u32, u32)) -> BoxTarget {
+        BoxTarget((!caps.attached_box_tests()).then(|| {
+            gpu.device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some("hroc box test target"),
+                    size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: MANUAL_TARGET,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        }))
+    }
+
+    /// How the pass's pipelines treat depth.
+    pub fn mode(&self) -> BoxDepth {
+        if self.0.is_some() {
+            BoxDepth::Manual
+        } else {
+            BoxDepth::Test
+        }
+    }
+
+    /// The value of the WGSL override `MANUAL_DEPTH`.
+    pub fn manual_depth(&self) -> f64 {
+        self.0.is_some() as u32 as f64
+    }
+
+    /// Begins the box-test pass `label` against `depth` (attached
+    /// read-only, or left to the fragment stage to load).
+    pub fn begin<'e>(&self, enc: &'e mut wgpu::CommandEncoder, label: &str, depth: &wgpu::TextureView) -> wgpu::RenderPass<'e> {
+        let manual = self.0.as_ref().map(|view| wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Discard },
+        });
+        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: if manual.is_some() { std::slice::from_ref(&manual) } else { &[] },
+            depth_stencil_attachment: match manual {
+                Some(_) => None,
+                None => Some(wgpu::RenderPassDepthStencilAttachment { view: depth, depth_ops: None, stencil_ops: None }),
+            },
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+}
 
 /// [`box_test_pipeline`] with other entry points (`stages`: vertex,
 /// fragment) or, with [`BoxDepth::Write`], a pass that writes box depth.

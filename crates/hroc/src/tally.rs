@@ -35,6 +35,9 @@ pub struct FrameStats {
     /// Command slots of the lists handed to the host (their `max_count`
     /// summed): what an emulated draw count walks.
     pub command_slots: u64,
+    /// Passes over the object-ID target that marked what a list drew
+    /// ([`crate::Marks::Ids`]).
+    pub id_passes: u64,
 }
 
 /// Per-view counter of what its lists draw.

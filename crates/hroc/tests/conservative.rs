@@ -6,7 +6,7 @@
 
 use common::street::{look, street};
 use glam::Vec3;
-use hroc::{Capabilities, Culler, CullerDesc, DrawCount, Method, Variant, ViewDesc};
+use hroc::{Capabilities, Culler, CullerDesc, DrawCount, Marks, Method, Variant, ViewDesc};
 
 mod common;
 
@@ -31,18 +31,16 @@ fn every_method_family_draws_every_visible_object() {
         })
         .collect();
     assert!(visible.iter().all(|v| !v.is_empty()) && visible[0].len() < objects.len() / 2, "the wall hides most of the street: {visible:?}");
-    // The full tier; what GL has (an emulated count, forced early-Z, no
-    // read-only depth attachments, so HROC's test compares depth itself);
-    // and the portable tier (the methods it serves).
-    let gl = Capabilities { draw_count: DrawCount::Emulated, early_z: true, read_only_depth: false };
-    for caps in [Capabilities::FULL, gl, Capabilities::PORTABLE] {
+    // The full tier; what GL has (an emulated count, early-Z marks, no
+    // read-only depth attachments, so the box tests compare depth
+    // themselves); what DX12 has (the indirect count, ID marks); and the
+    // portable tier (an emulated count, ID marks, no read-only depth).
+    let gl = Capabilities { draw_count: DrawCount::Emulated, marks: Marks::EarlyZ, read_only_depth: false };
+    let dx12 = Capabilities { draw_count: DrawCount::Indirect, marks: Marks::Ids, read_only_depth: true };
+    for caps in [Capabilities::FULL, gl, dx12, Capabilities::PORTABLE] {
         let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
         assert_eq!(culler.capabilities(), caps);
-        for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
-            if !caps.early_z && method.needs_early_z() {
-                assert!(culler.serves(method).is_err(), "{method} served without early-Z");
-                continue;
-            }
+        for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::RocAll, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
             let mut view = culler.view(method, &host.targets()).unwrap();
             let mut culled = 0;
             for (k, &(desc, cut)) in path.iter().enumerate() {

@@ -3,7 +3,8 @@
 //! methods it cannot serve are refused by name with the reason, and
 //! `hroc::features` / `hroc::limits` give a device that serves everything.
 
-use hroc::{Aabb, Capabilities, Culler, CullerDesc, DepthRange, DrawCount, Error, Method, ObjectDesc, ObjectFlags, ViewTargets};
+use glam::Vec3;
+use hroc::{Aabb, Capabilities, Culler, CullerDesc, DepthRange, DrawCount, Error, Marks, Method, ObjectDesc, ObjectFlags, ViewTargets};
 
 mod common;
 
@@ -50,8 +51,11 @@ fn a_limit_below_the_cullers_own_is_named() {
 
 /// `hroc::features` and `hroc::limits` give a device that serves every
 /// method; asking for more than the device has is an error naming the
-/// features; a device with only the required features runs portable and
-/// refuses the methods that need early-Z, saying so.
+/// features; a device with only the required features (what Metal offers)
+/// runs with an emulated count and ID marks: its shaders compile without
+/// early-Z, it serves every method but HROC's rounds (refused, saying
+/// why), it asks for the ID target where marks are read, and its frames
+/// draw every visible object.
 #[test]
 fn capabilities_follow_the_device() {
     let adapter = common::adapter();
@@ -63,13 +67,56 @@ fn capabilities_follow_the_device() {
 
     let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
-    assert_eq!(culler.capabilities(), Capabilities { draw_count: DrawCount::Emulated, early_z: false, read_only_depth: true });
-    let text = culler.serves(Method::HROC).unwrap_err().to_string();
-    assert!(text.contains("hroc") && text.contains("early-Z"), "{text}");
-    assert!(culler.serves(Method::Hzb).is_ok() && culler.serves(Method::Chc).is_ok());
+    assert_eq!(culler.capabilities(), Capabilities { draw_count: DrawCount::Emulated, marks: Marks::Ids, read_only_depth: true });
+    let served = culler.methods();
+    assert!(served.contains(&Method::HROC) && served.contains(&Method::Roc) && served.contains(&Method::Hzb) && served.contains(&Method::Chc), "{served:?}");
+    let rounds = hroc::MethodOptions { hroc_rounds: 2, ..Default::default() };
+    let text = culler.serves_with(Method::HROC, &rounds).unwrap_err().to_string();
+    assert!(text.contains("hroc") && text.contains("rounds") && text.contains("SHADER_EARLY_DEPTH_TEST"), "{text}");
+    let depth = common::depth_texture(&device, 32);
+    let no_ids = ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None };
+    let text = culler.view(Method::Roc, &no_ids).err().expect("roc without an ID target").to_string();
+    assert!(text.contains("roc") && text.contains("ViewTargets::ids"), "{text}");
+    assert!(culler.view(Method::RocAll, &no_ids).is_ok(), "roc-all reads no marks");
     match Culler::new(&device, &queue, &CullerDesc { capabilities: Some(Capabilities::FULL), ..CullerDesc::new(&objects) }) {
         Err(Error::MissingFeatures { missing, .. }) => assert_eq!(missing, wgpu::Features::MULTI_DRAW_INDIRECT_COUNT | wgpu::Features::SHADER_EARLY_DEPTH_TEST),
         Err(e) => panic!("another error: {e}"),
         Ok(_) => panic!("the full tier without its features"),
+    }
+}
+
+/// On a device without forced early-Z, the culler's shaders compile and a
+/// host whose fragment shader has no hroc line is culled conservatively:
+/// every object that owns a pixel when everything is drawn is drawn.
+#[test]
+fn a_device_without_early_z_culls_conservatively() {
+    use common::street::{look, street};
+    let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
+    let (host, objects) = street(&device);
+    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    assert_eq!(culler.capabilities().marks, Marks::Ids);
+    let mut path: Vec<(hroc::ViewDesc, bool)> = (0..4).map(|k| (look(Vec3::new(-2.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
+    path.push((look(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
+    path.push((look(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
+    let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
+    let visible: Vec<Vec<u32>> = path
+        .iter()
+        .map(|&(desc, cut)| {
+            host.frame(&device, &queue, &culler, &mut truth, desc, cut);
+            host.visible(&device, &queue)
+        })
+        .collect();
+    for method in [Method::Roc, Method::RocAll, Method::Ioc, Method::Chc, Method::Hroc(hroc::Variant::NA), Method::HROC] {
+        let mut view = culler.view(method, &host.targets()).unwrap();
+        let mut culled = 0;
+        for (k, &(desc, cut)) in path.iter().enumerate() {
+            let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
+            let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
+            assert!(missed.is_empty(), "{method} frame {k}: visible objects {missed:?} not drawn");
+            culled += objects.len() - drawn.len();
+        }
+        assert!(culled > 0, "{method} culled nothing");
+        let stats = view.frame_stats(&culler).expect("the last frame's statistics");
+        assert_eq!(stats.id_passes > 0, method.reads_marks(), "{method}: {stats:?}");
     }
 }

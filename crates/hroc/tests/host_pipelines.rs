@@ -40,7 +40,7 @@ fn pass<'e>(encoder: &'e mut wgpu::CommandEncoder, depth: &wgpu::TextureView, lo
 fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
     let (device, queue) = common::device(hroc::FULL_FEATURES);
     // The host's pipeline first: camera at group 0, hroc's marks at group 1.
-    let (pipeline, camera_layout) = common::host_pipeline(&device, false);
+    let (pipeline, camera_layout) = common::host_pipeline(&device, false, true);
 
     // Geometry, targets and camera.
     let vertices: Vec<[f32; 3]> = [0.0, -4.0, -8.0].iter().flat_map(|&z| quad(z)).collect();

@@ -497,17 +497,13 @@ pub fn percentile(v: &[f64], p: f64) -> f64 {
     s[rank - 1]
 }
 
-/// `full`, `portable`, or the two capabilities (draw count, early-Z).
+/// `full`, `portable`, or the three capabilities (draw count, marks,
+/// read-only depth).
 pub fn capabilities_name(c: hroc::Capabilities) -> String {
     match c {
         hroc::Capabilities::FULL => "full".into(),
         hroc::Capabilities::PORTABLE => "portable".into(),
-        c => format!(
-            "{:?} draw count, {} forced early-Z, {} read-only depth",
-            c.draw_count,
-            if c.early_z { "with" } else { "without" },
-            if c.read_only_depth { "with" } else { "without" }
-        ),
+        c => format!("{:?} draw count, {:?} marks, {} read-only depth", c.draw_count, c.marks, if c.read_only_depth { "with" } else { "without" }),
     }
 }
 

@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 use crate::flag_split::FlagSplit;
 use crate::frustum::ViewGeometry;
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount, Submission, Uploads};
+use crate::id_marks::{IdMarks, MarkTarget};
 use crate::layout::FrameUniform;
 use crate::list_pass::ListPass;
 use crate::objects::SharedObjects;
@@ -64,6 +65,8 @@ pub struct WorkCounts {
     pub bytes_read: u64,
     /// Command slots of the lists handed to the host (`max_count` summed).
     pub command_slots: u64,
+    /// Passes over the object-ID target that marked what a list drew.
+    pub id_passes: u64,
 }
 
 impl<'a> Frame<'a> {
@@ -100,9 +103,10 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// Hands `list` to the host to draw in `phase`; with `marks`, the host's
-    /// fragments that pass the depth test mark their object there.
-    pub fn draw(&mut self, phase: Phase, list: &DrawList, marks: Option<&wgpu::BindGroup>) {
+    /// Hands `list` to the host to draw in `phase`; with `marks`, the
+    /// objects it drew visibly are marked there (by the host's fragments
+    /// under early-Z, or from the ID target after the draw).
+    pub fn draw(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) {
         let split;
         let split_count = if self.split.is_some() { self.pass_count() } else { PassCount::NONE };
         let list = match self.split.as_deref_mut() {
@@ -118,7 +122,7 @@ impl<'a> Frame<'a> {
     /// Hands `list` to the host as it is: with an emulated draw count, the
     /// commands past its GPU count are emptied first; what it draws is
     /// tallied after.
-    pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&wgpu::BindGroup>) {
+    pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) {
         self.work.command_slots += list.max_count as u64;
         if let Some(tail) = self.tail.as_deref_mut() {
             tail.record(self.gpu, self.encoder, self.uploads, &list.commands, &list.count, list.max_count, 5, 0);
@@ -130,12 +134,21 @@ impl<'a> Frame<'a> {
             count: &list.count,
             max_count: list.max_count,
             draw_count: self.draw_count,
-            marks: marks.unwrap_or(self.sink),
-            mark: marks.is_some(),
+            marks: match marks {
+                Some(MarkTarget::Host(bind)) => bind,
+                _ => self.sink,
+            },
+            mark: matches!(marks, Some(MarkTarget::Host(_))),
             statistics,
         };
         self.host.draw(self.encoder, &draw);
         self.tally.count(self.gpu, self.encoder, self.uploads, list);
+        if let Some(MarkTarget::Ids(ids)) = marks {
+            self.work.id_passes += 1;
+            let (enc, q) = self.counted();
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc id marks"), timestamp_writes: None });
+            q.around(&mut pass, |pass| ids.record(pass));
+        }
     }
 
     /// With an emulated draw count, empties the commands `[count,
@@ -271,11 +284,19 @@ pub struct MethodContext<'a> {
     pub options: &'a MethodOptions,
     /// What the culler runs with.
     pub capabilities: crate::Capabilities,
+    /// The ID-marks pass, with [`crate::Marks::Ids`].
+    pub(crate) id_marks: Option<&'a IdMarks>,
 }
 
 impl MethodContext<'_> {
-    /// A marks bind group over `marks` (u32 per object), for [`Frame::draw`].
-    pub fn marks_bind(&self, marks: &wgpu::Buffer) -> wgpu::BindGroup {
-        self.gpu.bind_buffers(self.marks_layout, &[marks])
+    /// Where a list's objects drawn visibly are marked in `marks` (u32 per
+    /// object), for [`Frame::draw`]: from the ID target with ID marks
+    /// (the view has one: [`crate::Culler::view`] checks), else by the
+    /// host's fragments.
+    pub fn marks_bind(&self, marks: &wgpu::Buffer) -> MarkTarget {
+        match (self.id_marks, &self.targets.ids) {
+            (Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, self.targets.size, marks)),
+            _ => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks])),
+        }
     }
 }

@@ -183,11 +183,11 @@ impl Method {
         matches!(self, Method::Hroc(Variant { counters: Counters::ReadBack, .. }) | Method::Ioc | Method::Oq | Method::Soq | Method::Chc)
     }
 
-    /// True when the method's own box tests mark boxes from fragments that
-    /// pass forced early-Z (ROC, IOC, HROC): it needs
-    /// [`crate::Capabilities::early_z`].
-    pub fn needs_early_z(self) -> bool {
-        matches!(self, Method::Roc | Method::RocAll | Method::Ioc | Method::Hroc(_))
+    /// True when the method reads which objects the host's draws left
+    /// visible (`roc`, `ioc`, HROC): with [`crate::Marks::Ids`] its views
+    /// need the object-ID target.
+    pub fn reads_marks(self) -> bool {
+        matches!(self, Method::Roc | Method::Ioc | Method::Hroc(_))
     }
 
     /// The bind-group layouts of the method's own passes.

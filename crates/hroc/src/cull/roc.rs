@@ -35,13 +35,18 @@ use crate::error::Result;
 use crate::gpu::{dispatch_size, Gpu};
 use crate::layout::DrawArgs;
 use crate::shaders::source as shader_source;
+use crate::shaders::{box_pipeline, BoxTarget};
 
 /// The box rasterization test (`roc_boxes.wgsl`), shared with IOC: a
 /// pipeline with forced early-Z on a read-only depth attachment, no depth
-/// writes, `LessEqual` and a small bias toward the camera (as HROC's).
+/// writes, `LessEqual` and a small bias toward the camera (as HROC's); or,
+/// without early-Z marks or read-only depth, a pipeline whose fragments
+/// load the depth and compare themselves ([`BoxTarget`]).
 pub(crate) struct BoxPass {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
+    target: BoxTarget,
+    depth: wgpu::TextureView,
 }
 
 /// How many boxes a [`BoxPass`] draws: from an indirect `DrawArgs` the GPU
@@ -57,27 +62,26 @@ impl BoxPass {
         let layout = crate::reflect::Layout::RocBoxes.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "roc boxes", &layout);
         let module = gpu.shader("roc_boxes.wgsl", &shader_source("roc_boxes.wgsl"));
-        let pipeline = crate::shaders::box_test_pipeline(gpu, "roc boxes", &pl, &module, Some("box_fs"), (cx.targets.depth_format, cx.targets.depth), &[]);
-        BoxPass { pipeline, layout }
+        let target = BoxTarget::new(gpu, cx.capabilities, cx.targets.size);
+        let depth = (cx.targets.depth_format, cx.targets.depth);
+        let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, ("box_vs", Some("box_fs")), depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth())]);
+        BoxPass { pipeline, layout, target, depth: cx.targets.depth_sampled.clone() }
     }
 
     /// Binds the frame uniform, the item list (one per instance), the boxes
-    /// it indexes (object bounds or BVH nodes) and the marks it sets.
+    /// it indexes (object bounds or BVH nodes), the marks it sets and the
+    /// view's depth.
     pub(crate) fn bind(&self, gpu: &Gpu, frame: &wgpu::Buffer, list: &wgpu::Buffer, boxes: &wgpu::Buffer, marks: &wgpu::Buffer) -> wgpu::BindGroup {
-        gpu.bind_buffers(&self.layout, &[frame, list, boxes, marks])
+        let buffers = [frame, list, boxes, marks].map(|b| b.as_entire_binding());
+        let mut resources: Vec<(u32, wgpu::BindingResource)> = buffers.into_iter().enumerate().map(|(i, r)| (i as u32, r)).collect();
+        resources.push((4, wgpu::BindingResource::TextureView(&self.depth)));
+        crate::reflect::Layout::RocBoxes.bind(gpu, &self.layout, &resources)
     }
 
     pub(crate) fn record(&self, f: &mut Frame, bind: &wgpu::BindGroup, count: BoxCount) {
         let targets = f.targets;
         let (enc, q) = f.counted();
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("box occlusion test"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view: &targets.depth_attachment, depth_ops: None, stencil_ops: None }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = self.target.begin(enc, "box occlusion test", &targets.depth_attachment);
         q.around(&mut pass, |pass| {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, bind, &[]);
@@ -105,7 +109,7 @@ pub struct Roc {
     compactor: Compactor,
     v_job: CompactJob,
     u_job: CompactJob,
-    marks_next: wgpu::BindGroup,
+    marks_next: crate::id_marks::MarkTarget,
     bind: wgpu::BindGroup,
     select: wgpu::ComputePipeline,
     split: wgpu::ComputePipeline,

@@ -157,8 +157,17 @@ impl Gpu {
     }
 
     /// A WGSL module.
+    ///
+    /// On a device without `SHADER_EARLY_DEPTH_TEST` (DX12, Metal), which
+    /// rejects the attribute, `@early_depth_test(force)` is removed: there
+    /// the culler runs with ID marks and its box tests compare depth in the
+    /// fragment stage, with no depth attachment to test early against.
     pub fn shader(&self, label: &str, source: &str) -> wgpu::ShaderModule {
-        self.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(source.into()) })
+        let source = match self.device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST) {
+            true => std::borrow::Cow::Borrowed(source),
+            false => std::borrow::Cow::Owned(without_early_z(source)),
+        };
+        self.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(source) })
     }
 
     /// A compute pipeline at `entry`, with override `constants`.
@@ -178,6 +187,11 @@ impl Gpu {
         let entries: Vec<_> = buffers.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
         self.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries })
     }
+}
+
+/// `source` without its `@early_depth_test(force)` attributes.
+pub fn without_early_z(source: &str) -> String {
+    source.replace("@early_depth_test(force)", "")
 }
 
 /// Workgroups for `n` threads of `size`, as a 2D grid when one dimension is

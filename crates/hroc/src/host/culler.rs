@@ -3,12 +3,12 @@
 use super::serving::check_limits;
 use super::*;
 use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
-use crate::capabilities::{Capabilities, DrawCount};
+use crate::capabilities::{Capabilities, DrawCount, Marks};
 use crate::cull::{DrawList, Method, MethodContext, MethodOptions, WorkCounts};
 use crate::error::{Error, Result};
-use crate::frustum::DepthRange;
 use crate::gpu::Uploads;
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter};
+use crate::id_marks::IdMarks;
 use crate::layout::{DrawCommand, FrameUniform, ObjectBounds, OrientedBounds};
 use crate::list_pass::ListPass;
 use crate::reflect::Layout;
@@ -106,6 +106,8 @@ pub struct Culler {
     pub(super) pipeline_statistics: bool,
     /// What the culler runs with.
     pub(super) caps: Capabilities,
+    /// The ID-marks pass, with [`Marks::Ids`].
+    pub(super) id_marks: Option<IdMarks>,
 }
 
 impl Culler {
@@ -137,8 +139,12 @@ impl Culler {
         if caps.draw_count == DrawCount::Emulated {
             shared.push(Layout::Tail);
         }
+        if caps.marks == Marks::Ids {
+            shared.push(Layout::IdMarks);
+        }
         check_limits(&device.limits(), "hroc::Culler", &shared)?;
         let gpu = Gpu::from_device(device, queue);
+        let id_marks = (caps.marks == Marks::Ids).then(|| IdMarks::new(&gpu));
         let objects = desc.objects;
         for (i, o) in objects.iter().enumerate() {
             check_box(i as u32, &o.bounds)?;
@@ -186,6 +192,7 @@ impl Culler {
             timestamps: desc.timestamps,
             pipeline_statistics: desc.pipeline_statistics,
             caps,
+            id_marks,
         };
         culler.rebuild_tree()?;
         culler.upload_bounds();
@@ -586,12 +593,7 @@ impl Culler {
     pub fn view_with(&self, method: Method, targets: &ViewTargets, options: &MethodOptions) -> Result<View> {
         self.serves_with(method, options)?;
         let t = Targets::new(targets)?;
-        if method.needs_ids() && t.ids.is_none() {
-            return Err(Error::InvalidTargets(format!("{method} filters occluders by the object-ID target (OF, HROC §4.2): pass ViewTargets::ids, or use hroc-cr / hroc-na")));
-        }
-        if t.depth == DepthRange::Reversed && !method.supports_reversed_depth() {
-            return Err(Error::InvalidTargets(format!("{method} supports standard depth only")));
-        }
+        self.check_targets(method, &t)?;
         use wgpu::BufferUsages as U;
         let frame = self.gpu.buffer("hroc frame", std::mem::size_of::<FrameUniform>() as u64, U::UNIFORM | U::COPY_DST);
         let sink_buf = self.gpu.buffer("hroc marks sink", self.objects.count as u64 * 4, U::STORAGE);
@@ -642,6 +644,7 @@ impl Culler {
             marks_layout: &self.marks_layout,
             options: &self.options,
             capabilities: self.caps,
+            id_marks: self.id_marks.as_ref(),
         }
     }
 

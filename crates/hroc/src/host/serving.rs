@@ -3,9 +3,11 @@
 //! need, and the refusal of a method by name with the reason.
 
 use super::*;
-use crate::capabilities::Capabilities;
+use crate::capabilities::{Capabilities, Marks};
+use crate::contract::Targets;
 use crate::cull::{Method, MethodOptions};
 use crate::error::{Error, Result};
+use crate::frustum::DepthRange;
 use crate::reflect::Layout;
 
 /// Checks the device's limits against what `layouts` and the culler's
@@ -42,17 +44,36 @@ impl Culler {
     /// [`Culler::serves`] for a view with `options` ([`Culler::view_with`]).
     pub fn serves_with(&self, method: Method, options: &MethodOptions) -> Result<()> {
         let refuse = |reason: String| Err(Error::MethodUnavailable { method: method.to_string(), reason });
-        if method.needs_early_z() && !self.caps.early_z {
-            return refuse("its box tests mark boxes under forced early-Z, and this culler runs without it (SHADER_EARLY_DEPTH_TEST)".into());
-        }
         let rounds = options.hroc_rounds > 1 || options.hroc_occluder_rounds;
-        if matches!(method, Method::Hroc(_)) && rounds && !self.caps.read_only_depth {
-            return refuse("its rounds sample the depth they test against while it is attached, which needs read-only depth attachments (READ_ONLY_DEPTH_STENCIL)".into());
+        if matches!(method, Method::Hroc(_)) && rounds && !self.caps.attached_box_tests() {
+            return refuse(
+                "its rounds test boxes under forced early-Z against a depth attachment they also sample, which needs early-Z marks (SHADER_EARLY_DEPTH_TEST) and read-only depth attachments (READ_ONLY_DEPTH_STENCIL)"
+                    .into(),
+            );
         }
         match check_limits(&self.gpu.device.limits(), method.name(), method.layouts()) {
             Err(Error::DeviceLimit { limit, needed, have, .. }) => refuse(format!("it needs the device's {limit} to be at least {needed}, and it is {have}")),
             other => other,
         }
+    }
+
+    /// Errors when `method`'s views need what `t` lacks: the object-ID
+    /// target (occluder filtering, or marks read with [`Marks::Ids`]), or
+    /// standard depth.
+    pub(super) fn check_targets(&self, method: Method, t: &Targets) -> Result<()> {
+        let bad = |m: String| Err(Error::InvalidTargets(m));
+        if method.needs_ids() && t.ids.is_none() {
+            return bad(format!("{method} filters occluders by the object-ID target (OF, HROC §4.2): pass ViewTargets::ids, or use hroc-cr / hroc-na"));
+        }
+        if self.caps.marks == Marks::Ids && method.reads_marks() && t.ids.is_none() {
+            return bad(format!(
+                "{method} reads which objects the host drew, and this culler marks them from the object-ID target (Marks::Ids, no forced early-Z): pass ViewTargets::ids"
+            ));
+        }
+        if t.depth == DepthRange::Reversed && !method.supports_reversed_depth() {
+            return bad(format!("{method} supports standard depth only"));
+        }
+        Ok(())
     }
 
     /// The methods of [`Method::ALL`] this culler serves ([`Culler::serves`]).

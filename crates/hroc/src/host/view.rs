@@ -200,7 +200,16 @@ impl View {
         }
         f.end_group();
         let w = *f.work;
-        let stats = FrameStats { frame: self.frames, cut, submits: w.submits, waits: w.waits, bytes_read: w.bytes_read, command_slots: w.command_slots, ..Default::default() };
+        let stats = FrameStats {
+            frame: self.frames,
+            cut,
+            submits: w.submits,
+            waits: w.waits,
+            bytes_read: w.bytes_read,
+            command_slots: w.command_slots,
+            id_passes: w.id_passes,
+            ..Default::default()
+        };
         f.tally.end(f.encoder, stats);
         f.uploads.close(f.encoder);
         if self.method.submits_mid_frame() {
@@ -262,7 +271,13 @@ impl View {
         let mut s = self.imp.stats(&culler.gpu)?;
         s.push((Stat::Cut, self.last_cut as u32 as f64));
         let w = self.work;
-        s.extend([(Stat::Submits, w.submits as f64), (Stat::Waits, w.waits as f64), (Stat::BytesRead, w.bytes_read as f64), (Stat::CommandSlots, w.command_slots as f64)]);
+        s.extend([
+            (Stat::Submits, w.submits as f64),
+            (Stat::Waits, w.waits as f64),
+            (Stat::BytesRead, w.bytes_read as f64),
+            (Stat::CommandSlots, w.command_slots as f64),
+            (Stat::IdPasses, w.id_passes as f64),
+        ]);
         Ok(s)
     }
 

@@ -44,17 +44,20 @@ pub fn depth_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
 
 /// A host's pipeline built before any culler (`hroc::marks_layout`):
 /// positions at location 0, `view_proj` at group 0, hroc's marks at
-/// group 1; the fragment stage forces early-Z, marks its object and, with
-/// `ids`, writes `object + 1` to an `R32Uint` target. Returns the pipeline
-/// and the camera's bind group layout.
-pub fn host_pipeline(device: &wgpu::Device, ids: bool) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
+/// group 1; with `mark`, the fragment stage forces early-Z and marks its
+/// object (without, it has neither of the two hroc lines: what a host
+/// writes for `Marks::Ids`); with `ids`, it writes `object + 1` to an
+/// `R32Uint` target. Returns the pipeline and the camera's bind group
+/// layout.
+pub fn host_pipeline(device: &wgpu::Device, ids: bool, mark: bool) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
     let (output, ret) = if ids { (" -> @location(0) u32", " return in.object + 1u;") } else { ("", "") };
+    let (early, marking) = if mark { ("@early_depth_test(force) ", " hroc_mark(in.object);") } else { ("", "") };
     let source = format!(
         "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\
          struct Out {{ @builtin(position) clip: vec4<f32>, @location(0) @interpolate(flat) object: u32 }}\n\
          @vertex fn vs(@location(0) p: vec3<f32>, @builtin(instance_index) i: u32) -> Out {{ return Out(view_proj * vec4<f32>(p, 1.0), i); }}\n\
-         @fragment @early_depth_test(force) fn fs(in: Out){output} {{ hroc_mark(in.object);{ret} }}\n",
-        hroc::marks_wgsl(1)
+         @fragment {early}fn fs(in: Out){output} {{{marking}{ret} }}\n",
+        if mark { hroc::marks_wgsl(1) } else { String::new() }
     );
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("host"), source: wgpu::ShaderSource::Wgsl(source.into()) });
     let camera_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {

@@ -28,9 +28,11 @@ pub fn cube(b: &Aabb) -> ([[f32; 3]; 8], [u32; 36]) {
     ((0..8).map(c).collect::<Vec<_>>().try_into().unwrap(), idx)
 }
 
-/// The host: one pipeline writing depth and `object + 1`, marking its object.
+/// The host: pipelines writing depth and `object + 1`, one of them marking
+/// its object.
 pub struct Host {
-    pipeline: wgpu::RenderPipeline,
+    marking: Option<wgpu::RenderPipeline>,
+    plain: wgpu::RenderPipeline,
     camera: wgpu::Buffer,
     camera_bind: wgpu::BindGroup,
     vertices: wgpu::Buffer,
@@ -41,7 +43,10 @@ pub struct Host {
 
 impl Host {
     pub fn new(device: &wgpu::Device, vertices: &[[f32; 3]], indices: &[u32]) -> Host {
-        let (pipeline, camera_layout) = super::host_pipeline(device, true);
+        // The marking pipeline where the device forces early-Z; the plain
+        // one for draws that need no mark (Marks::Ids, or nothing read).
+        let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline(device, true, true).0);
+        let (plain, camera_layout) = super::host_pipeline(device, true, false);
         let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let camera = init("camera", &[0u8; 64], wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
         let camera_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -60,7 +65,8 @@ impl Host {
             view_formats: &[],
         });
         Host {
-            pipeline,
+            marking,
+            plain,
             camera,
             camera_bind,
             vertices: init("vertices", bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX),
@@ -118,7 +124,7 @@ impl Host {
         let mut lists = Vec::new();
         view.cull(culler, enc, &FrameInput { view: desc, targets: self.targets(), cut, time: 0.0 }, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
             let mut pass = self.pass(enc, false);
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(if draw.mark { self.marking.as_ref().expect("a mark asked for without early-Z") } else { &self.plain });
             pass.set_bind_group(0, &self.camera_bind, &[]);
             pass.set_vertex_buffer(0, self.vertices.slice(..));
             pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);

@@ -42,9 +42,10 @@ use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
 use crate::gpu::{dispatch_size, Gpu};
+use crate::id_marks::MarkTarget;
 use crate::reflect::Layout;
 use crate::shaders::source as shader_source;
-use crate::shaders::BoxDepth;
+use crate::shaders::BoxTarget;
 use stall_free::{Counted, StallFree};
 
 /// The deepest BVH HROC walks: its traversal stacks hold depth + 2
@@ -85,8 +86,8 @@ pub struct Hroc {
     compactor: Compactor,
     v_job: CompactJob,
     u_job: CompactJob,
-    marks_o: wgpu::BindGroup,
-    marks_d: wgpu::BindGroup,
+    marks_o: MarkTarget,
+    marks_d: MarkTarget,
     test_bind: wgpu::BindGroup,
     extract: Step,
     collect: Step,
@@ -96,9 +97,9 @@ pub struct Hroc {
     filter_stride: u32,
     seed: Step,
     boxes: wgpu::RenderPipeline,
-    /// Without read-only depth attachments: the colour target the test
-    /// binds in place of the depth attachment (`MANUAL_DEPTH`).
-    manual: Option<wgpu::TextureView>,
+    /// What the batch test renders into: the depth, or without early-Z
+    /// marks or read-only depth a colour target (`MANUAL_DEPTH`).
+    test_target: BoxTarget,
     /// With a test scale above 1: the blocks' occlusion map and the pass that reduces the host's depth to it.
     blocks: Option<Blocks>,
     last: SetSizes,
@@ -212,27 +213,12 @@ impl Hroc {
         });
         let test_pl = crate::reflect::pipeline_layout(gpu, "hroc test", &test_layout);
         let test_depth = (blocks.as_ref().map_or(cx.targets.depth_format, |_| BLOCK_FORMAT), cx.targets.depth);
-        // Without read-only depth attachments, the test binds none and
-        // compares each fragment itself, into a colour target nothing writes.
-        let manual = (!cx.capabilities.read_only_depth).then(|| {
-            let (w, h) = cx.targets.size;
-            let (w, h) = if blocks.is_some() { (w / scale, h / scale) } else { (w, h) };
-            gpu.device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some("hroc test target"),
-                    size: wgpu::Extent3d { width: w.max(1), height: h.max(1), depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: crate::shaders::MANUAL_TARGET,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
-        });
-        let mode = if manual.is_some() { BoxDepth::Manual } else { BoxDepth::Test };
-        let constants = [("TEST_SCALE", scale as f64), ("MANUAL_DEPTH", manual.is_some() as u32 as f64)];
-        let boxes = crate::shaders::box_pipeline(gpu, "hroc boxes", &test_pl, &test_module, ("box_vs", Some("box_fs")), test_depth, mode, &constants);
+        // Without early-Z marks or read-only depth attachments, the test
+        // binds no depth and compares each fragment itself.
+        let (w, h) = cx.targets.size;
+        let test_target = BoxTarget::new(gpu, cx.capabilities, if blocks.is_some() { (w / scale, h / scale) } else { (w, h) });
+        let constants = [("TEST_SCALE", scale as f64), ("MANUAL_DEPTH", test_target.manual_depth())];
+        let boxes = crate::shaders::box_pipeline(gpu, "hroc boxes", &test_pl, &test_module, ("box_vs", Some("box_fs")), test_depth, test_target.mode(), &constants);
         let round_count = cx.options.hroc_rounds.clamp(1, MAX_ROUNDS);
         let rounds = (round_count > 1).then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, occlusion_map, round_count, &occludees, &u_list, &compactor));
         let occluder_rounds =
@@ -281,7 +267,7 @@ impl Hroc {
             u_job,
             test_bind,
             boxes,
-            manual,
+            test_target,
             blocks,
             last: SetSizes::default(),
             seed_mode: cx.options.hroc_seed,
@@ -319,7 +305,7 @@ impl Hroc {
     }
 
     /// Hands `list` to the host, and with SF its overflow list after it.
-    fn draw_list(&self, f: &mut Frame, phase: Phase, which: Counted, list: &DrawList, marks: &wgpu::BindGroup) {
+    fn draw_list(&self, f: &mut Frame, phase: Phase, which: Counted, list: &DrawList, marks: &MarkTarget) {
         if list.max_count > 0 {
             f.draw(phase, list, Some(marks));
         }
@@ -398,23 +384,7 @@ impl CullMethod for Hroc {
             }
             let emulated = f.draw_count() == DrawCount::Emulated;
             let (enc, q) = f.counted();
-            let manual = self.manual.as_ref().map(|view| wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Discard },
-            });
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hroc occlusion test"),
-                color_attachments: if manual.is_some() { std::slice::from_ref(&manual) } else { &[] },
-                depth_stencil_attachment: match self.manual {
-                    Some(_) => None,
-                    None => Some(wgpu::RenderPassDepthStencilAttachment { view: depth_view, depth_ops: None, stencil_ops: None }),
-                },
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = self.test_target.begin(enc, "hroc occlusion test", depth_view);
             q.around(&mut pass, |pass| {
                 pass.set_pipeline(&self.boxes);
                 pass.set_bind_group(0, &self.test_bind, &[]);

@@ -74,7 +74,7 @@ pub struct Ioc {
     compactor: Compactor,
     v_job: CompactJob,
     u_job: CompactJob,
-    marks_next: wgpu::BindGroup,
+    marks_next: crate::id_marks::MarkTarget,
     last: IocCounts,
     debug: bool,
     debug_queues: Vec<Vec<u32>>,

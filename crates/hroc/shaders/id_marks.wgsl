@@ -1,0 +1,20 @@
+// ID marks (`Marks::Ids`, for devices without forced early-Z): after an
+// occluding list, every object that owns a pixel of the object-ID target
+// (the host writes object index + 1, 0 where nothing is drawn) is marked,
+// where a fragment shader would call `hroc_mark` under early-Z. One thread
+// per pixel.
+
+@group(0) @binding(0) var ids: texture_2d<u32>;
+@group(0) @binding(1) var<storage, read_write> marks: array<u32>;
+
+@compute @workgroup_size(16, 16)
+fn mark_ids(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let size = textureDimensions(ids);
+    if gid.x >= size.x || gid.y >= size.y {
+        return;
+    }
+    let id = textureLoad(ids, gid.xy, 0).r;
+    if id != 0u && id <= arrayLength(&marks) {
+        marks[id - 1u] = 1u;
+    }
+}

@@ -1,0 +1,67 @@
+//! Visibility marks read from the object-ID target ([`Marks::Ids`]): where
+//! a device has no forced early-Z (DX12, Metal), the host's fragment
+//! shaders cannot mark their objects, so after each occluding list whose
+//! marks a method reads, one compute pass marks every object that owns a
+//! pixel of the ID target (`id_marks.wgsl`).
+//!
+//! The marks then mean "owns a pixel after this list" rather than "had a
+//! fragment pass the depth test while drawn": a subset (an object
+//! overdrawn later in the frame, or by a later object of the same list,
+//! is not marked). Every method that reads marks stays conservative with
+//! the subset: an unmarked object is only left out of the next frame's
+//! occluders and tested like any other (`roc`, `ioc`, HROC's O and D).
+//!
+//! [`Marks::Ids`]: crate::Marks::Ids
+
+use crate::gpu::Gpu;
+use crate::reflect::{pipeline_layout, Layout};
+
+/// The ID-marks pass, built once per culler.
+#[derive(Clone, Debug)]
+pub(crate) struct IdMarks {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+impl IdMarks {
+    pub(crate) fn new(gpu: &Gpu) -> IdMarks {
+        let module = gpu.shader("id_marks.wgsl", &crate::shaders::source("id_marks.wgsl"));
+        let layout = Layout::IdMarks.create(gpu);
+        let pipeline = gpu.compute_pipeline(&module, "mark_ids", Some(&pipeline_layout(gpu, Layout::IdMarks.label(), &layout)), &[]);
+        IdMarks { pipeline, layout }
+    }
+
+    /// The pass from `ids` (an `R32Uint` view, `size` pixels) into `marks`.
+    pub(crate) fn bind(&self, gpu: &Gpu, ids: &wgpu::TextureView, size: (u32, u32), marks: &wgpu::Buffer) -> IdPass {
+        let bind = Layout::IdMarks.bind(gpu, &self.layout, &[(0, wgpu::BindingResource::TextureView(ids)), (1, marks.as_entire_binding())]);
+        IdPass { pipeline: self.pipeline.clone(), bind, size }
+    }
+}
+
+/// One method's ID-marks pass into one marks buffer.
+#[derive(Clone, Debug)]
+pub struct IdPass {
+    pipeline: wgpu::ComputePipeline,
+    bind: wgpu::BindGroup,
+    size: (u32, u32),
+}
+
+impl IdPass {
+    /// Records the pass: one thread per pixel of the ID target.
+    pub(crate) fn record<'p>(&self, pass: &mut wgpu::ComputePass<'p>) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.bind, &[]);
+        pass.dispatch_workgroups(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
+    }
+}
+
+/// Where the host's draws of a list mark their objects, as the culler
+/// runs: in the fragment shader ([`crate::Marks::EarlyZ`]), or by the
+/// culler's pass over the ID target after the list ([`crate::Marks::Ids`]).
+#[derive(Clone, Debug)]
+pub enum MarkTarget {
+    /// The marks bind group the host binds ([`crate::marks_wgsl`]).
+    Host(wgpu::BindGroup),
+    /// The pass that marks from the ID target; the host binds a sink.
+    Ids(IdPass),
+}
