@@ -22,7 +22,8 @@ pub enum Backend {
 }
 
 impl Backend {
-    fn wgpu(self) -> wgpu::Backends {
+    /// The wgpu backend set of this one backend.
+    pub fn wgpu(self) -> wgpu::Backends {
         match self {
             Backend::Vulkan => wgpu::Backends::VULKAN,
             Backend::Gl => wgpu::Backends::GL,
@@ -60,7 +61,8 @@ impl std::fmt::Display for Backend {
 /// What the culler runs with (`--tier`): a preset of [`hroc::Capabilities`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Tier {
-    /// [`hroc::Capabilities::FULL`]: the indirect draw count and forced early-Z.
+    /// [`hroc::Capabilities::FULL`]: the indirect draw count, early-Z marks
+    /// and read-only depth attachments.
     Full,
     /// [`hroc::Capabilities::PORTABLE`]: what every backend has.
     Portable,
@@ -147,8 +149,8 @@ impl Headless {
 
     /// As [`Headless::new`], on the adapters of `instance`: a window's surface
     /// can only present what a device of its own instance renders (the viewer).
-    pub fn with_instance(instance: &wgpu::Instance) -> Result<Headless> {
-        pollster::block_on(Self::new_async(instance, Backend::Vulkan))
+    pub fn with_instance(instance: &wgpu::Instance, backend: Backend) -> Result<Headless> {
+        pollster::block_on(Self::new_async(instance, backend))
     }
 
     async fn new_async(instance: &wgpu::Instance, backend: Backend) -> Result<Headless> {

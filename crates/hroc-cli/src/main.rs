@@ -85,9 +85,10 @@ struct SceneArgs {
     /// Graphics API: `vulkan`, or `gl` (OpenGL through EGL, no display).
     #[arg(long, default_value_t = Backend::Vulkan)]
     backend: Backend,
-    /// What the culler runs with: `full` (the indirect draw count and
-    /// forced early-Z) or `portable` (an emulated count, no forced
-    /// early-Z); the most the device allows when omitted.
+    /// What the culler runs with: `full` (the indirect draw count, early-Z
+    /// marks, read-only depth attachments) or `portable` (an emulated
+    /// count, ID marks, box tests that load depth: what every backend
+    /// has); the most the device allows when omitted.
     #[arg(long)]
     tier: Option<Tier>,
     #[command(flatten)]

@@ -107,18 +107,22 @@ fn hroc(dir: &Path, args: &[&str], display: Option<&str>, limit: Duration) -> (E
 fn viewer_renders_frames_and_saves_a_screenshot_under_xvfb() {
     let dir = TempDir::new("viewer");
     let x = Xvfb::start(&dir.0.join("xvfb.log"));
-    let shot = dir.0.join("shot.png");
-    let args = ["view", "radial-city", "--objects", "2000", "--frames", "10", "--screenshot", shot.to_str().unwrap()];
-    let (status, output) = hroc(&dir.0, &args, Some(&x.display), Duration::from_secs(300));
-    assert!(status.success(), "hroc view failed ({status}): {output}");
+    // Vulkan with the most it allows, and GL on the portable tier.
+    for (name, device) in [("vulkan", &[][..]), ("gl-portable", &["--backend", "gl", "--tier", "portable"][..])] {
+        let shot = dir.0.join(format!("shot-{name}.png"));
+        let mut args = vec!["view", "radial-city", "--objects", "2000", "--frames", "10", "--screenshot", shot.to_str().unwrap()];
+        args.extend_from_slice(device);
+        let (status, output) = hroc(&dir.0, &args, Some(&x.display), Duration::from_secs(300));
+        assert!(status.success(), "hroc view {name} failed ({status}): {output}");
 
-    let img = image::open(&shot).unwrap_or_else(|e| panic!("{}: {e}", shot.display())).to_rgba8();
-    assert_eq!(img.dimensions(), WINDOW, "screenshot is not the window's size");
-    // The scene was drawn: sky, ground and many buildings, not one flat colour.
-    let mut colours: Vec<[u8; 4]> = img.pixels().map(|p| p.0).collect();
-    colours.sort_unstable();
-    colours.dedup();
-    assert!(colours.len() >= 8, "screenshot has {} colours", colours.len());
+        let img = image::open(&shot).unwrap_or_else(|e| panic!("{}: {e}", shot.display())).to_rgba8();
+        assert_eq!(img.dimensions(), WINDOW, "{name}: screenshot is not the window's size");
+        // The scene was drawn: sky, ground and many buildings, not one flat colour.
+        let mut colours: Vec<[u8; 4]> = img.pixels().map(|p| p.0).collect();
+        colours.sort_unstable();
+        colours.dedup();
+        assert!(colours.len() >= 8, "{name}: screenshot has {} colours", colours.len());
+    }
 }
 
 #[test]

@@ -25,6 +25,27 @@ fn every_shader_validates() {
     }
 }
 
+/// Without early-Z (DX12 and Metal lack `SHADER_EARLY_DEPTH_TEST`, and
+/// wgpu then rejects the attribute), every pass still validates once the
+/// attribute is dropped, as the culler drops it there; with it left in,
+/// the passes that use it fail, so the check can fail.
+#[test]
+fn every_shader_validates_without_early_z() {
+    use hroc::testing::gpu::without_early_z;
+    let caps = naga::valid::Capabilities::all() - naga::valid::Capabilities::EARLY_DEPTH_TEST;
+    let check = |source: &str| naga::valid::Validator::new(naga::valid::ValidationFlags::all(), caps).validate(&naga::front::wgsl::parse_str(source).unwrap()).is_ok();
+    let mut using = 0;
+    for (name, _) in SHADERS {
+        let source = shader_source(name);
+        assert!(check(&without_early_z(&source)), "{name} fails to validate without early-Z");
+        if source.contains("@early_depth_test(force)") {
+            using += 1;
+            assert!(!check(&source), "{name} validates with early-Z on a device without it");
+        }
+    }
+    assert!(using >= 2, "roc_boxes.wgsl and hroc_test.wgsl force early-Z");
+}
+
 /// Every pass's layouts come from its WGSL: each reflects, a binding has
 /// one type in all of a pass's entry points, and an entry is visible to
 /// exactly the stages that use it.

@@ -1,10 +1,14 @@
 //! Renders the demo (a generated city, a wall, two blended panels) with the
 //! forward host, culled by hroc, headless to PNG.
 //!
-//! `cargo run --release -p hroc-forward-host --example forward_host -- [METHOD] [OUT.png]`
+//! `cargo run --release -p hroc-forward-host --example forward_host -- [METHOD] [OUT.png] [--backend vulkan|gl] [--tier full|portable]`
+//!
+//! `--tier portable` runs hroc with an emulated draw count and ID marks
+//! ([`hroc::Capabilities::PORTABLE`], what DX12 and Metal need), and the
+//! host's opaque fragment shader then has no hroc line.
 
-use hroc::{DepthRange, Method};
-use hroc_forward_host::{open_device, Demo, ForwardHost};
+use hroc::{Capabilities, DepthRange, Method};
+use hroc_forward_host::{open_device_on, Demo, ForwardHost};
 
 fn main() -> std::process::ExitCode {
     match run() {
@@ -17,13 +21,34 @@ fn main() -> std::process::ExitCode {
 }
 
 fn run() -> Result<(), String> {
+    let (mut positional, mut backends, mut capabilities) = (Vec::new(), wgpu::Backends::all(), None);
     let mut args = std::env::args().skip(1);
-    let method: Method = args.next().as_deref().unwrap_or("hroc").parse().map_err(|e: hroc::Error| e.to_string())?;
-    let out = args.next().unwrap_or_else(|| "forward_host.png".into());
-    let (device, queue) = open_device()?;
+    while let Some(arg) = args.next() {
+        match arg.as_str() {
+            "--backend" => {
+                backends = match args.next().as_deref() {
+                    Some("vulkan") => wgpu::Backends::VULKAN,
+                    Some("gl") => wgpu::Backends::GL,
+                    other => return Err(format!("--backend takes vulkan or gl, not {other:?}")),
+                }
+            }
+            "--tier" => {
+                capabilities = match args.next().as_deref() {
+                    Some("full") => None,
+                    Some("portable") => Some(Capabilities::PORTABLE),
+                    other => return Err(format!("--tier takes full or portable, not {other:?}")),
+                }
+            }
+            _ => positional.push(arg),
+        }
+    }
+    let mut positional = positional.into_iter();
+    let method: Method = positional.next().as_deref().unwrap_or("hroc").parse().map_err(|e: hroc::Error| e.to_string())?;
+    let out = positional.next().unwrap_or_else(|| "forward_host.png".into());
+    let (device, queue) = open_device_on(backends)?;
     let demo = Demo::new(3000, 16)?;
     let size = (640, 360);
-    let mut host = ForwardHost::new(&device, &queue, &demo.scene, size, method, DepthRange::Reversed).map_err(|e| e.to_string())?;
+    let mut host = ForwardHost::new(&device, &queue, &demo.scene, size, method, DepthRange::Reversed, capabilities).map_err(|e| e.to_string())?;
     // The picture: the last frame before the cut (the wall, the blended panel
     // in front of it; the one behind it culled).
     let mut shown = None;

@@ -10,7 +10,7 @@
 //! opaque or the blended pipeline by [`hroc::Phase`].
 
 use glam::{Mat4, Vec2, Vec3};
-use hroc::{Culler, CullerDesc, DepthRange, FrameInput, Method, ObjectDesc, ObjectFlags, Phase, View, ViewDesc, ViewTargets};
+use hroc::{Capabilities, Culler, CullerDesc, DepthRange, FrameInput, Marks, Method, ObjectDesc, ObjectFlags, Phase, View, ViewDesc, ViewTargets};
 use hroc_scene::Scene;
 
 mod readback;
@@ -175,8 +175,17 @@ fn texture(device: &wgpu::Device, (w, h): (u32, u32), format: wgpu::TextureForma
 }
 
 impl ForwardHost {
-    /// Uploads the scene and builds the pipelines; `method` culls it.
-    pub fn new(device: &wgpu::Device, queue: &wgpu::Queue, scene: &HostScene, size: (u32, u32), method: Method, depth_range: DepthRange) -> hroc::Result<ForwardHost> {
+    /// Uploads the scene and builds the pipelines; `method` culls it, with
+    /// `capabilities` (`None`: the most the device allows).
+    pub fn new(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &HostScene,
+        size: (u32, u32),
+        method: Method,
+        depth_range: DepthRange,
+        capabilities: Option<Capabilities>,
+    ) -> hroc::Result<ForwardHost> {
         use wgpu::util::DeviceExt;
         use wgpu::BufferUsages as U;
         let init = |label, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
@@ -193,7 +202,7 @@ impl ForwardHost {
         });
 
         // hroc: the culler over the host's objects, and one view.
-        let culler = Culler::new(device, queue, &CullerDesc::new(&scene.objects))?;
+        let culler = Culler::new(device, queue, &CullerDesc { capabilities, ..CullerDesc::new(&scene.objects) })?;
         let (depth, ids, color) = (texture(device, size, DEPTH, "depth"), texture(device, size, IDS, "ids"), texture(device, size, COLOR, "color"));
         let view = culler.view(method, &ViewTargets { depth: &depth, depth_range, ids: Some(&ids) })?;
 
@@ -220,8 +229,17 @@ impl ForwardHost {
                 wgpu::BindGroupEntry { binding: 2, resource: seen.as_entire_binding() },
             ],
         });
-        // hroc: the marks snippet at group 1 and the culler's marks layout there.
-        let source = format!("{}\n{}", include_str!("shader.wgsl"), hroc::marks_wgsl(1));
+        // hroc: with early-Z marks, the marking fragment stage and the marks
+        // snippet at group 1; with ID marks, nothing. The culler's marks
+        // layout is at group 1 either way (its draws bind a sink there).
+        let marks = culler.capabilities().marks;
+        let mut source = include_str!("shader.wgsl").to_string();
+        if marks == Marks::EarlyZ {
+            source += &format!("\n{}\n{}", include_str!("marked.wgsl"), hroc::marks_wgsl(1));
+        }
+        if !device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST) {
+            source = source.replace("@early_depth_test(force)", "");
+        }
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("forward"), source: wgpu::ShaderSource::Wgsl(source.into()) });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("forward"),
@@ -254,7 +272,11 @@ impl ForwardHost {
                 multisample: Default::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
-                    entry_point: Some(if blend { "fs_blend" } else { "fs_opaque" }),
+                    entry_point: Some(match (blend, marks) {
+                        (true, _) => "fs_blend",
+                        (false, Marks::EarlyZ) => "fs_opaque_marked",
+                        (false, Marks::Ids) => "fs_opaque",
+                    }),
                     compilation_options: Default::default(),
                     targets: &targets,
                 }),
@@ -360,6 +382,11 @@ impl ForwardHost {
             self.queue.write_buffer(&self.instances, i as u64 * std::mem::size_of::<Instance>() as u64, bytemuck::bytes_of(&inst));
         }
         Ok(())
+    }
+
+    /// What the culler runs with.
+    pub fn capabilities(&self) -> Capabilities {
+        self.culler.capabilities()
     }
 
     /// Width and height.

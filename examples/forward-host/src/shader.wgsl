@@ -1,7 +1,8 @@
 // The forward host's own shader: interleaved position/normal/uv, one
 // transform and material per instance (instance_index = hroc's object
-// index), Lambert lighting with a checker from the uvs. hroc's marks snippet
-// is appended at group 1 (hroc::marks_wgsl(1)).
+// index), Lambert lighting with a checker from the uvs. With hroc's
+// early-Z marks, marked.wgsl and hroc's marks snippet (hroc::marks_wgsl(1),
+// group 1) are appended; with ID marks, this file is the whole shader.
 
 struct Camera {
     view_proj: mat4x4<f32>,
@@ -56,10 +57,8 @@ struct Opaque {
     @location(1) id: u32,
 }
 
-// Opaque: forced early-Z (hroc's contract), marks, object IDs for OF.
-@fragment @early_depth_test(force)
-fn fs_opaque(in: VsOut) -> Opaque {
-    hroc_mark(in.object);
+// Opaque: object IDs (hroc's ID marks and OF read them).
+fn opaque(in: VsOut) -> Opaque {
     seen[in.object] = 1u;
     var out: Opaque;
     out.color = shade(in);
@@ -67,8 +66,14 @@ fn fs_opaque(in: VsOut) -> Opaque {
     return out;
 }
 
+@fragment
+fn fs_opaque(in: VsOut) -> Opaque {
+    return opaque(in);
+}
+
 // Alpha-blended: depth test on, no depth writes; the pipeline masks the ID
-// target off.
+// target off. Forced early-Z keeps `seen` exact; on a device without it
+// (DX12, Metal) the attribute is dropped and `seen` may over-count.
 @fragment @early_depth_test(force)
 fn fs_blend(in: VsOut) -> Opaque {
     seen[in.object] = 1u;

@@ -2,11 +2,11 @@
 //! renderer that is not hroc's, culling through the public API only,
 //! checked against the same host drawing everything (`noc`): 0 false
 //! negatives, 0 missing pixels, for standard finite and reversed infinite
-//! depth, across a camera cut, on both backends. The blended
+//! depth, across a camera cut, on both backends and on both tiers. The blended
 //! panel behind the wall is culled; the one in front is drawn and hides
 //! nothing.
 
-use hroc::{DepthRange, Method};
+use hroc::{Capabilities, DepthRange, Method};
 use hroc_forward_host::{open_device, open_device_on, Demo, ForwardHost};
 
 const SIZE: (u32, u32) = (192, 108);
@@ -19,22 +19,34 @@ fn run(host: &mut ForwardHost, view: glam::Mat4, proj: glam::Mat4, cut: bool) ->
 
 #[test]
 fn forward_host_culls_conservatively() {
-    culls_conservatively(wgpu::Backends::VULKAN);
+    culls_conservatively(wgpu::Backends::VULKAN, None);
 }
 
 #[test]
 fn forward_host_culls_conservatively_on_gl() {
-    culls_conservatively(wgpu::Backends::GL);
+    culls_conservatively(wgpu::Backends::GL, None);
 }
 
-fn culls_conservatively(backends: wgpu::Backends) {
+/// The portable tier (an emulated count, ID marks: what DX12 and Metal
+/// need), with the host's opaque shader free of hroc lines, on both
+/// backends.
+#[test]
+fn forward_host_culls_conservatively_portable() {
+    culls_conservatively(wgpu::Backends::VULKAN, Some(Capabilities::PORTABLE));
+    culls_conservatively(wgpu::Backends::GL, Some(Capabilities::PORTABLE));
+}
+
+fn culls_conservatively(backends: wgpu::Backends, capabilities: Option<Capabilities>) {
     let (device, queue) = open_device_on(backends).expect("a Vulkan adapter (scripts/ensure-vulkan.sh) and GL through EGL (scripts/ensure-gl.sh)");
     let demo = Demo::new(1500, 16).unwrap();
     let aspect = SIZE.0 as f32 / SIZE.1 as f32;
     for depth in [DepthRange::Standard, DepthRange::Reversed] {
-        let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth).unwrap();
-        for method in [Method::HROC, Method::Hzb, Method::Hroc(hroc::Variant::NA), Method::Hroc(hroc::Variant::SF_OF)] {
-            let mut host = ForwardHost::new(&device, &queue, &demo.scene, SIZE, method, depth).unwrap();
+        let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth, capabilities).unwrap();
+        for method in [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant::NA), Method::Hroc(hroc::Variant::SF_OF)] {
+            let mut host = ForwardHost::new(&device, &queue, &demo.scene, SIZE, method, depth, capabilities).unwrap();
+            if let Some(caps) = capabilities {
+                assert_eq!(host.capabilities(), caps);
+            }
             let (mut culled_behind, mut drawn_total, mut all_total) = (0, 0, 0);
             for k in 0..demo.cameras.len() {
                 let (view, proj) = demo.matrices(k, aspect, depth);
@@ -127,7 +139,7 @@ fn host_mistakes_are_clear_errors() {
 
 /// The host animates objects (a tenth of the city slides, the blended panel
 /// in front drifts sideways) through `Culler::set_bounds`: still 0 false
-/// negatives and 0 missing pixels on every frame.
+/// negatives and 0 missing pixels on every frame, on both tiers.
 #[test]
 fn animated_objects_stay_conservative() {
     let (device, queue) = open_device().expect("a Vulkan adapter");
@@ -142,10 +154,10 @@ fn animated_objects_stay_conservative() {
         m.push((g as u32, glam::Mat4::from_translation(glam::Vec3::new(1.5 * t.sin(), 0.0, 0.0)) * base[g]));
         m
     };
-    let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, DepthRange::Standard).unwrap();
+    let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, DepthRange::Standard, None).unwrap();
     let mut panel_seen = 0;
-    for method in [Method::HROC, Method::Hzb] {
-        let mut host = ForwardHost::new(&device, &queue, &demo.scene, SIZE, method, DepthRange::Standard).unwrap();
+    for (method, caps) in [(Method::HROC, None), (Method::Hzb, None), (Method::HROC, Some(Capabilities::PORTABLE)), (Method::Roc, Some(Capabilities::PORTABLE))] {
+        let mut host = ForwardHost::new(&device, &queue, &demo.scene, SIZE, method, DepthRange::Standard, caps).unwrap();
         for k in 0..demo.cameras.len() {
             let m = moves(k);
             truth.move_objects(&m).unwrap();
@@ -154,8 +166,8 @@ fn animated_objects_stay_conservative() {
             let t = run(&mut truth, view, proj, k == demo.cut);
             let f = run(&mut host, view, proj, k == demo.cut);
             let false_negatives: Vec<usize> = (0..t.visible.len()).filter(|&o| t.visible[o] && !f.drawn[o]).collect();
-            assert!(false_negatives.is_empty(), "{method} frame {k}: visible moving scene objects not drawn: {false_negatives:?}");
-            assert_eq!(t.depth.iter().zip(&f.depth).filter(|(a, b)| b > a).count(), 0, "{method} frame {k}: missing pixels");
+            assert!(false_negatives.is_empty(), "{method} {caps:?} frame {k}: visible moving scene objects not drawn: {false_negatives:?}");
+            assert_eq!(t.depth.iter().zip(&f.depth).filter(|(a, b)| b > a).count(), 0, "{method} {caps:?} frame {k}: missing pixels");
             panel_seen += t.visible[demo.glass_front] as usize;
         }
     }
@@ -166,24 +178,27 @@ fn animated_objects_stay_conservative() {
 
 /// The hard path (frame 0, cuts, the eye inside object and group boxes,
 /// boxes across the near plane) through the forward host, in both depth
-/// conventions, with no cut signal: 0 false negatives, 0 missing pixels.
+/// conventions, with no cut signal, on both tiers: 0 false negatives, 0
+/// missing pixels.
 #[test]
 fn hard_path_in_both_depth_conventions() {
     let (device, queue) = open_device().expect("a Vulkan adapter");
     let demo = Demo::new(1500, 12).unwrap();
     let aspect = SIZE.0 as f32 / SIZE.1 as f32;
     for depth in [DepthRange::Reversed, DepthRange::Standard] {
-        let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth).unwrap();
-        let mut hosts: Vec<ForwardHost> = [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant::NA)]
+        let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth, None).unwrap();
+        let methods = [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant::NA)];
+        let mut hosts: Vec<ForwardHost> = [None, Some(Capabilities::PORTABLE)]
             .into_iter()
-            .map(|m| ForwardHost::new(&device, &queue, &demo.scene, SIZE, m, depth).unwrap())
+            .flat_map(|caps| methods.map(|m| (m, caps)))
+            .map(|(m, caps)| ForwardHost::new(&device, &queue, &demo.scene, SIZE, m, depth, caps).unwrap())
             .collect();
         for k in 0..demo.hard.len() {
             let (view, proj) = demo.hard_matrices(k, aspect, depth);
             let t = run(&mut truth, view, proj, false);
             for host in hosts.iter_mut() {
                 let f = run(host, view, proj, false);
-                let label = format!("{} {depth:?} hard frame {k}", host.view.method());
+                let label = format!("{} {:?} {depth:?} hard frame {k}", host.view.method(), host.capabilities());
                 let false_negatives: Vec<usize> = (0..t.visible.len()).filter(|&o| t.visible[o] && !f.drawn[o]).collect();
                 assert!(false_negatives.is_empty(), "{label}: visible objects not drawn: {false_negatives:?}");
                 let missing = t.depth.iter().zip(&f.depth).filter(|(a, b)| if depth == DepthRange::Standard { b > a } else { b < a }).count();

@@ -17,7 +17,7 @@ use hroc::Method;
 use hroc_bench::bench::Session;
 use hroc_bench::bvh::Split;
 use hroc_bench::error::{Error, Result};
-use hroc_bench::gpu::Headless;
+use hroc_bench::gpu::{Backend, Headless, Tier};
 use hroc_bench::render::pictures::Picture;
 use hroc_bench::scene::CameraPath;
 
@@ -54,6 +54,13 @@ pub struct ViewArgs {
     /// JSON camera path file (keys of t, eye, target, up, fov_y_deg).
     #[arg(long)]
     pub camera_path: Option<PathBuf>,
+    /// Graphics API: `vulkan`, or `gl` (OpenGL).
+    #[arg(long, default_value_t = Backend::Vulkan)]
+    pub backend: Backend,
+    /// What the culler runs with: `full` or `portable` (as `hroc bench`);
+    /// the most the device allows when omitted.
+    #[arg(long)]
+    pub tier: Option<Tier>,
 }
 
 /// Opens the window and runs until it is closed (or `--frames` are done).
@@ -76,9 +83,10 @@ pub fn run(args: ViewArgs) -> Result<()> {
         Error::NoAdapter(format!("no display: run under X11/Wayland or Xvfb ({reason})"))
     })?;
     let mut desc = wgpu::InstanceDescriptor::new_with_display_handle_from_env(Box::new(event_loop.owned_display_handle()));
-    desc.backends = wgpu::Backends::VULKAN;
+    desc.backends = args.backend.wgpu();
     let instance = wgpu::Instance::new(desc);
-    let gpu = Headless::with_instance(&instance)?;
+    let mut gpu = Headless::with_instance(&instance, args.backend)?;
+    gpu.capabilities = args.tier.map(Tier::capabilities);
     let session = Session::new(&gpu, scene, path, 1, args.resolution, args.split)?;
     let opts = app::Options { method, view: args.view, frames: args.frames, screenshot: args.screenshot };
     let mut app = app::App::new(&instance, session, opts)?;
