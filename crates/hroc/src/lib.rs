@@ -33,12 +33,27 @@
 //! - **Device.** Request [`features`] and [`limits`] of the adapter. Every
 //!   culler needs [`REQUIRED_FEATURES`] (`first_instance` in indirect
 //!   draws: Vulkan, DX12, Metal, desktop GL 4.2+; not GLES or WebGL). It
-//!   runs with the [`Capabilities`] the device allows: the indirect draw
-//!   count where it exists (Vulkan, DX12), else an emulated one
-//!   ([`DrawCount`]); forced early-Z where it exists (Vulkan, GL), which
-//!   ROC, IOC and HROC need ([`Culler::serves`] refuses them by name
-//!   otherwise, with the reason; [`Culler::methods`] lists what it
-//!   serves). [`Culler::new`] and [`Culler::view`] name any missing
+//!   runs with the [`Capabilities`] the device allows (or those asked for
+//!   in [`CullerDesc::capabilities`]): the indirect draw count where it
+//!   exists, else an emulated one ([`DrawCount`]); visibility marks from
+//!   the host's fragment shaders under forced early-Z where it exists,
+//!   else from the object-ID target ([`Marks`]); box tests against a
+//!   read-only depth attachment, or against depth they load
+//!   ([`Capabilities::read_only_depth`]). By backend (wgpu 30):
+//!
+//!   | backend | count | marks | methods | the host provides |
+//!   |---|---|---|---|---|
+//!   | Vulkan | indirect | early-Z | all | `hroc_mark` in occluding fragment shaders; an ID target for OF |
+//!   | GL 4.3+ (desktop) | emulated | early-Z | all but HROC's rounds | as Vulkan |
+//!   | DX12 (untested) | indirect | IDs | all but HROC's rounds | an ID target for `roc`, `ioc` and HROC; no hroc line in its shaders |
+//!   | Metal (untested) | emulated | IDs | all but HROC's rounds | as DX12 |
+//!   | GLES, WebGL | refused: no `INDIRECT_FIRST_INSTANCE` | | | |
+//!
+//!   [`Capabilities::PORTABLE`] (an emulated count, ID marks) runs on any
+//!   of them. `ioc` needs 10 storage buffers per shader stage (wgpu's
+//!   default limit is 8). [`Culler::serves`] refuses what a culler cannot
+//!   run by name, with the reason, and [`Culler::methods`] lists what it
+//!   serves. [`Culler::new`] and [`Culler::view`] name any missing
 //!   feature, and any device limit below what is needed with the value
 //!   needed. [`TIMESTAMP_FEATURES`] add per-stage GPU times and
 //!   [`PIPELINE_STATISTICS_FEATURES`] per-stage shader invocations
@@ -79,21 +94,30 @@
 //!   before left, and the query methods test boxes against the depth
 //!   before their first list, so a clear inside the frame makes the
 //!   culler's next test cull what it would have hidden.
-//! - **Marks and forced early-Z.** The fragment shader of every occluding
-//!   phase is declared `@early_depth_test(force)` and calls `hroc_mark(object)`
-//!   from [`marks_wgsl`] when [`Draw::mark`] is set, with the [`Draw::marks`]
-//!   bind group at the group it names ([`marks_layout`], from the device
-//!   alone: pipelines come before the culler). To draw its own objects
-//!   through the same pipelines, the host binds [`Culler::sink_marks`]
-//!   there, which keeps no mark. Forced
-//!   early-Z keeps hidden fragments from running at all, so a mark means
-//!   "owns a fragment that passed" (HROC §3.1). A shader that discards
-//!   (alpha testing) cannot force early-Z: flag such objects
-//!   [`ObjectFlags::NOT_OCCLUDER`] or draw them in a separate pass.
+//! - **Marks.** Methods that read which objects a list drew visibly
+//!   ([`Method::reads_marks`]: `roc`, `ioc`, HROC) learn it one of two ways
+//!   ([`Capabilities::marks`]):
+//!   - [`Marks::EarlyZ`]: the fragment shader of every occluding phase is
+//!     declared `@early_depth_test(force)` and calls `hroc_mark(object)`
+//!     from [`marks_wgsl`] when [`Draw::mark`] is set, with the
+//!     [`Draw::marks`] bind group at the group it names ([`marks_layout`],
+//!     from the device alone: pipelines come before the culler). To draw
+//!     its own objects through the same pipelines, the host binds
+//!     [`Culler::sink_marks`] there, which keeps no mark. Forced early-Z
+//!     keeps hidden fragments from running at all, so a mark means "owns a
+//!     fragment that passed" (HROC §3.1). A shader that discards (alpha
+//!     testing) cannot force early-Z: flag such objects
+//!     [`ObjectFlags::NOT_OCCLUDER`] or draw them in a separate pass.
+//!   - [`Marks::Ids`]: [`Draw::mark`] is never set and the host's shaders
+//!     need no hroc line; the culler reads the object-ID target after each
+//!     occluding list whose marks it reads, so views of those methods need
+//!     one ([`ViewTargets::ids`]).
 //! - **Object IDs.** For HROC with occluder filtering (OF, §4.2; the default
-//!   [`Method::HROC`]), the host writes `object index + 1` to an `R32Uint`
-//!   target ([`ViewTargets::ids`]) in every occluding phase and clears it to 0
-//!   each frame. `hroc-na`, `hroc-cr` and `hroc-sf` need no ID target.
+//!   [`Method::HROC`]), and with [`Marks::Ids`] for every method that reads
+//!   marks, the host writes `object index + 1` to an `R32Uint` target
+//!   ([`ViewTargets::ids`]) in every occluding phase and clears it to 0
+//!   each frame. Otherwise `hroc-na`, `hroc-cr` and `hroc-sf` need no ID
+//!   target.
 //! - **Encoders.** A view records everything a frame writes into the
 //!   encoder it is handed (copies from a staging belt, never
 //!   `Queue::write_buffer`), and maps its read-backs when that encoder is
