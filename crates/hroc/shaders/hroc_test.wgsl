@@ -59,8 +59,24 @@ struct BoxOut {
     @location(0) @interpolate(flat) node: u32,
 }
 
+// One group box per draw command (the indirect draw count): the command's
+// first instance is the group.
 @vertex
 fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) node: u32) -> BoxOut {
+    return group_box(v, node);
+}
+
+// The groups as one instanced draw (an emulated draw count, where a
+// multi-draw costs a driver call per command slot): instance i is the
+// group of command i, as collected (hroc_groups.wgsl).
+@group(0) @binding(16) var<storage, read> groups: array<DrawArgs>;
+
+@vertex
+fn group_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) i: u32) -> BoxOut {
+    return group_box(v, groups[i].first_instance);
+}
+
+fn group_box(v: u32, node: u32) -> BoxOut {
     var n = BvhNode(vec3<f32>(0.0), 0u, vec3<f32>(0.0), 0u);
     if (node & LEAF_BIT) != 0u {
         let o = node & ~LEAF_BIT;

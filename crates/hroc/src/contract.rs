@@ -102,7 +102,9 @@ pub struct Draw<'a> {
     /// Bind at the host's marks group ([`marks_wgsl`]).
     pub marks: &'a wgpu::BindGroup,
     /// True when the method reads the marks: the fragment shader must call
-    /// `hroc_mark`. False: `marks` is a sink, and the host may skip marking.
+    /// `hroc_mark`. False: `marks` is a sink, and the host may skip marking
+    /// (always false with [`crate::Marks::Ids`], where the culler reads the
+    /// ID target instead).
     pub mark: bool,
     /// The pipeline-statistics slot of this draw, if the view counts.
     pub(crate) statistics: PassCount,

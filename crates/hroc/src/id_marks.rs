@@ -18,13 +18,14 @@ use crate::reflect::{pipeline_layout, Layout};
 
 /// The ID-marks pass, built once per culler.
 #[derive(Clone, Debug)]
-pub(crate) struct IdMarks {
+pub struct IdMarks {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
 }
 
 impl IdMarks {
-    pub(crate) fn new(gpu: &Gpu) -> IdMarks {
+    /// Builds the pass on `gpu`.
+    pub fn new(gpu: &Gpu) -> IdMarks {
         let module = gpu.shader("id_marks.wgsl", &crate::shaders::source("id_marks.wgsl"));
         let layout = Layout::IdMarks.create(gpu);
         let pipeline = gpu.compute_pipeline(&module, "mark_ids", Some(&pipeline_layout(gpu, Layout::IdMarks.label(), &layout)), &[]);
@@ -32,7 +33,7 @@ impl IdMarks {
     }
 
     /// The pass from `ids` (an `R32Uint` view, `size` pixels) into `marks`.
-    pub(crate) fn bind(&self, gpu: &Gpu, ids: &wgpu::TextureView, size: (u32, u32), marks: &wgpu::Buffer) -> IdPass {
+    pub fn bind(&self, gpu: &Gpu, ids: &wgpu::TextureView, size: (u32, u32), marks: &wgpu::Buffer) -> IdPass {
         let bind = Layout::IdMarks.bind(gpu, &self.layout, &[(0, wgpu::BindingResource::TextureView(ids)), (1, marks.as_entire_binding())]);
         IdPass { pipeline: self.pipeline.clone(), bind, size }
     }
@@ -48,7 +49,7 @@ pub struct IdPass {
 
 impl IdPass {
     /// Records the pass: one thread per pixel of the ID target.
-    pub(crate) fn record<'p>(&self, pass: &mut wgpu::ComputePass<'p>) {
+    pub fn record<'p>(&self, pass: &mut wgpu::ComputePass<'p>) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind, &[]);
         pass.dispatch_workgroups(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);

@@ -148,7 +148,7 @@ impl Layout {
             Layout::HrocSeed => &[("hroc_seed.wgsl", &[])],
             Layout::HrocGroups => &[("hroc_groups.wgsl", &[])],
             Layout::HrocNext => &[("hroc_next.wgsl", &[])],
-            Layout::HrocTest => &[("hroc_test.wgsl", &["box_vs", "box_fs"])],
+            Layout::HrocTest => &[("hroc_test.wgsl", &["box_vs", "group_vs", "box_fs"])],
             Layout::HrocRounds => &[("hroc_test.wgsl", ROUNDS)],
             Layout::HrocRoundsInit => &[("hroc_test.wgsl", ROUNDS), ("hroc_test.wgsl", &["rounds_init"])],
             Layout::HrocReduce => &[("hroc_test.wgsl", &["reduce_vs", "reduce_fs"])],

@@ -32,3 +32,8 @@ pub mod reflect {
 pub mod shaders {
     pub use crate::shaders::*;
 }
+
+/// Visibility marks read from the object-ID target.
+pub mod id_marks {
+    pub use crate::id_marks::*;
+}

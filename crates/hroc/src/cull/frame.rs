@@ -151,15 +151,6 @@ impl<'a> Frame<'a> {
         }
     }
 
-    /// With an emulated draw count, empties the commands `[count,
-    /// max_count)` of the culler's own list of `words`-u32 commands that
-    /// starts at command `first` of `commands` (HROC's group boxes).
-    pub fn empty_tail(&mut self, commands: &wgpu::Buffer, first: u32, count: &wgpu::Buffer, max_count: u32, words: u32) {
-        if let Some(tail) = self.tail.as_deref_mut() {
-            tail.record(self.gpu, self.encoder, self.uploads, commands, count, max_count, words, first);
-        }
-    }
-
     /// How lists are drawn up to their GPU count.
     pub fn draw_count(&self) -> DrawCount {
         self.draw_count

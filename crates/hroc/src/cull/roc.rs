@@ -20,7 +20,9 @@
 //!   3), like HROC's O ∪ D. A V object hidden by another V object drawn
 //!   before it still counts (early-Z is order-dependent), so V stays a
 //!   superset of what owns pixels; what is dropped from V had no visible
-//!   fragment and is tested again next frame.
+//!   fragment and is tested again next frame. With ID marks
+//!   ([`crate::Marks::Ids`]) V is exactly what owns a pixel after step 1
+//!   or 3, and the same holds.
 //!
 //! Both are conservative: an object owning a pixel is in V (drawn), or its
 //! box's front face at that pixel lies in front of its surface, which lies

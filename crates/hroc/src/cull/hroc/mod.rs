@@ -3,7 +3,9 @@
 //! 0. after a camera cut, V = the objects a coarse grid of rays meets
 //!    first (`hroc_seed.wgsl`);
 //! 1. occlusion map — draw V (last frame's visible set, packed in object
-//!    order) with forced early-Z; fragments mark the effective occluders O.
+//!    order) with forced early-Z; fragments mark the effective occluders O
+//!    (with ID marks, [`crate::Marks::Ids`], O is what owns a pixel of the
+//!    ID target after the draw: fewer objects, so more are tested);
 //!    With [`MethodOptions::hroc_occluder_rounds`](super::MethodOptions),
 //!    in one front-to-back round (as step 4's below): V's objects hidden
 //!    behind V's nearest are left for the test as occludees;
@@ -97,6 +99,8 @@ pub struct Hroc {
     filter_stride: u32,
     seed: Step,
     boxes: wgpu::RenderPipeline,
+    /// With an emulated draw count: the group boxes' instanced draw.
+    group_args: Option<wgpu::Buffer>,
     /// What the batch test renders into: the depth, or without early-Z
     /// marks or read-only depth a colour target (`MANUAL_DEPTH`).
     test_target: BoxTarget,
@@ -209,6 +213,7 @@ impl Hroc {
                 wgpu::BindGroupEntry { binding: 5, resource: ray_stats.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 6, resource: cx.bounds.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 15, resource: cx.oriented.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 16, resource: groups.as_entire_binding() },
             ],
         });
         let test_pl = crate::reflect::pipeline_layout(gpu, "hroc test", &test_layout);
@@ -218,7 +223,12 @@ impl Hroc {
         let (w, h) = cx.targets.size;
         let test_target = BoxTarget::new(gpu, cx.capabilities, if blocks.is_some() { (w / scale, h / scale) } else { (w, h) });
         let constants = [("TEST_SCALE", scale as f64), ("MANUAL_DEPTH", test_target.manual_depth())];
-        let boxes = crate::shaders::box_pipeline(gpu, "hroc boxes", &test_pl, &test_module, ("box_vs", Some("box_fs")), test_depth, test_target.mode(), &constants);
+        // With an emulated draw count, the groups are one instanced draw of
+        // `group_args` (36 vertices, |G| instances copied in each frame).
+        let group_args =
+            (cx.capabilities.draw_count == DrawCount::Emulated).then(|| gpu.buffer_init("hroc group draw", bytemuck::cast_slice(&[36u32, 0, 0, 0]), U::INDIRECT | U::COPY_DST));
+        let vertex = if group_args.is_some() { "group_vs" } else { "box_vs" };
+        let boxes = crate::shaders::box_pipeline(gpu, "hroc boxes", &test_pl, &test_module, (vertex, Some("box_fs")), test_depth, test_target.mode(), &constants);
         let round_count = cx.options.hroc_rounds.clamp(1, MAX_ROUNDS);
         let rounds = (round_count > 1).then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, occlusion_map, round_count, &occludees, &u_list, &compactor));
         let occluder_rounds =
@@ -268,6 +278,7 @@ impl Hroc {
             test_bind,
             boxes,
             test_target,
+            group_args,
             blocks,
             last: SetSizes::default(),
             seed_mode: cx.options.hroc_seed,
@@ -366,8 +377,16 @@ impl CullMethod for Hroc {
         }
         self.dispatch(f, "hroc extract groups", &self.extract, (ox, oy));
         self.dispatch(f, "hroc collect groups", &self.collect, dispatch_size(nodes, 256));
-        let max_groups = self.max_count(f, Counted::G, &self.group_count, nodes + n, Stage::GroupExtraction)?;
-        let over = self.sf.as_ref().and_then(|sf| sf.overflow(f, Counted::G));
+        // The group boxes are drawn up to |G| by the indirect count (from a
+        // bound: the capacity, CR's read-back or SF's estimate and its
+        // overflow), or as one instanced draw of |G| instances.
+        let (max_groups, over) = match &self.group_args {
+            Some(args) => {
+                f.encoder().copy_buffer_to_buffer(&self.group_count, 0, args, 4, Some(4));
+                (nodes + n, None)
+            }
+            None => (self.max_count(f, Counted::G, &self.group_count, nodes + n, Stage::GroupExtraction)?, self.sf.as_ref().and_then(|sf| sf.overflow(f, Counted::G))),
+        };
         // 3. Batch occlusion test against the occlusion map (read-only depth).
         f.stage(Stage::OcclusionTest);
         if max_groups > 0 || over.is_some() {
@@ -377,25 +396,20 @@ impl CullMethod for Hroc {
                 b.reduce(enc, &q);
             }
             let depth_view = self.blocks.as_ref().map_or(&targets.depth_attachment, |b| &b.view);
-            // Group boxes are `DrawArgs`, 4 words; the overflow follows the estimate.
-            f.empty_tail(&self.groups, 0, &self.group_count, max_groups, 4);
-            if let Some(over) = &over {
-                f.empty_tail(&self.groups, max_groups, &over.count, over.max_count, 4);
-            }
-            let emulated = f.draw_count() == DrawCount::Emulated;
             let (enc, q) = f.counted();
             let mut pass = self.test_target.begin(enc, "hroc occlusion test", depth_view);
             q.around(&mut pass, |pass| {
                 pass.set_pipeline(&self.boxes);
                 pass.set_bind_group(0, &self.test_bind, &[]);
-                let mut draw = |offset: u64, count: &wgpu::Buffer, max: u32| match emulated {
-                    true => pass.multi_draw_indirect(&self.groups, offset, max),
-                    false => pass.multi_draw_indirect_count(&self.groups, offset, count, 0, max),
-                };
-                draw(0, &self.group_count, max_groups);
-                if let Some(over) = over {
-                    // The groups past the estimate, from where the first draw stopped.
-                    draw(max_groups as u64 * 16, &over.count, over.max_count);
+                match &self.group_args {
+                    Some(args) => pass.draw_indirect(args, 0),
+                    None => {
+                        pass.multi_draw_indirect_count(&self.groups, 0, &self.group_count, 0, max_groups);
+                        if let Some(over) = over {
+                            // The groups past the estimate, from where the first draw stopped.
+                            pass.multi_draw_indirect_count(&self.groups, max_groups as u64 * 16, &over.count, 0, over.max_count);
+                        }
+                    }
                 }
             });
         }
