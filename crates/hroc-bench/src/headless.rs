@@ -58,22 +58,46 @@ impl std::fmt::Display for Backend {
     }
 }
 
-/// What the culler runs with (`--tier`): a preset of [`hroc::Capabilities`].
+/// What the culler runs with (`--tier`): a preset of [`hroc::Capabilities`],
+/// or what wgpu 30 gives a backend, asked for on any device.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Tier {
     /// [`hroc::Capabilities::FULL`]: the indirect draw count, early-Z marks
-    /// and read-only depth attachments.
+    /// and read-only depth attachments (Vulkan).
     Full,
-    /// [`hroc::Capabilities::PORTABLE`]: what every backend has.
+    /// What GL has: an emulated count, early-Z marks, no read-only depth
+    /// attachments (box tests load depth).
+    Gl,
+    /// What DX12 has: the indirect count, ID marks (no forced early-Z),
+    /// read-only depth attachments.
+    Dx12,
+    /// [`hroc::Capabilities::PORTABLE`]: what every backend has; for every
+    /// method and option, what Metal runs (an emulated count, ID marks).
     Portable,
 }
 
 impl Tier {
+    /// Every tier, in `--tier` order.
+    pub const ALL: [Tier; 4] = [Tier::Full, Tier::Gl, Tier::Dx12, Tier::Portable];
+
     /// The capabilities of the tier.
     pub fn capabilities(self) -> hroc::Capabilities {
+        use hroc::{Capabilities, DrawCount, Marks};
         match self {
-            Tier::Full => hroc::Capabilities::FULL,
-            Tier::Portable => hroc::Capabilities::PORTABLE,
+            Tier::Full => Capabilities::FULL,
+            Tier::Gl => Capabilities { draw_count: DrawCount::Emulated, marks: Marks::EarlyZ, read_only_depth: false },
+            Tier::Dx12 => Capabilities { draw_count: DrawCount::Indirect, marks: Marks::Ids, read_only_depth: true },
+            Tier::Portable => Capabilities::PORTABLE,
+        }
+    }
+
+    /// The tier's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Tier::Full => "full",
+            Tier::Gl => "gl",
+            Tier::Dx12 => "dx12",
+            Tier::Portable => "portable",
         }
     }
 }
@@ -81,20 +105,13 @@ impl Tier {
 impl std::str::FromStr for Tier {
     type Err = String;
     fn from_str(s: &str) -> std::result::Result<Tier, String> {
-        match s {
-            "full" => Ok(Tier::Full),
-            "portable" => Ok(Tier::Portable),
-            _ => Err(format!("unknown tier '{s}' (expected full or portable)")),
-        }
+        Tier::ALL.into_iter().find(|t| t.name() == s).ok_or_else(|| format!("unknown tier '{s}' (expected full, gl, dx12 or portable)"))
     }
 }
 
 impl std::fmt::Display for Tier {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(match self {
-            Tier::Full => "full",
-            Tier::Portable => "portable",
-        })
+        f.write_str(self.name())
     }
 }
 

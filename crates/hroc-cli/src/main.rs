@@ -86,9 +86,10 @@ struct SceneArgs {
     #[arg(long, default_value_t = Backend::Vulkan)]
     backend: Backend,
     /// What the culler runs with: `full` (the indirect draw count, early-Z
-    /// marks, read-only depth attachments) or `portable` (an emulated
-    /// count, ID marks, box tests that load depth: what every backend
-    /// has); the most the device allows when omitted.
+    /// marks, read-only depth attachments), `portable` (an emulated count,
+    /// ID marks, box tests that load depth: what every backend has, and
+    /// what Metal runs), or what wgpu 30 gives `gl` or `dx12`; the most the
+    /// device allows when omitted.
     #[arg(long)]
     tier: Option<Tier>,
     #[command(flatten)]

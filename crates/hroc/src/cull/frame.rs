@@ -107,6 +107,28 @@ impl<'a> Frame<'a> {
     /// objects it drew visibly are marked there (by the host's fragments
     /// under early-Z, or from the ID target after the draw).
     pub fn draw(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) {
+        self.draw_all(phase, &[list], marks);
+    }
+
+    /// [`Frame::draw`] of several lists of one phase, one after the other:
+    /// with ID marks, one pass over the ID target after the last marks
+    /// them all.
+    pub fn draw_all(&mut self, phase: Phase, lists: &[&DrawList], marks: Option<&MarkTarget>) {
+        for list in lists {
+            self.split_and_hand(phase, list, marks);
+        }
+        if let Some(MarkTarget::Ids(ids)) = marks {
+            if !lists.is_empty() {
+                self.work.id_passes += 1;
+                let (enc, q) = self.counted();
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc id marks"), timestamp_writes: None });
+                q.around(&mut pass, |pass| ids.record(pass));
+            }
+        }
+    }
+
+    /// Hands `list` to the host after the flag split, if the view has one.
+    fn split_and_hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) {
         let split;
         let split_count = if self.split.is_some() { self.pass_count() } else { PassCount::NONE };
         let list = match self.split.as_deref_mut() {
@@ -143,12 +165,6 @@ impl<'a> Frame<'a> {
         };
         self.host.draw(self.encoder, &draw);
         self.tally.count(self.gpu, self.encoder, self.uploads, list);
-        if let Some(MarkTarget::Ids(ids)) = marks {
-            self.work.id_passes += 1;
-            let (enc, q) = self.counted();
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc id marks"), timestamp_writes: None });
-            q.around(&mut pass, |pass| ids.record(pass));
-        }
     }
 
     /// How lists are drawn up to their GPU count.

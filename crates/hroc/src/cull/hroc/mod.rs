@@ -235,7 +235,9 @@ impl Hroc {
             cx.options.hroc_occluder_rounds.then(|| Rounds::new(gpu, cx, &test_module, scale, test_depth, occlusion_map, OCCLUDER_ROUNDS, &visible, &v_list, &compactor));
         let words = |bytes: usize| (bytes / 4) as u32;
         let command_words = words(std::mem::size_of::<crate::layout::DrawCommand>());
-        let sf = (variant.counters == Counters::StallFree).then(|| {
+        // With an emulated draw count every list is drawn to its capacity
+        // anyway: an estimate and its overflow would only add passes.
+        let sf = (variant.counters == Counters::StallFree && cx.capabilities.draw_count == DrawCount::Indirect).then(|| {
             let last = rounds.as_ref().map_or(&u_list, |r| &r.last.0);
             fn of(l: &DrawList, n: u32, words: u32) -> Option<(&wgpu::Buffer, &wgpu::Buffer, u32, u32)> {
                 Some((&l.commands, &l.count, n, words))
@@ -316,12 +318,23 @@ impl Hroc {
     }
 
     /// Hands `list` to the host, and with SF its overflow list after it.
-    fn draw_list(&self, f: &mut Frame, phase: Phase, which: Counted, list: &DrawList, marks: &MarkTarget) {
-        if list.max_count > 0 {
-            f.draw(phase, list, Some(marks));
-        }
-        if let Some(over) = self.sf.as_ref().and_then(|sf| sf.overflow(f, which)) {
-            f.draw(phase, &over, Some(marks));
+    /// With ID marks, one pass over the ID target marks both lists (none
+    /// without `marks`).
+    fn draw_list(&self, f: &mut Frame, phase: Phase, which: Counted, list: &DrawList, marks: Option<&MarkTarget>) {
+        // The overflow list holds the commands [estimate, count) of `list`,
+        // which its compaction wrote: it can be made before either is drawn.
+        let over = self.sf.as_ref().and_then(|sf| sf.overflow(f, which));
+        let lists: Vec<&DrawList> = [(list.max_count > 0).then_some(list), over.as_ref()].into_iter().flatten().collect();
+        f.draw_all(phase, &lists, marks);
+    }
+
+    /// Where step 4's lists mark D: nowhere with occluder filtering and ID
+    /// marks (OF reads the ID target itself, and D serves only the merge
+    /// OF replaces; |D| is then not kept).
+    fn d_marks(&self) -> Option<&MarkTarget> {
+        match (&self.marks_d, self.variant.of) {
+            (MarkTarget::Ids(_), true) => None,
+            (marks, _) => Some(marks),
         }
     }
 }
@@ -364,7 +377,7 @@ impl CullMethod for Hroc {
             self.rounds(f, r, RoundsOf::Occluders)?;
         } else {
             self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
-            self.draw_list(f, Phase::Occluders, Counted::V, &self.v_list, &self.marks_o);
+            self.draw_list(f, Phase::Occluders, Counted::V, &self.v_list, Some(&self.marks_o));
         }
         // 2. Occludee groups.
         f.stage(Stage::GroupExtraction);
@@ -422,7 +435,7 @@ impl CullMethod for Hroc {
             self.rounds(f, r, RoundsOf::Occludees)?;
         } else {
             self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
-            self.draw_list(f, Phase::Occludees, Counted::U, &self.u_list, &self.marks_d);
+            self.draw_list(f, Phase::Occludees, Counted::U, &self.u_list, self.d_marks());
         }
         // 5. Next frame's occluders.
         f.stage(Stage::Filtering);

@@ -58,8 +58,8 @@ impl Hroc {
     pub(super) fn rounds(&self, f: &mut Frame, r: &Rounds, of: RoundsOf) -> Result<()> {
         let n = self.n;
         let (stage, draw_stage, phase, marks, last_counted) = match of {
-            RoundsOf::Occluders => (Stage::OccluderRounds, Stage::OcclusionMap, Phase::Occluders, &self.marks_o, Counted::OccluderRest),
-            RoundsOf::Occludees => (Stage::OccludeeRounds, Stage::OccludeeRendering, Phase::Occludees, &self.marks_d, Counted::U),
+            RoundsOf::Occluders => (Stage::OccluderRounds, Stage::OcclusionMap, Phase::Occluders, Some(&self.marks_o), Counted::OccluderRest),
+            RoundsOf::Occludees => (Stage::OccludeeRounds, Stage::OccludeeRendering, Phase::Occludees, self.d_marks(), Counted::U),
         };
         let front_counted = |k| match of {
             RoundsOf::Occluders => Counted::OccluderFront,
