@@ -323,7 +323,7 @@ fn slots_capacity_and_rebuild_policy() {
         usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
         view_formats: &[],
     });
-    let targets = hroc::ViewTargets { depth: &depth, depth_range: hroc::DepthRange::Standard, ids: None };
+    let targets = hroc::ViewTargets::new(&depth, hroc::DepthRange::Standard);
     let mut view = c.view(hroc::Method::Vfc, &targets).unwrap();
     c.add_objects(&objects(10)).unwrap();
     assert_eq!(c.object_count(), 64);

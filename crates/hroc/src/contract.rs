@@ -143,15 +143,40 @@ impl<F: FnMut(&mut wgpu::CommandEncoder, &Draw<'_>)> DrawHost for F {
 /// The host's render targets of one view.
 #[derive(Clone, Copy, Debug)]
 pub struct ViewTargets<'a> {
-    /// The depth attachment the host draws into: usage `RENDER_ATTACHMENT |
-    /// TEXTURE_BINDING`, one sample, a depth format.
+    /// The depth texture the host draws into: usage `RENDER_ATTACHMENT |
+    /// TEXTURE_BINDING`, one sample, a depth format. The view uses one
+    /// layer and one mip of it ([`ViewTargets::layer`], [`ViewTargets::mip`]).
     pub depth: &'a wgpu::Texture,
     /// Which end of `depth` is near.
     pub depth_range: DepthRange,
-    /// The object-ID target: `R32Uint`, usage `TEXTURE_BINDING`, same size;
-    /// the host writes `object index + 1` for every occluding fragment and
-    /// clears it to 0 each frame. Needed by HROC with OF.
+    /// The object-ID target: `R32Uint`, usage `TEXTURE_BINDING`, the size
+    /// of the depth mip the view uses; the host writes `object index + 1`
+    /// for every occluding fragment and clears it to 0 each frame. Needed
+    /// by HROC with OF, and with [`crate::Marks::Ids`] by every method that
+    /// reads marks. The culler reads its layer 0, mip 0.
     pub ids: Option<&'a wgpu::Texture>,
+    /// The array layer (or cube face) of `depth` the view draws into.
+    pub layer: u32,
+    /// The mip level of `depth` the view draws into; the view's size is
+    /// that mip's.
+    pub mip: u32,
+}
+
+impl<'a> ViewTargets<'a> {
+    /// Layer 0, mip 0 of `depth`, without an ID target.
+    pub fn new(depth: &'a wgpu::Texture, depth_range: DepthRange) -> ViewTargets<'a> {
+        ViewTargets { depth, depth_range, ids: None, layer: 0, mip: 0 }
+    }
+
+    /// These targets with the object-ID target `ids`.
+    pub fn with_ids(self, ids: &'a wgpu::Texture) -> ViewTargets<'a> {
+        ViewTargets { ids: Some(ids), ..self }
+    }
+
+    /// These targets on `layer` and `mip` of the depth texture.
+    pub fn at(self, layer: u32, mip: u32) -> ViewTargets<'a> {
+        ViewTargets { layer, mip, ..self }
+    }
 }
 
 /// A view's targets as the methods bind them.
@@ -166,10 +191,12 @@ pub struct Targets {
     pub depth: DepthRange,
     /// The object-ID target, when the host has one.
     pub ids: Option<wgpu::TextureView>,
-    /// Width and height.
+    /// Width and height of the depth mip the view uses.
     pub size: (u32, u32),
     pub(super) depth_id: wgpu::Texture,
     pub(super) ids_id: Option<wgpu::Texture>,
+    pub(super) layer: u32,
+    pub(super) mip: u32,
 }
 
 impl Targets {
@@ -186,8 +213,11 @@ impl Targets {
         if d.sample_count() != 1 || d.dimension() != wgpu::TextureDimension::D2 {
             return bad("depth target must be 2D with one sample (resolve MSAA depth first)".into());
         }
-        // Layer 0, mip 0 is what the culler reads and draws against.
-        let size = (d.width(), d.height());
+        if t.layer >= d.depth_or_array_layers() || t.mip >= d.mip_level_count() {
+            return bad(format!("layer {} mip {} is outside the depth target ({} layers, {} mips)", t.layer, t.mip, d.depth_or_array_layers(), d.mip_level_count()));
+        }
+        let mip = d.size().mip_level_size(t.mip, d.dimension());
+        let size = (mip.width, mip.height);
         if let Some(ids) = t.ids {
             if ids.format() != wgpu::TextureFormat::R32Uint || !ids.usage().contains(U::TEXTURE_BINDING) || (ids.width(), ids.height()) != size {
                 return bad(format!(
@@ -202,30 +232,33 @@ impl Targets {
             }
         }
         Ok(Targets {
-            depth_attachment: d.create_view(&one_layer(wgpu::TextureAspect::All)),
-            depth_sampled: d.create_view(&one_layer(wgpu::TextureAspect::DepthOnly)),
+            depth_attachment: d.create_view(&subresource(wgpu::TextureAspect::All, t.layer, t.mip)),
+            depth_sampled: d.create_view(&subresource(wgpu::TextureAspect::DepthOnly, t.layer, t.mip)),
             depth_format: d.format(),
             depth: t.depth_range,
-            ids: t.ids.map(|i| i.create_view(&one_layer(wgpu::TextureAspect::All))),
+            ids: t.ids.map(|i| i.create_view(&subresource(wgpu::TextureAspect::All, 0, 0))),
             size,
             depth_id: d.clone(),
             ids_id: t.ids.cloned(),
+            layer: t.layer,
+            mip: t.mip,
         })
     }
 
     pub(super) fn same(&self, t: &ViewTargets) -> bool {
-        self.depth_id == *t.depth && self.ids_id.as_ref() == t.ids && self.depth == t.depth_range
+        self.depth_id == *t.depth && self.ids_id.as_ref() == t.ids && self.depth == t.depth_range && (self.layer, self.mip) == (t.layer, t.mip)
     }
 }
 
-/// A 2D view of layer 0, mip 0 (a depth array or a mipped target works).
-pub(super) fn one_layer(aspect: wgpu::TextureAspect) -> wgpu::TextureViewDescriptor<'static> {
+/// A 2D view of one layer and one mip (a depth array, a cube or a mipped
+/// target works).
+pub(super) fn subresource(aspect: wgpu::TextureAspect, layer: u32, mip: u32) -> wgpu::TextureViewDescriptor<'static> {
     wgpu::TextureViewDescriptor {
         dimension: Some(wgpu::TextureViewDimension::D2),
         aspect,
-        base_mip_level: 0,
+        base_mip_level: mip,
         mip_level_count: Some(1),
-        base_array_layer: 0,
+        base_array_layer: layer,
         array_layer_count: Some(1),
         ..Default::default()
     }

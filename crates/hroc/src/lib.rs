@@ -15,7 +15,7 @@
 //! // The device was requested with hroc::features(&adapter) and hroc::limits(&adapter).
 //! // Once: the objects (world box + the host's own indexed draw each), then a view.
 //! let culler = Culler::new(device, queue, &CullerDesc::new(objects))?;
-//! let targets = ViewTargets { depth, depth_range: DepthRange::Standard, ids: Some(ids) };
+//! let targets = ViewTargets::new(depth, DepthRange::Standard).with_ids(ids);
 //! let mut main_view = culler.view(Method::HROC, &targets)?;
 //! // Every frame: clear the targets, cull, draw what comes back, submit.
 //! let mut encoder = device.create_command_encoder(&Default::default());
@@ -149,8 +149,10 @@
 //!   past [`MethodOptions::cut_turn_deg`] or [`MethodOptions::cut_move`],
 //!   and HROC then seeds its occluders from a coarse ray grid
 //!   ([`MethodOptions::hroc_seed`]).
-//!   A view draws into one depth texture (layer 0, mip 0); handing it
-//!   another one rebuilds the view, as after a cut.
+//!   A view draws into one layer and one mip of a depth texture
+//!   ([`ViewTargets::at`]: a cascade of an array, a cube face, a mip),
+//!   sized by that mip; handing it another texture, layer or mip rebuilds
+//!   the view, as after a cut.
 //! - **Non-occluders.** [`ObjectFlags::NOT_OCCLUDER`] objects (blended
 //!   glass, particles) are culled like any other object but never enter the
 //!   occlusion map: they come back in [`Phase::NonOccluders`], last, to draw

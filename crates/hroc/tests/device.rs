@@ -30,7 +30,7 @@ fn default_limits_serve_every_method_but_ioc_and_name_what_ioc_needs() {
     assert!(served.contains(&Method::HROC) && served.contains(&Method::Hzb) && served.contains(&Method::Roc), "{served:?}");
     assert!(!served.contains(&Method::Ioc), "{served:?}");
     let depth = common::depth_texture(&device, 32);
-    let refused = culler.view(Method::Ioc, &ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None }).err().expect("ioc refused");
+    let refused = culler.view(Method::Ioc, &ViewTargets::new(&depth, DepthRange::Standard)).err().expect("ioc refused");
     let text = refused.to_string();
     assert!(matches!(refused, Error::MethodUnavailable { .. }), "{text}");
     assert!(text.contains("ioc") && text.contains("max_storage_buffers_per_shader_stage") && text.contains("at least 10") && text.contains("it is 8"), "{text}");
@@ -74,7 +74,7 @@ fn capabilities_follow_the_device() {
     let text = culler.serves_with(Method::HROC, &rounds).unwrap_err().to_string();
     assert!(text.contains("hroc") && text.contains("rounds") && text.contains("SHADER_EARLY_DEPTH_TEST"), "{text}");
     let depth = common::depth_texture(&device, 32);
-    let no_ids = ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None };
+    let no_ids = ViewTargets::new(&depth, DepthRange::Standard);
     let text = culler.view(Method::Roc, &no_ids).err().expect("roc without an ID target").to_string();
     assert!(text.contains("roc") && text.contains("ViewTargets::ids"), "{text}");
     assert!(culler.view(Method::RocAll, &no_ids).is_ok(), "roc-all reads no marks");

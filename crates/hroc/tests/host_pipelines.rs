@@ -69,12 +69,12 @@ fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
     };
     let objects = [object(0, 0.0), object(1, -4.0)];
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
-    let targets = ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None };
+    let targets = ViewTargets::new(&depth, DepthRange::Standard);
     let mut v = culler.view(Method::Hroc(hroc::Variant::NA), &targets).unwrap();
     for frame in 0..3 {
         let mut encoder = device.create_command_encoder(&Default::default());
         drop(pass(&mut encoder, &depth_view, wgpu::LoadOp::Clear(1.0)));
-        let input = FrameInput { view, targets: ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None }, cut: false, time: frame as f32 };
+        let input = FrameInput { view, targets: ViewTargets::new(&depth, DepthRange::Standard), cut: false, time: frame as f32 };
         v.cull(&culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
             let mut pass = pass(enc, &depth_view, wgpu::LoadOp::Load);
             pass.set_pipeline(&pipeline);

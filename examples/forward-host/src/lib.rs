@@ -204,7 +204,7 @@ impl ForwardHost {
         // hroc: the culler over the host's objects, and one view.
         let culler = Culler::new(device, queue, &CullerDesc { capabilities, ..CullerDesc::new(&scene.objects) })?;
         let (depth, ids, color) = (texture(device, size, DEPTH, "depth"), texture(device, size, IDS, "ids"), texture(device, size, COLOR, "color"));
-        let view = culler.view(method, &ViewTargets { depth: &depth, depth_range, ids: Some(&ids) })?;
+        let view = culler.view(method, &ViewTargets::new(&depth, depth_range).with_ids(&ids))?;
 
         let entry = |binding, ty, visibility| wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None };
         let storage = |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
@@ -323,12 +323,8 @@ impl ForwardHost {
         // Clear the targets (hroc does not touch them).
         drop(begin_pass(&mut encoder, &color_view, &ids_view, &depth_view, Some(self.depth_range)));
         let mut lists = Vec::new();
-        let input = FrameInput {
-            view: ViewDesc { view, proj, depth: self.depth_range },
-            targets: ViewTargets { depth: &self.depth, depth_range: self.depth_range, ids: Some(&self.ids) },
-            cut,
-            time: 0.0,
-        };
+        let input =
+            FrameInput { view: ViewDesc { view, proj, depth: self.depth_range }, targets: ViewTargets::new(&self.depth, self.depth_range).with_ids(&self.ids), cut, time: 0.0 };
         // hroc: cull, and draw each list it hands back with our own pipelines.
         self.view.cull(&self.culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
             let mut pass = begin_pass(enc, &color_view, &ids_view, &depth_view, None);

@@ -108,13 +108,13 @@ fn host_mistakes_are_clear_errors() {
     use wgpu::TextureUsages as U;
     let depth = tex(wgpu::TextureFormat::Depth32Float, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING);
     // HROC's occluder filtering without an ID target.
-    let no_ids = ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: None };
+    let no_ids = ViewTargets::new(&depth, DepthRange::Standard);
     let e = culler.view(Method::HROC, &no_ids).err().expect("OF needs IDs").to_string();
     assert!(e.contains("object-ID target"), "{e}");
     assert!(culler.view(Method::Hroc(hroc::Variant::CR), &no_ids).is_ok());
     // A depth target the culler cannot sample.
     let unsampled = tex(wgpu::TextureFormat::Depth32Float, U::RENDER_ATTACHMENT);
-    let e = culler.view(Method::Hzb, &ViewTargets { depth: &unsampled, depth_range: DepthRange::Standard, ids: None }).err().expect("unsampled depth").to_string();
+    let e = culler.view(Method::Hzb, &ViewTargets::new(&unsampled, DepthRange::Standard)).err().expect("unsampled depth").to_string();
     assert!(e.contains("TEXTURE_BINDING"), "{e}");
     // An ID target of another size.
     let ids = tex(wgpu::TextureFormat::R32Uint, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING);
@@ -128,10 +128,10 @@ fn host_mistakes_are_clear_errors() {
         usage: U::TEXTURE_BINDING,
         view_formats: &[],
     });
-    assert!(culler.view(Method::HROC, &ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: Some(&small) }).is_err());
-    assert!(culler.view(Method::HROC, &ViewTargets { depth: &depth, depth_range: DepthRange::Standard, ids: Some(&ids) }).is_ok());
+    assert!(culler.view(Method::HROC, &ViewTargets::new(&depth, DepthRange::Standard).with_ids(&small)).is_err());
+    assert!(culler.view(Method::HROC, &ViewTargets::new(&depth, DepthRange::Standard).with_ids(&ids)).is_ok());
     // woc takes standard depth only.
-    assert!(culler.view(Method::Woc, &ViewTargets { depth: &depth, depth_range: DepthRange::Reversed, ids: None }).is_err());
+    assert!(culler.view(Method::Woc, &ViewTargets::new(&depth, DepthRange::Reversed)).is_err());
     // Flags of an object out of range.
     let mut culler = culler;
     assert!(culler.set_flags(10_000, ObjectFlags::NEVER_CULL).is_err());

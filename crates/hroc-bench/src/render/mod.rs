@@ -280,7 +280,7 @@ impl Renderer {
 
     /// The depth attachment and ID target as a view of the culler sees them.
     pub fn view_targets(&self) -> hroc::ViewTargets<'_> {
-        hroc::ViewTargets { depth: &self.targets.depth, depth_range: hroc::DepthRange::Standard, ids: Some(&self.targets.id) }
+        hroc::ViewTargets::new(&self.targets.depth, hroc::DepthRange::Standard).with_ids(&self.targets.id)
     }
 
     /// Clears colour to the sky, depth to far, IDs to 0 (background).

@@ -28,9 +28,27 @@ pub fn cube(b: &Aabb) -> ([[f32; 3]; 8], [u32; 36]) {
     ((0..8).map(c).collect::<Vec<_>>().try_into().unwrap(), idx)
 }
 
+/// The host's depth target: its format, layers and mips, and the layer
+/// and mip the host draws into (that mip is `SIZE` × `SIZE`).
+#[derive(Clone, Copy, Debug)]
+pub struct Depth {
+    pub format: wgpu::TextureFormat,
+    pub layers: u32,
+    pub mips: u32,
+    pub layer: u32,
+    pub mip: u32,
+}
+
+impl Default for Depth {
+    fn default() -> Depth {
+        Depth { format: wgpu::TextureFormat::Depth32Float, layers: 1, mips: 1, layer: 0, mip: 0 }
+    }
+}
+
 /// The host: pipelines writing depth and `object + 1`, one of them marking
 /// its object.
 pub struct Host {
+    at: Depth,
     marking: Option<wgpu::RenderPipeline>,
     plain: wgpu::RenderPipeline,
     camera: wgpu::Buffer,
@@ -43,10 +61,15 @@ pub struct Host {
 
 impl Host {
     pub fn new(device: &wgpu::Device, vertices: &[[f32; 3]], indices: &[u32]) -> Host {
+        Host::with_depth(device, vertices, indices, Depth::default())
+    }
+
+    /// The host drawing into `at`.
+    pub fn with_depth(device: &wgpu::Device, vertices: &[[f32; 3]], indices: &[u32], at: Depth) -> Host {
         // The marking pipeline where the device forces early-Z; the plain
         // one for draws that need no mark (Marks::Ids, or nothing read).
-        let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline(device, true, true).0);
-        let (plain, camera_layout) = super::host_pipeline(device, true, false);
+        let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, at.format).0);
+        let (plain, camera_layout) = super::host_pipeline_on(device, true, false, at.format);
         let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let camera = init("camera", &[0u8; 64], wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
         let camera_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -64,24 +87,43 @@ impl Host {
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
+        let depth = device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("depth"),
+            size: wgpu::Extent3d { width: SIZE << at.mip, height: SIZE << at.mip, depth_or_array_layers: at.layers },
+            mip_level_count: at.mips,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: at.format,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
         Host {
+            at,
             marking,
             plain,
             camera,
             camera_bind,
             vertices: init("vertices", bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX),
             indices: init("indices", bytemuck::cast_slice(indices), wgpu::BufferUsages::INDEX),
-            depth: super::depth_texture(device, SIZE),
+            depth,
             ids,
         }
     }
 
     pub fn targets(&self) -> ViewTargets<'_> {
-        ViewTargets { depth: &self.depth, depth_range: DepthRange::Standard, ids: Some(&self.ids) }
+        ViewTargets::new(&self.depth, DepthRange::Standard).with_ids(&self.ids).at(self.at.layer, self.at.mip)
     }
 
     fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, clear: bool) -> wgpu::RenderPass<'e> {
-        let (ids, depth) = (self.ids.create_view(&Default::default()), self.depth.create_view(&Default::default()));
+        let depth = self.depth.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            base_mip_level: self.at.mip,
+            mip_level_count: Some(1),
+            base_array_layer: self.at.layer,
+            array_layer_count: Some(1),
+            ..Default::default()
+        });
+        let ids = self.ids.create_view(&Default::default());
         let load = |c| if clear { wgpu::LoadOp::Clear(c) } else { wgpu::LoadOp::Load };
         enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("host"),
@@ -201,6 +243,11 @@ pub fn read_ids(device: &wgpu::Device, queue: &wgpu::Queue, buf: &wgpu::Buffer) 
 
 /// The street's objects and a host holding its cubes.
 pub fn street(device: &wgpu::Device) -> (Host, Vec<ObjectDesc>) {
+    street_on(device, Depth::default())
+}
+
+/// [`street`], the host drawing into `at`.
+pub fn street_on(device: &wgpu::Device, at: Depth) -> (Host, Vec<ObjectDesc>) {
     let boxes = boxes();
     let (mut vertices, mut indices, mut objects) = (Vec::new(), Vec::new(), Vec::new());
     for (i, b) in boxes.iter().enumerate() {
@@ -210,7 +257,7 @@ pub fn street(device: &wgpu::Device) -> (Host, Vec<ObjectDesc>) {
         indices.extend(idx.map(|k| k + base));
         objects.push(ObjectDesc { bounds: *b, index_count: 36, first_index: 36 * i as u32, base_vertex: 0, flags: ObjectFlags::NONE, oriented: None });
     }
-    (Host::new(device, &vertices, &indices), objects)
+    (Host::with_depth(device, &vertices, &indices, at), objects)
 }
 
 /// A view from `eye` towards `target` with a standard-depth projection.

@@ -1,0 +1,81 @@
+//! Every depth format a host may draw into, and a view on another layer
+//! or mip of its depth texture: each frame of each method family draws
+//! exactly `noc`'s picture (the same object-ID image, so no object that
+//! owns a pixel is missed and no pixel is missing), across a walk, a camera
+//! cut and the eye inside an object's box.
+
+use common::street::{look, street_on, Depth};
+use glam::Vec3;
+use hroc::{Culler, CullerDesc, Method, Variant, ViewDesc};
+
+mod common;
+
+fn path() -> Vec<(ViewDesc, bool)> {
+    let mut path: Vec<(ViewDesc, bool)> = (0..4).map(|k| (look(Vec3::new(-2.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
+    path.push((look(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
+    path.push((look(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
+    path
+}
+
+/// Every frame of every method family on `at` gives `noc`'s ID image.
+fn same_picture_as_noc(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth) {
+    let (host, objects) = street_on(device, at);
+    let culler = Culler::new(device, queue, &CullerDesc::new(&objects)).unwrap();
+    let path = path();
+    let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
+    let pictures: Vec<Vec<u32>> = path
+        .iter()
+        .map(|&(desc, cut)| {
+            host.frame(device, queue, &culler, &mut truth, desc, cut);
+            host.ids(device, queue)
+        })
+        .collect();
+    assert!(pictures.iter().all(|p| p.iter().any(|&id| id > 0)), "{at:?}: the street is drawn");
+    for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
+        let mut view = culler.view(method, &host.targets()).unwrap();
+        let mut culled = 0;
+        for (k, &(desc, cut)) in path.iter().enumerate() {
+            let drawn = host.frame(device, queue, &culler, &mut view, desc, cut);
+            let differing = host.ids(device, queue).iter().zip(&pictures[k]).filter(|(a, b)| a != b).count();
+            assert_eq!(differing, 0, "{method} on {at:?}, frame {k}: pixels differ from noc's");
+            culled += objects.len() - drawn.len();
+        }
+        assert!(culled > 0, "{method} on {at:?} culled nothing");
+    }
+}
+
+#[test]
+fn every_depth_format_gives_noc_s_picture() {
+    let adapter = common::adapter();
+    let extra = adapter.features() & wgpu::Features::DEPTH32FLOAT_STENCIL8;
+    let (device, queue) = common::device(hroc::FULL_FEATURES | extra);
+    use wgpu::TextureFormat as F;
+    let mut formats = vec![F::Depth16Unorm, F::Depth24Plus, F::Depth24PlusStencil8, F::Depth32Float];
+    if !extra.is_empty() {
+        formats.push(F::Depth32FloatStencil8);
+    }
+    for format in formats {
+        same_picture_as_noc(&device, &queue, Depth { format, ..Depth::default() });
+    }
+}
+
+#[test]
+fn a_view_on_layer_1_or_mip_1_gives_noc_s_picture() {
+    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    same_picture_as_noc(&device, &queue, Depth { layers: 3, layer: 1, ..Depth::default() });
+    same_picture_as_noc(&device, &queue, Depth { mips: 2, mip: 1, ..Depth::default() });
+    same_picture_as_noc(&device, &queue, Depth { layers: 2, mips: 3, layer: 1, mip: 2, ..Depth::default() });
+}
+
+/// A layer or mip the depth texture does not have is an error that says so.
+#[test]
+fn a_layer_or_mip_outside_the_texture_is_an_error() {
+    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (host, objects) = street_on(&device, Depth { layers: 2, mips: 2, ..Depth::default() });
+    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    for (layer, mip) in [(2, 0), (0, 2)] {
+        let e = culler.view(Method::Hzb, &host.targets().at(layer, mip)).err().expect("outside the texture").to_string();
+        assert!(e.contains(&format!("layer {layer} mip {mip}")) && e.contains("2 layers, 2 mips"), "{e}");
+    }
+    assert!(culler.view(Method::Hzb, &host.targets().at(1, 1)).is_ok());
+}
