@@ -77,5 +77,8 @@ fn a_layer_or_mip_outside_the_texture_is_an_error() {
         let e = culler.view(Method::Hzb, &host.targets().at(layer, mip)).err().expect("outside the texture").to_string();
         assert!(e.contains(&format!("layer {layer} mip {mip}")) && e.contains("2 layers, 2 mips"), "{e}");
     }
-    assert!(culler.view(Method::Hzb, &host.targets().at(1, 1)).is_ok());
+    assert!(culler.view(Method::Hzb, &host.targets().at(1, 0)).is_ok());
+    // Mip 1 is 32 × 32: the 64 × 64 ID target no longer fits it.
+    let e = culler.view(Method::Hzb, &host.targets().at(1, 1)).err().expect("an ID target of another size").to_string();
+    assert!(e.contains("32x32"), "{e}");
 }
