@@ -90,8 +90,11 @@ impl Capabilities {
 
     /// True when the culler's box tests rasterize against the attached
     /// depth under forced early-Z; false when they load it and compare.
-    pub(crate) fn attached_box_tests(self) -> bool {
-        self.marks == Marks::EarlyZ && self.read_only_depth
+    /// Tests that also sample the depth they are attached to (HROC's rays)
+    /// need read-only depth attachments besides; the others (`roc`, `ioc`)
+    /// only early-Z.
+    pub(crate) fn attached_box_tests(self, samples_depth: bool) -> bool {
+        self.marks == Marks::EarlyZ && (self.read_only_depth || !samples_depth)
     }
 }
 

@@ -103,9 +103,10 @@ pub const MANUAL_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 pub struct BoxTarget(Option<wgpu::TextureView>);
 
 impl BoxTarget {
-    /// The target of box tests over `size` pixels with `caps`.
-    pub fn new(gpu: &Gpu, caps: crate::Capabilities, size: (u32, u32)) -> BoxTarget {
-        BoxTarget((!caps.attached_box_tests()).then(|| {
+    /// The target of box tests over `size` pixels with `caps`, by whether
+    /// they sample the depth they test against ([`crate::Capabilities`]).
+    pub fn new(gpu: &Gpu, caps: crate::Capabilities, samples_depth: bool, size: (u32, u32)) -> BoxTarget {
+        BoxTarget((!caps.attached_box_tests(samples_depth)).then(|| {
             gpu.device
                 .create_texture(&wgpu::TextureDescriptor {
                     label: Some("hroc box test target"),

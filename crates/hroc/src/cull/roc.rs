@@ -37,7 +37,7 @@ use crate::error::Result;
 use crate::gpu::{dispatch_size, Gpu};
 use crate::layout::DrawArgs;
 use crate::shaders::source as shader_source;
-use crate::shaders::{box_pipeline, BoxTarget};
+use crate::shaders::{box_pipeline, BoxDepth, BoxTarget};
 
 /// The box rasterization test (`roc_boxes.wgsl`), shared with IOC: a
 /// pipeline with forced early-Z on a read-only depth attachment, no depth
@@ -64,10 +64,28 @@ impl BoxPass {
         let layout = crate::reflect::Layout::RocBoxes.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "roc boxes", &layout);
         let module = gpu.shader("roc_boxes.wgsl", &shader_source("roc_boxes.wgsl"));
-        let target = BoxTarget::new(gpu, cx.capabilities, cx.targets.size);
+        let target = BoxTarget::new(gpu, cx.capabilities, false, cx.targets.size);
         let depth = (cx.targets.depth_format, cx.targets.depth);
         let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, ("box_vs", Some("box_fs")), depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth())]);
-        BoxPass { pipeline, layout, target, depth: cx.targets.depth_sampled.clone() }
+        // Attached, the test never loads depth: a stand-in fills the binding,
+        // so GL (no read-only depth attachments) can attach the depth.
+        let depth = match target.mode() {
+            BoxDepth::Manual => cx.targets.depth_sampled.clone(),
+            _ => gpu
+                .device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some("roc no depth"),
+                    size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: wgpu::TextureFormat::R32Float,
+                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default()),
+        };
+        BoxPass { pipeline, layout, target, depth }
     }
 
     /// Binds the frame uniform, the item list (one per instance), the boxes

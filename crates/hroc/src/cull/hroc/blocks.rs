@@ -5,10 +5,14 @@
 use super::*;
 use crate::gpu::{Gpu, PassCount};
 
-/// The occlusion map of the test's blocks (`reduce_fs` in `hroc_test.wgsl`).
+/// The occlusion map of the test's blocks (`reduce_fs` in `hroc_test.wgsl`),
+/// twice: the box tests are attached to one and their rays load the other,
+/// so no texture is attached and sampled in one pass (GL, without read-only
+/// depth attachments, then attaches it too).
 pub(super) struct Blocks {
     pub(super) scale: u32,
     pub(super) view: wgpu::TextureView,
+    pub(super) copy: wgpu::TextureView,
     pub(super) bind: wgpu::BindGroup,
     pub(super) reduce: wgpu::RenderPipeline,
 }
@@ -18,25 +22,29 @@ pub fn test_scale(wanted: u32, (w, h): (u32, u32)) -> u32 {
     (1..=wanted.max(1)).rev().find(|s| w % s == 0 && h % s == 0).unwrap_or(1)
 }
 
-/// Depth format of the blocks' occlusion map.
+/// Depth format of the blocks' occlusion map (and its copy: depth formats
+/// are renderable on every backend).
 pub(super) const BLOCK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 impl Blocks {
     pub(super) fn new(gpu: &Gpu, cx: &MethodContext, module: &wgpu::ShaderModule, scale: u32) -> Blocks {
         let device = &gpu.device;
         let (w, h) = cx.targets.size;
-        let view = device
-            .create_texture(&wgpu::TextureDescriptor {
-                label: Some("hroc test blocks"),
-                size: wgpu::Extent3d { width: w / scale, height: h / scale, depth_or_array_layers: 1 },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: BLOCK_FORMAT,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            })
-            .create_view(&Default::default());
+        let map = |label, format| {
+            device
+                .create_texture(&wgpu::TextureDescriptor {
+                    label: Some(label),
+                    size: wgpu::Extent3d { width: w / scale, height: h / scale, depth_or_array_layers: 1 },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                })
+                .create_view(&Default::default())
+        };
+        let (view, copy) = (map("hroc test blocks", BLOCK_FORMAT), map("hroc test blocks copy", BLOCK_FORMAT));
         let layout = crate::reflect::Layout::HrocReduce.create(gpu);
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc reduce"),
@@ -70,28 +78,31 @@ impl Blocks {
             multiview_mask: None,
             cache: None,
         });
-        Blocks { scale, view, bind, reduce }
+        Blocks { scale, view, copy, bind, reduce }
     }
 
-    /// Reduces the host's depth (the occlusion map) to the blocks' farthest depth.
+    /// Reduces the host's depth (the occlusion map) to the blocks' farthest
+    /// depth, in the map and in its copy.
     pub(super) fn reduce(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount) {
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("hroc test blocks"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &self.view,
-                // Every block is written; the clear only keeps the pass from loading.
-                depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        count.around(&mut pass, |pass| {
-            pass.set_pipeline(&self.reduce);
-            pass.set_bind_group(0, &self.bind, &[]);
-            pass.draw(0..3, 0..1);
-        });
+        for view in [&self.view, &self.copy] {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("hroc test blocks"),
+                color_attachments: &[],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view,
+                    // Every block is written; the clear only keeps the pass from loading.
+                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            count.around(&mut pass, |pass| {
+                pass.set_pipeline(&self.reduce);
+                pass.set_bind_group(0, &self.bind, &[]);
+                pass.draw(0..3, 0..1);
+            });
+        }
     }
 }

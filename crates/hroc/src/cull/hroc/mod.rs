@@ -200,7 +200,7 @@ impl Hroc {
         let test_layout = Layout::HrocTest.create(gpu);
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         let blocks = (scale > 1).then(|| Blocks::new(gpu, cx, &test_module, scale));
-        let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| &b.view);
+        let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| &b.copy);
         let test_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc test"),
             layout: &test_layout,
@@ -218,10 +218,11 @@ impl Hroc {
         });
         let test_pl = crate::reflect::pipeline_layout(gpu, "hroc test", &test_layout);
         let test_depth = (blocks.as_ref().map_or(cx.targets.depth_format, |_| BLOCK_FORMAT), cx.targets.depth);
-        // Without early-Z marks or read-only depth attachments, the test
-        // binds no depth and compares each fragment itself.
+        // Without early-Z marks, the test binds no depth and compares each
+        // fragment itself; so too without blocks (whose rays load a copy of
+        // the depth the test is attached to) and read-only depth attachments.
         let (w, h) = cx.targets.size;
-        let test_target = BoxTarget::new(gpu, cx.capabilities, if blocks.is_some() { (w / scale, h / scale) } else { (w, h) });
+        let test_target = BoxTarget::new(gpu, cx.capabilities, blocks.is_none(), if blocks.is_some() { (w / scale, h / scale) } else { (w, h) });
         let constants = [("TEST_SCALE", scale as f64), ("MANUAL_DEPTH", test_target.manual_depth())];
         // With an emulated draw count, the groups are one instanced draw of
         // `group_args` (36 vertices, |G| instances copied in each frame).
