@@ -33,13 +33,15 @@ fn main() -> hroc_bench::Result<()> {
         let cam = s.cameras[k];
         println!("frame {k}: fn {} missing {} eye {:?}", chk.false_negatives, chk.missing_pixels, cam.eye);
         let planes = hroc_bench::scene::camera::frustum_planes(&cam.view_proj(s.renderer.aspect()));
+        let size = (s.renderer.targets.width, s.renderer.targets.height);
+        let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(s.renderer.aspect()), depth: hroc::DepthRange::Standard }.geometry()?;
         let (cg, forced) = cpu::groups(
             s.bvh(),
             &cpu::node_states(s.bvh(), &dbg.occluders),
             &planes,
             cam.near,
             cam.eye,
-            cpu::pixel_angle_xy(&cam.ray_dirs(s.renderer.aspect()), cam.near, (s.renderer.targets.width, s.renderer.targets.height)),
+            cpu::pixel_angle_xy(&g, size),
             h.method_state::<Hroc>().unwrap().test_scale(),
         );
         println!("  groups gpu {} cpu {} equal {}; forced {}", dbg.groups.len(), cg.len(), cg == dbg.groups, forced.len());
@@ -66,7 +68,7 @@ fn main() -> hroc_bench::Result<()> {
             let (w, hh) = (s.renderer.targets.width, s.renderer.targets.height);
             let vp = cam.view_proj(s.renderer.aspect());
             let rd = cam.ray_dirs(s.renderer.aspect());
-            let pa = cpu::pixel_angle(&rd, cam.near, hh);
+            let pa = cpu::pixel_angle(&g, size);
             for (i, _) in noc_ids.iter().enumerate().filter(|(_, &id)| id == o + 1) {
                 let (x, y) = (i as u32 % w, i as u32 / w);
                 let ndc = glam::Vec2::new((x as f32 + 0.5) / w as f32 * 2.0 - 1.0, 1.0 - (y as f32 + 0.5) / hh as f32 * 2.0);

@@ -121,7 +121,7 @@ fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
             // The CPU references take the view as the culler derives it.
             let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
             let (vp, rays) = (g.view_proj, g.ray_dirs);
-            let pixel = cpu::pixel_angle_xy(&rays, g.near, RES);
+            let pixel = cpu::pixel_angle_xy(&g, RES);
             let scale = h.method_state::<Hroc>().unwrap().test_scale();
             let (groups, forced) = cpu::groups(s.bvh(), &state, &g.planes, g.near, g.eye, pixel, scale);
             let obb = oriented_boxes(&s);
@@ -129,8 +129,8 @@ fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
             // Ray marking: everything a slightly shrunk box test per pixel
             // finds must be marked, whatever the test's blocks; nothing
             // outside a generous test of the GPU's blocks may be.
-            let strict = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, 1, None, -1e-3, -1e-6, &obb);
-            let loose = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5, &obb);
+            let strict = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, &g.ray_origins, g.eye, RES, &depth, 1, None, -1e-3, -1e-6, &obb);
+            let loose = cpu::ray_marked(s.bvh(), &groups, &vp, &rays, &g.ray_origins, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5, &obb);
             for o in 0..dbg.occludees.len() {
                 let forced_o = forced.binary_search(&(o as u32)).is_ok();
                 if strict[o] || forced_o {
@@ -216,11 +216,11 @@ fn gpu_late_test_matches_cpu_reference() {
             let depth = s.read_depth().unwrap();
             let cam = s.cameras[k];
             let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
-            let pixel = cpu::pixel_angle_xy(&g.ray_dirs, g.near, RES);
+            let pixel = cpu::pixel_angle_xy(&g, RES);
             let obb = oriented_boxes(&s);
             let rest: Vec<u32> = (0..u.len()).filter(|&o| u[o] && front[o] == 0).map(|o| s.bvh().leaf_of_object[o]).collect();
-            let strict = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, g.eye, RES, &depth, 1, None, -1e-3, -1e-6, &obb);
-            let loose = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5, &obb);
+            let strict = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, &g.ray_origins, g.eye, RES, &depth, 1, None, -1e-3, -1e-6, &obb);
+            let loose = cpu::ray_marked(s.bvh(), &rest, &g.view_proj, &g.ray_dirs, &g.ray_origins, g.eye, RES, &depth, scale, Some(pixel), 0.01, 1e-5, &obb);
             for o in 0..u.len() {
                 assert!(front[o] <= 1 && (front[o] == 0 || u[o]), "{key} frame {k}: object {o} drawn in front but not in U");
                 assert!(!strict[o] || next[o], "{key} frame {k}: object {o} is in front of the depth but left the rounds");
@@ -292,7 +292,7 @@ fn gpu_seed_matches_cpu_reference() {
             gpu_v.sort_unstable();
             let cam = s.cameras[k];
             let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
-            let cpu_v = cpu::seed(s.bvh(), &g.ray_dirs, g.eye, hroc::testing::cull::hroc::SEED_GRID);
+            let cpu_v = cpu::seed(s.bvh(), &g.ray_dirs, &g.ray_origins, hroc::testing::cull::hroc::SEED_GRID);
             // Ties between boxes entered at the same distance may round either way.
             let differ = gpu_v.iter().filter(|o| cpu_v.binary_search(o).is_err()).count() + cpu_v.iter().filter(|o| gpu_v.binary_search(o).is_err()).count();
             assert!(differ * 50 <= cpu_v.len().max(1), "{key} frame {k}: GPU seed {} objects, CPU {}, {differ} differ", gpu_v.len(), cpu_v.len());

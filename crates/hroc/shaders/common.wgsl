@@ -10,8 +10,16 @@ struct Frame {
     // built from the camera basis: unprojecting through the inverse
     // view-projection loses the direction to cancellation.
     ray_dirs: mat4x4<f32>,
+    // Origin of the pixel ray through NDC (x, y): ray_origins * (x, y, 0, 1);
+    // the eye for a perspective view, a point on a plane for an
+    // orthographic one.
+    ray_origins: mat4x4<f32>,
     eye: vec4<f32>,          // xyz: camera position
     viewport: vec4<f32>,     // width, height, 1/width, 1/height
+    // A pixel's size at distance d from the eye is a + b d: (a, b) of its
+    // height, then of the larger of its width and height (perspective:
+    // a = 0; orthographic: b = 0).
+    footprint: vec4<f32>,
     planes: array<vec4<f32>, 6>, // frustum planes, n·p + d >= 0 inside
     object_count: u32,
     node_count: u32,
@@ -117,9 +125,14 @@ struct Box {
 // snapping of common rasterizers.
 const PIXEL_PAD: f32 = 0.0625;
 
-// Size of one pixel at unit distance from the eye.
-fn pixel_angle(f: Frame) -> f32 {
-    return 2.0 * length(f.ray_dirs[1].xyz) / f.near * f.viewport.w;
+// A pixel's height at distance d from the eye: a + b d (`footprint`).
+fn pixel_angle(f: Frame) -> vec2<f32> {
+    return f.footprint.xy;
+}
+
+// The origin of the pixel ray through NDC `ndc`.
+fn ray_origin(f: Frame, ndc: vec2<f32>) -> vec3<f32> {
+    return (f.ray_origins * vec4<f32>(ndc, 0.0, 1.0)).xyz;
 }
 
 // A node's box grown so that rasterizing it, or casting a ray into it,
@@ -127,21 +140,21 @@ fn pixel_angle(f: Frame) -> f32 {
 // box's farthest corner (rasterizers snap vertices to a sub-pixel grid, so
 // a face lying on the surface it bounds can lose an edge pixel), plus a
 // little for float rounding.
-fn padded_box(n: BvhNode, eye: vec3<f32>, pixel: f32) -> Box {
+fn padded_box(n: BvhNode, eye: vec3<f32>, pixel: vec2<f32>) -> Box {
     return padded_box_px(n, eye, pixel, PIXEL_PAD);
 }
 
 // padded_box with `px` pixels of padding at the farthest corner.
-fn padded_box_px(n: BvhNode, eye: vec3<f32>, pixel: f32, px: f32) -> Box {
+fn padded_box_px(n: BvhNode, eye: vec3<f32>, pixel: vec2<f32>, px: f32) -> Box {
     let pad = box_pad(n, eye, pixel, px);
     return Box(n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
 }
 
 // The world distance padded_box_px grows a node's box by.
-fn box_pad(n: BvhNode, eye: vec3<f32>, pixel: f32, px: f32) -> f32 {
+fn box_pad(n: BvhNode, eye: vec3<f32>, pixel: vec2<f32>, px: f32) -> f32 {
     let far = length(max(abs(n.min - eye), abs(n.max - eye)));
     let scale = max(max(abs(n.min.x), abs(n.min.y)), max(max(abs(n.min.z), abs(n.max.x)), max(abs(n.max.y), abs(n.max.z))));
-    return px * pixel * far + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
+    return px * (pixel.x + pixel.y * far) + 1e-4 * length(n.max - n.min) + 1e-6 * (scale + length(eye)) + 1e-7;
 }
 
 // An object's box in its own frame (src/layout.rs OrientedBounds): rows x,
@@ -187,8 +200,8 @@ fn block_pad_px(scale: u32) -> f32 {
 }
 
 // pixel_angle over both axes, for pixels that may not be square.
-fn pixel_angle_xy(f: Frame) -> f32 {
-    return max(pixel_angle(f), 2.0 * length(f.ray_dirs[0].xyz) / f.near * f.viewport.z);
+fn pixel_angle_xy(f: Frame) -> vec2<f32> {
+    return f.footprint.zw;
 }
 
 // True when the box reaches within `frame.near` of the near plane or behind

@@ -20,7 +20,7 @@ fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let ndc = vec2<f32>((f32(cell % SEED_COLS) + 0.5) / f32(SEED_COLS) * 2.0 - 1.0, 1.0 - (f32(cell / SEED_COLS) + 0.5) / f32(SEED_ROWS) * 2.0);
-    let eye = frame.eye.xyz;
+    let origin = ray_origin(frame, ndc);
     let dir = (frame.ray_dirs * vec4<f32>(ndc, 1.0, 0.0)).xyz;
     let inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
     var best = 3.0e38;
@@ -31,7 +31,7 @@ fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
     while sp > 0u {
         sp -= 1u;
         let node = nodes[stack[sp]];
-        let span = ray_box(eye, inv, node.min, node.max);
+        let span = ray_box(origin, inv, node.min, node.max);
         let t = max(span.x, 1.0); // t = 1 on the near plane
         if span.y < t || t >= best {
             continue;

@@ -91,12 +91,13 @@ fn group_box(v: u32, node: u32) -> BoxOut {
     return out;
 }
 
-// The ray from the eye through the centre of the block at `clip` (in
-// blocks; frame.viewport is in pixels), t = 1 on the near plane, and the
+// The ray through the centre of the block at `clip` (in blocks;
+// frame.viewport is in pixels), t = 1 on the near plane, and the
 // deepest the test lets it reach there. Depth along the ray is compared in
 // depth-buffer space, where the occlusion map lives (distances unprojected
 // near z = 1 lose precision).
 struct BlockRay {
+    origin: vec3<f32>,
     dir: vec3<f32>,
     inv: vec3<f32>,
     c0: vec4<f32>,
@@ -109,9 +110,10 @@ fn block_ray(clip: vec2<f32>) -> BlockRay {
     let ndc = vec2<f32>(centre.x * frame.viewport.z * 2.0 - 1.0, 1.0 - centre.y * frame.viewport.w * 2.0);
     let dir = (frame.ray_dirs * vec4<f32>(ndc, 1.0, 0.0)).xyz;
     var r: BlockRay;
+    r.origin = ray_origin(frame, ndc);
     r.dir = dir;
     r.inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
-    r.c0 = frame.view_proj * vec4<f32>(frame.eye.xyz, 1.0);
+    r.c0 = frame.view_proj * vec4<f32>(r.origin, 1.0);
     r.c1 = frame.view_proj * vec4<f32>(dir, 0.0);
     r.limit = std_depth(frame, textureLoad(occlusion_map, vec2<i32>(clip), 0).r) + 4e-7;
     return r;
@@ -129,10 +131,9 @@ fn in_front(r: BlockRay, span: vec2<f32>) -> bool {
 // The span of the ray in a leaf's padded box, clipped to its object's own
 // box padded alike (both hold the geometry's padding balls).
 fn leaf_span(r: BlockRay, o: u32, n: BvhNode) -> vec2<f32> {
-    let eye = frame.eye.xyz;
-    let pad = box_pad(n, eye, pixel_angle_xy(frame), block_pad_px(TEST_SCALE));
-    let w = ray_box(eye, r.inv, n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
-    let l = ray_oriented(oriented[o], eye, r.dir, pad);
+    let pad = box_pad(n, frame.eye.xyz, pixel_angle_xy(frame), block_pad_px(TEST_SCALE));
+    let w = ray_box(r.origin, r.inv, n.min - vec3<f32>(pad), n.max + vec3<f32>(pad));
+    let l = ray_oriented(oriented[o], r.origin, r.dir, pad);
     return vec2<f32>(max(w.x, l.x), min(w.y, l.y));
 }
 
@@ -200,7 +201,7 @@ fn cast_ray(group: u32, r: BlockRay) -> u32 {
             span = leaf_span(r, node.child & ~LEAF_BIT, node);
         } else {
             let b = padded_box_px(node, eye, pixel, pad);
-            span = ray_box(eye, r.inv, b.min, b.max);
+            span = ray_box(r.origin, r.inv, b.min, b.max);
         }
         if !in_front(r, span) {
             continue;

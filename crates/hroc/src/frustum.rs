@@ -1,7 +1,9 @@
 //! Views in the conventions engines use: a right-handed perspective
 //! projection with standard (near → 0) or reversed (near → 1) depth and a
-//! finite or infinite far plane. Everything the culling passes need of a view
-//! (planes, eye, pixel rays, near distance) is derived here, once, on the CPU.
+//! finite or infinite far plane, or a right-handed orthographic one (a
+//! directional light's shadow cascade). Everything the culling passes need
+//! of a view (planes, eye, pixel rays, near distance) is derived here, once,
+//! on the CPU.
 
 use glam::{Mat4, Vec3, Vec4};
 
@@ -58,13 +60,16 @@ pub fn aabb_in_frustum(planes: &[Vec4; 6], min: Vec3, max: Vec3) -> bool {
     })
 }
 
-/// A view as the host renders it this frame: right-handed, perspective.
+/// A view as the host renders it this frame: right-handed, perspective or
+/// orthographic.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ViewDesc {
     /// World to view space.
     pub view: Mat4,
     /// View to clip space: a right-handed perspective projection, symmetric
-    /// or off-centre, finite or infinite far plane.
+    /// or off-centre, finite or infinite far plane; or a right-handed
+    /// orthographic one (`Mat4::orthographic_rh`, or its reversed-depth
+    /// form), whose near plane may lie behind the camera position.
     pub proj: Mat4,
     /// Which end of the depth range is near; it must match `proj`.
     pub depth: DepthRange,
@@ -81,17 +86,36 @@ pub struct ViewGeometry {
     /// Camera position in world space.
     pub eye: Vec3,
     /// Columns x, y, z: world offsets such that the ray through NDC (x, y)
-    /// is `eye + t * (x * X + y * Y + Z)`, reaching the near plane at t = 1.
-    /// Built from the view basis, not by unprojecting through the inverse
-    /// view-projection, which loses the direction to cancellation.
+    /// is `origin + t * (x * X + y * Y + Z)`, reaching the near plane at
+    /// t = 1 (orthographic: the far plane at t = 2). Built from the view
+    /// basis, not by unprojecting through the inverse view-projection, which
+    /// loses the direction to cancellation.
     pub ray_dirs: Mat4,
-    /// Distance from the eye to the near plane.
+    /// Columns x, y and w: the origin of the ray through NDC (x, y) is
+    /// `x * X + y * Y + W` (perspective: the eye; orthographic: a point
+    /// one ray length in front of the near plane).
+    pub ray_origins: Mat4,
+    /// Distance from the eye to the near plane (orthographic: the margin
+    /// within which a box counts as reaching the near plane, a thousandth
+    /// of the depth range).
     pub near: f32,
     /// Distance from the eye to the far plane (infinite for an infinite projection).
     pub far: f32,
+    /// True for an orthographic projection.
+    pub orthographic: bool,
 }
 
 impl ViewGeometry {
+    /// A pixel's size at distance `d` from the eye is `a + b d` for a
+    /// target of `size` pixels: `(a, b)` of its height, then of the larger
+    /// of its width and height (perspective: `a = 0`; orthographic: `b = 0`).
+    pub fn footprint(&self, (w, h): (u32, u32)) -> Vec4 {
+        let (w, h) = (w as f32, h as f32);
+        let o = (2.0 * self.ray_origins.x_axis.truncate().length() / w, 2.0 * self.ray_origins.y_axis.truncate().length() / h);
+        let d = (2.0 * self.ray_dirs.x_axis.truncate().length() / self.near / w, 2.0 * self.ray_dirs.y_axis.truncate().length() / self.near / h);
+        Vec4::new(o.1, d.1, o.0.max(o.1), d.0.max(d.1))
+    }
+
     /// The `Frame` uniform every culling pass reads, for a depth attachment
     /// of `size` pixels.
     pub fn uniform(&self, size: (u32, u32), object_count: u32, node_count: u32, depth: DepthRange) -> crate::layout::FrameUniform {
@@ -99,8 +123,10 @@ impl ViewGeometry {
         crate::layout::FrameUniform {
             view_proj: self.view_proj.to_cols_array_2d(),
             ray_dirs: self.ray_dirs.to_cols_array_2d(),
+            ray_origins: self.ray_origins.to_cols_array_2d(),
             eye: self.eye.extend(1.0).to_array(),
             viewport: [w, h, 1.0 / w, 1.0 / h],
+            footprint: self.footprint(size).to_array(),
             planes: self.planes.map(|p| p.to_array()),
             object_count,
             node_count,
@@ -126,10 +152,13 @@ impl ViewDesc {
             return bad("view or projection matrix is not finite");
         }
         let p = self.proj;
+        if p.x_axis.w == 0.0 && p.y_axis.w == 0.0 && p.z_axis.w == 0.0 && p.w_axis.w == 1.0 {
+            return self.orthographic();
+        }
         // Perspective: clip w = s * z_view with s = ±1 (right-handed: -1).
         let s = p.z_axis.w;
         if (s.abs() - 1.0).abs() > 1e-5 || p.x_axis.w != 0.0 || p.y_axis.w != 0.0 || p.w_axis.w != 0.0 {
-            return bad("projection is not perspective (orthographic views are not supported: HROC casts rays from the eye)");
+            return bad("projection is neither perspective nor orthographic");
         }
         if p.x_axis.x == 0.0 || p.y_axis.y == 0.0 || self.view.determinant().abs() < 1e-12 {
             return bad("view or projection matrix is singular");
@@ -170,6 +199,51 @@ impl ViewDesc {
         let cy = inv_view.transform_vector3(Vec3::new(0.0, near / p11, 0.0));
         let cz = inv_view.transform_vector3(Vec3::new(-s * p20 * near / p00, -s * p21 * near / p11, s * near));
         let ray_dirs = Mat4::from_cols(cx.extend(0.0), cy.extend(0.0), cz.extend(0.0), Vec4::W);
-        Ok(ViewGeometry { view_proj, planes, eye, ray_dirs, near, far })
+        let ray_origins = Mat4::from_cols(Vec4::ZERO, Vec4::ZERO, Vec4::ZERO, eye.extend(1.0));
+        Ok(ViewGeometry { view_proj, planes, eye, ray_dirs, ray_origins, near, far, orthographic: false })
+    }
+
+    /// [`ViewDesc::geometry`] of an orthographic projection: parallel rays
+    /// along the view direction, from one ray length in front of the near
+    /// plane (t = 1 there, t = 2 on the far plane).
+    fn orthographic(&self) -> Result<ViewGeometry> {
+        let bad = |m: String| Err(Error::InvalidView(m));
+        let p = self.proj;
+        if p.x_axis.x == 0.0 || p.y_axis.y == 0.0 || p.z_axis.z == 0.0 || self.view.determinant().abs() < 1e-12 {
+            return bad("view or projection matrix is singular".into());
+        }
+        // Right-handed: depth grows away from the viewer (view z falling)
+        // for standard depth, and falls for reversed depth.
+        let standard = p.z_axis.z < 0.0;
+        if standard != (self.depth == DepthRange::Standard) {
+            return bad(format!("orthographic projection does not match {:?} depth, or is left-handed", self.depth));
+        }
+        if self.view.determinant() * p.x_axis.x * p.y_axis.y < 0.0 {
+            return bad("mirrored views are not supported: use a right-handed view and projection".into());
+        }
+        let view_proj = p * self.view;
+        let planes = frustum_planes_for(&view_proj, self.depth);
+        let inv_view = self.view.inverse();
+        let eye = inv_view.w_axis.truncate();
+        // View-space points on the near and far planes, from the projection
+        // alone (x = (X - p30) / p00 and so on), then to world space.
+        let (near_z, far_z) = match self.depth {
+            DepthRange::Standard => (0.0, 1.0),
+            DepthRange::Reversed => (1.0, 0.0),
+        };
+        let at = |x: f32, y: f32, z: f32| Vec3::new((x - p.w_axis.x) / p.x_axis.x, (y - p.w_axis.y) / p.y_axis.y, (z - p.w_axis.z) / p.z_axis.z);
+        let centre = inv_view.transform_point3(at(0.0, 0.0, near_z));
+        let right = inv_view.transform_vector3(Vec3::new(1.0 / p.x_axis.x, 0.0, 0.0));
+        let up = inv_view.transform_vector3(Vec3::new(0.0, 1.0 / p.y_axis.y, 0.0));
+        let dir = inv_view.transform_vector3(at(0.0, 0.0, far_z) - at(0.0, 0.0, near_z));
+        let length = dir.length();
+        if !(length > 0.0 && length.is_finite()) {
+            return bad("orthographic projection has no depth range".into());
+        }
+        let ray_dirs = Mat4::from_cols(Vec4::ZERO, Vec4::ZERO, dir.extend(0.0), Vec4::W);
+        let ray_origins = Mat4::from_cols(right.extend(0.0), up.extend(0.0), Vec4::ZERO, (centre - dir).extend(1.0));
+        let near = 1e-3 * length;
+        let far = planes[5].truncate().dot(eye) + planes[5].w;
+        Ok(ViewGeometry { view_proj, planes, eye, ray_dirs, ray_origins, near, far, orthographic: true })
     }
 }

@@ -11,10 +11,15 @@ pub struct FrameUniform {
     pub view_proj: [[f32; 4]; 4],
     /// Near-plane offsets of a pixel ray ([`crate::ViewGeometry::ray_dirs`]).
     pub ray_dirs: [[f32; 4]; 4],
+    /// Origin of a pixel ray ([`crate::ViewGeometry::ray_origins`]).
+    pub ray_origins: [[f32; 4]; 4],
     /// xyz: the eye in world space.
     pub eye: [f32; 4],
     /// width, height, 1/width, 1/height of the depth attachment.
     pub viewport: [f32; 4],
+    /// A pixel's size `a + b × distance` ([`crate::ViewGeometry::footprint`]):
+    /// (a, b) of its height, then of the larger of its width and height.
+    pub footprint: [f32; 4],
     /// Frustum planes, `n·p + d >= 0` inside, plane 4 the near plane.
     pub planes: [[f32; 4]; 6],
     /// Objects registered with the culler.

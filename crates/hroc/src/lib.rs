@@ -138,11 +138,15 @@
 //!   after that encoder was submitted or dropped: otherwise its submit
 //!   would run ahead of the previous frame's end, and the cull fails with
 //!   [`Error::SubmitOrder`], submitting nothing.
-//! - **Views.** Right-handed perspective projections (HROC casts rays from
-//!   the eye, and the box tests rasterize the faces a right-handed view sees
-//!   in front): symmetric or off-centre, finite or infinite far plane,
-//!   standard or reversed depth ([`ViewDesc::geometry`] checks, and refuses
-//!   orthographic, left-handed and mirrored views).
+//! - **Views.** Right-handed projections (the box tests rasterize the
+//!   faces a right-handed view sees in front): perspective, symmetric or
+//!   off-centre, finite or infinite far plane; or orthographic (a
+//!   directional light's shadow cascade: HROC then casts parallel rays,
+//!   one per pixel, and pads boxes by a pixel's constant size), its near
+//!   plane anywhere; standard or reversed depth ([`ViewDesc::geometry`]
+//!   checks, and refuses left-handed and mirrored views). Every
+//!   conservative method serves both kinds (`woc` is measured on
+//!   perspective views only).
 //!   Each [`View`] keeps its own temporal state; all views share the
 //!   culler's BVH and object buffers. Set [`FrameInput::cut`] on a camera
 //!   cut; a view also treats a frame as a cut when the view turned or moved

@@ -4,7 +4,7 @@
 //! owns a pixel when everything is drawn (`noc`'s object-ID image), across
 //! a walk, a camera cut and an eye inside an object's box.
 
-use common::street::{look, street};
+use common::street::{look, street, street_on, Depth};
 use glam::Vec3;
 use hroc::{Capabilities, Culler, CullerDesc, DrawCount, Marks, Method, Variant, ViewDesc};
 
@@ -50,6 +50,58 @@ fn every_method_family_draws_every_visible_object() {
                 culled += objects.len() - drawn.len();
             }
             assert!(culled > 0, "{method} ({caps:?}) culled nothing");
+        }
+    }
+}
+
+/// Orthographic views (a directional light's shadow cascade looks at the
+/// scene this way): every method family draws every object `noc` shows,
+/// in both depth conventions, from the side and from above, with near
+/// planes in front of the scene and cutting through it, across cuts.
+#[test]
+fn orthographic_views_draw_every_visible_object() {
+    use glam::Mat4;
+    use hroc::DepthRange;
+    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let ortho = |eye: Vec3, target: Vec3, half: f32, near: f32, far: f32, depth: DepthRange| {
+        let up = if (target - eye).normalize().y.abs() > 0.9 { Vec3::Z } else { Vec3::Y };
+        let proj = match depth {
+            DepthRange::Standard => Mat4::orthographic_rh(-half, half, -half, half, near, far),
+            DepthRange::Reversed => Mat4::orthographic_rh(-half, half, -half, half, far, near),
+        };
+        ViewDesc { view: Mat4::look_at_rh(eye, target, up), proj, depth }
+    };
+    for depth in [DepthRange::Standard, DepthRange::Reversed] {
+        let (host, objects) = street_on(&device, Depth { range: depth, ..Depth::default() });
+        let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+        let path: Vec<(ViewDesc, bool)> = vec![
+            (ortho(Vec3::new(0.0, 2.0, 12.0), Vec3::new(0.0, 1.0, -10.0), 6.0, 0.1, 40.0, depth), true),
+            (ortho(Vec3::new(1.0, 2.0, 12.0), Vec3::new(0.5, 1.0, -10.0), 6.0, 0.1, 40.0, depth), false),
+            // The near plane cuts the street (behind it the wall hides most).
+            (ortho(Vec3::new(1.0, 2.0, 12.0), Vec3::new(0.5, 1.0, -10.0), 6.0, 10.0, 40.0, depth), false),
+            // A light from above and in front, its near plane behind the camera position.
+            (ortho(Vec3::new(3.0, 12.0, 8.0), Vec3::new(0.0, 0.0, -8.0), 14.0, -20.0, 60.0, depth), true),
+            (ortho(Vec3::new(3.5, 12.0, 8.0), Vec3::new(0.0, 0.0, -8.0), 14.0, -20.0, 60.0, depth), false),
+        ];
+        let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
+        let visible: Vec<Vec<u32>> = path
+            .iter()
+            .map(|&(desc, cut)| {
+                host.frame(&device, &queue, &culler, &mut truth, desc, cut);
+                host.visible(&device, &queue)
+            })
+            .collect();
+        assert!(visible.iter().all(|v| !v.is_empty()), "{depth:?}: the street is in view");
+        for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::RocAll, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
+            let mut view = culler.view(method, &host.targets()).unwrap();
+            let mut culled = 0;
+            for (k, &(desc, cut)) in path.iter().enumerate() {
+                let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
+                let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
+                assert!(missed.is_empty(), "{method} {depth:?} orthographic frame {k}: visible objects {missed:?} not drawn");
+                culled += objects.len() - drawn.len();
+            }
+            assert!(culled > 0, "{method} {depth:?} culled nothing in orthographic views");
         }
     }
 }

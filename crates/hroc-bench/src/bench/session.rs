@@ -352,14 +352,15 @@ struct Stray {
     camera: Camera,
     view_proj: glam::Mat4,
     ray_dirs: glam::Mat4,
-    pixel: f32,
+    pixel: glam::Vec2,
     size: (u32, u32),
 }
 
 impl Stray {
     fn new(camera: &Camera, aspect: f32, size: (u32, u32)) -> Self {
         let ray_dirs = camera.ray_dirs(aspect);
-        let pixel = hroc::testing::cull::hroc::cpu::pixel_angle(&ray_dirs, camera.near, size.1);
+        // A perspective camera: a pixel is `b d` high at distance d.
+        let pixel = glam::Vec2::new(0.0, 2.0 * ray_dirs.y_axis.truncate().length() / camera.near / size.1 as f32);
         Stray { camera: *camera, view_proj: camera.view_proj(aspect), ray_dirs, pixel, size }
     }
 

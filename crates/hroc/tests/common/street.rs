@@ -29,10 +29,12 @@ pub fn cube(b: &Aabb) -> ([[f32; 3]; 8], [u32; 36]) {
 }
 
 /// The host's depth target: its format, layers and mips, and the layer
-/// and mip the host draws into (that mip is `SIZE` × `SIZE`).
+/// and mip the host draws into (that mip is `SIZE` × `SIZE`), and its depth
+/// convention.
 #[derive(Clone, Copy, Debug)]
 pub struct Depth {
     pub format: wgpu::TextureFormat,
+    pub range: DepthRange,
     pub layers: u32,
     pub mips: u32,
     pub layer: u32,
@@ -41,7 +43,7 @@ pub struct Depth {
 
 impl Default for Depth {
     fn default() -> Depth {
-        Depth { format: wgpu::TextureFormat::Depth32Float, layers: 1, mips: 1, layer: 0, mip: 0 }
+        Depth { format: wgpu::TextureFormat::Depth32Float, range: DepthRange::Standard, layers: 1, mips: 1, layer: 0, mip: 0 }
     }
 }
 
@@ -68,8 +70,8 @@ impl Host {
     pub fn with_depth(device: &wgpu::Device, vertices: &[[f32; 3]], indices: &[u32], at: Depth) -> Host {
         // The marking pipeline where the device forces early-Z; the plain
         // one for draws that need no mark (Marks::Ids, or nothing read).
-        let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, at.format).0);
-        let (plain, camera_layout) = super::host_pipeline_on(device, true, false, at.format);
+        let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, at.format, at.range).0);
+        let (plain, camera_layout) = super::host_pipeline_on(device, true, false, at.format, at.range);
         let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let camera = init("camera", &[0u8; 64], wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
         let camera_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -111,7 +113,7 @@ impl Host {
     }
 
     pub fn targets(&self) -> ViewTargets<'_> {
-        ViewTargets::new(&self.depth, DepthRange::Standard).with_ids(&self.ids).at(self.at.layer, self.at.mip)
+        ViewTargets::new(&self.depth, self.at.range).with_ids(&self.ids).at(self.at.layer, self.at.mip)
     }
 
     fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, clear: bool) -> wgpu::RenderPass<'e> {
@@ -135,7 +137,7 @@ impl Host {
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
                 view: &depth,
-                depth_ops: Some(wgpu::Operations { load: load(1.0), store: wgpu::StoreOp::Store }),
+                depth_ops: Some(wgpu::Operations { load: load(if self.at.range == DepthRange::Standard { 1.0 } else { 0.0 }), store: wgpu::StoreOp::Store }),
                 stencil_ops: None,
             }),
             timestamp_writes: None,

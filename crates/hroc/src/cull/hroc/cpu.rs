@@ -5,7 +5,7 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::bvh::Bvh;
-use crate::{frustum::aabb_in_frustum, Aabb, OrientedBox};
+use crate::{frustum::aabb_in_frustum, Aabb, OrientedBox, ViewGeometry};
 
 /// Node state: not reached from any occluder (paper Algorithm 1).
 pub const NIL: u32 = 0;
@@ -36,33 +36,36 @@ pub fn node_states(bvh: &Bvh, occluders: &[bool]) -> Vec<u32> {
 /// `PIXEL_PAD` in common.wgsl.
 pub const PIXEL_PAD: f32 = 0.0625;
 
-/// `pixel_angle` in common.wgsl: one pixel's size at unit distance.
-pub fn pixel_angle(ray_dirs: &Mat4, near: f32, height: u32) -> f32 {
-    2.0 * ray_dirs.y_axis.truncate().length() / near / height as f32
+/// `pixel_angle` in common.wgsl: a pixel's height at distance d from the
+/// eye is `a + b d`, `(a, b)` ([`crate::ViewGeometry::footprint`]).
+pub fn pixel_angle(g: &ViewGeometry, size: (u32, u32)) -> Vec2 {
+    let f = g.footprint(size);
+    Vec2::new(f.x, f.y)
 }
 
 /// `pixel_angle_xy` in common.wgsl: the larger of a pixel's width and
-/// height at unit distance.
-pub fn pixel_angle_xy(ray_dirs: &Mat4, near: f32, (w, h): (u32, u32)) -> f32 {
-    pixel_angle(ray_dirs, near, h).max(2.0 * ray_dirs.x_axis.truncate().length() / near / w as f32)
+/// height, as [`pixel_angle`].
+pub fn pixel_angle_xy(g: &ViewGeometry, size: (u32, u32)) -> Vec2 {
+    let f = g.footprint(size);
+    Vec2::new(f.z, f.w)
 }
 
 /// The shaders' box padding (`padded_box` in common.wgsl).
-pub fn padded(b: Aabb, eye: Vec3, pixel: f32) -> Aabb {
+pub fn padded(b: Aabb, eye: Vec3, pixel: Vec2) -> Aabb {
     padded_px(b, eye, pixel, PIXEL_PAD)
 }
 
 /// `padded_box_px` in common.wgsl: `px` pixels of padding at the farthest corner.
-pub fn padded_px(b: Aabb, eye: Vec3, pixel: f32, px: f32) -> Aabb {
+pub fn padded_px(b: Aabb, eye: Vec3, pixel: Vec2, px: f32) -> Aabb {
     let pad = box_pad(b, eye, pixel, px);
     Aabb::new(b.min - Vec3::splat(pad), b.max + Vec3::splat(pad))
 }
 
 /// `box_pad` in common.wgsl: the world distance [`padded_px`] grows a box by.
-pub fn box_pad(b: Aabb, eye: Vec3, pixel: f32, px: f32) -> f32 {
+pub fn box_pad(b: Aabb, eye: Vec3, pixel: Vec2, px: f32) -> f32 {
     let far = (b.min - eye).abs().max((b.max - eye).abs()).length();
     let scale = b.min.abs().max(b.max.abs()).max_element();
-    px * pixel * far + 1e-4 * (b.max - b.min).length() + 1e-6 * (scale + eye.length()) + 1e-7
+    px * (pixel.x + pixel.y * far) + 1e-4 * (b.max - b.min).length() + 1e-6 * (scale + eye.length()) + 1e-7
 }
 
 /// The span `(enter, exit)` of the ray `eye + t dir` in `o`'s local box
@@ -94,7 +97,7 @@ pub fn crosses_near(planes: &[Vec4; 6], near: f32, b: &Aabb) -> bool {
 /// Groups to rasterize (sorted) and leaves made visible without a test
 /// (adaptive grouping), from the node states, with boxes padded for a test
 /// of `scale` × `scale` blocks (`pixel` from [`pixel_angle_xy`]).
-pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3, pixel: f32, scale: u32) -> (Vec<u32>, Vec<u32>) {
+pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3, pixel: Vec2, scale: u32) -> (Vec<u32>, Vec<u32>) {
     let (mut groups, mut forced) = (Vec::new(), Vec::new());
     for g in 0..bvh.nodes.len() as u32 {
         let s = state[g as usize];
@@ -138,11 +141,12 @@ pub fn ray_marked(
     groups: &[u32],
     view_proj: &Mat4,
     ray_dirs: &Mat4,
+    ray_origins: &Mat4,
     eye: Vec3,
     (w, h): (u32, u32),
     depth: &[f32],
     block: u32,
-    pixel: Option<f32>,
+    pixel: Option<Vec2>,
     grow: f32,
     tolerance: f32,
     oriented: &[Option<OrientedBox>],
@@ -165,7 +169,8 @@ pub fn ray_marked(
             let px = Vec2::new((x * s) as f32 + 0.5 * s as f32, (y * s) as f32 + 0.5 * s as f32);
             let ndc = Vec2::new(px.x / w as f32 * 2.0 - 1.0, 1.0 - px.y / h as f32 * 2.0);
             let dir = (*ray_dirs * Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
-            let c0 = *view_proj * eye.extend(1.0);
+            let origin = (*ray_origins * Vec4::new(ndc.x, ndc.y, 0.0, 1.0)).truncate();
+            let c0 = *view_proj * origin.extend(1.0);
             let c1 = *view_proj * dir.extend(0.0);
             let farthest = (0..s * s).map(|i| depth[((y * s + i / s) * w + x * s + i % s) as usize]).fold(0.0f32, f32::max);
             let limit = farthest + tolerance;
@@ -174,10 +179,10 @@ pub fn ray_marked(
                 let pad = pixel.map_or(0.0, |px| box_pad(bvh.aabb(n), eye, px, block_pad_px(s)));
                 let b = pixel.map_or(bvh.aabb(n), |px| padded_px(bvh.aabb(n), eye, px, block_pad_px(s)));
                 let g = Vec3::splat(grow * (b.max - b.min).length().max(1e-3));
-                let (t0, t1) = ((b.min - g - eye) / dir, (b.max + g - eye) / dir);
+                let (t0, t1) = ((b.min - g - origin) / dir, (b.max + g - origin) / dir);
                 let (mut enter, mut exit) = (t0.min(t1).max_element(), t0.max(t1).min_element());
                 if let Some(o) = bvh.object(n).and_then(|o| oriented.get(o as usize).copied().flatten()) {
-                    let (e, x) = oriented_span(&o, eye, dir, pad, grow);
+                    let (e, x) = oriented_span(&o, origin, dir, pad, grow);
                     (enter, exit) = (enter.max(e), exit.min(x));
                 }
                 let t = enter.max(1.0);
@@ -200,9 +205,9 @@ pub fn ray_marked(
 }
 
 /// `seed` in hroc_seed.wgsl: for each cell centre of a `cols` × `rows`
-/// screen grid, the object whose (unpadded) box the ray from the eye enters
+/// screen grid, the object whose (unpadded) box the cell's ray enters
 /// first at or past the near plane (t = 1). Sorted, without repeats.
-pub fn seed(bvh: &Bvh, ray_dirs: &Mat4, eye: Vec3, (cols, rows): (u32, u32)) -> Vec<u32> {
+pub fn seed(bvh: &Bvh, ray_dirs: &Mat4, ray_origins: &Mat4, (cols, rows): (u32, u32)) -> Vec<u32> {
     let mut hits = Vec::new();
     if bvh.nodes.is_empty() {
         return hits;
@@ -210,6 +215,7 @@ pub fn seed(bvh: &Bvh, ray_dirs: &Mat4, eye: Vec3, (cols, rows): (u32, u32)) -> 
     for cell in 0..cols * rows {
         let ndc = Vec2::new(((cell % cols) as f32 + 0.5) / cols as f32 * 2.0 - 1.0, 1.0 - ((cell / cols) as f32 + 0.5) / rows as f32 * 2.0);
         let dir = (*ray_dirs * Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
+        let eye = (*ray_origins * Vec4::new(ndc.x, ndc.y, 0.0, 1.0)).truncate();
         let (mut best, mut hit) = (f32::MAX, None);
         let mut stack = vec![0u32];
         while let Some(n) = stack.pop() {

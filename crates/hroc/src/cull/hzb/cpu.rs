@@ -95,8 +95,7 @@ impl Outcome {
 pub fn test(mips: &[Mip], hiz: &[f32], u: &FrameUniform, b: Aabb, slack: f32, tolerance: f32) -> Outcome {
     let vp = Mat4::from_cols_array_2d(&u.view_proj);
     let eye = Vec3::from_slice(&u.eye[..3]);
-    let rays = Mat4::from_cols_array_2d(&u.ray_dirs);
-    let pixel = 2.0 * rays.y_axis.truncate().length() / u.near * u.viewport[3];
+    let pixel = Vec2::new(u.footprint[0], u.footprint[1]);
     let planes = u.planes.map(Vec4::from);
     let b = padded(b, eye, pixel);
     if !aabb_in_frustum(&planes, b.min, b.max) {

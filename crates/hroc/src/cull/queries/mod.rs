@@ -28,7 +28,7 @@ pub mod chc;
 pub mod oq;
 pub mod soq;
 
-use glam::{Mat4, Vec3, Vec4};
+use glam::{Vec3, Vec4};
 use std::time::Instant;
 
 use super::{hroc::cpu, Frame, MethodContext, Stat};
@@ -55,8 +55,9 @@ pub struct NodeView {
     pub near: f32,
     /// Camera position in world space.
     pub eye: Vec3,
-    /// One pixel's size at unit distance ([`cpu::pixel_angle`]), for box padding.
-    pub pixel: f32,
+    /// A pixel's height at distance d from the eye, `a + b d`
+    /// ([`cpu::pixel_angle`]), for box padding.
+    pub pixel: glam::Vec2,
 }
 
 /// How a node's padded box stands to the view frustum.
@@ -74,8 +75,8 @@ impl NodeView {
     /// The camera of the frame's uniform.
     pub fn from_frame(f: &Frame) -> Self {
         let u = &f.uniform;
-        let ray_dirs = Mat4::from_cols_array_2d(&u.ray_dirs);
-        NodeView { planes: u.planes.map(Vec4::from), near: u.near, eye: Vec3::new(u.eye[0], u.eye[1], u.eye[2]), pixel: cpu::pixel_angle(&ray_dirs, u.near, u.viewport[1] as u32) }
+        let pixel = glam::Vec2::new(u.footprint[0], u.footprint[1]);
+        NodeView { planes: u.planes.map(Vec4::from), near: u.near, eye: Vec3::new(u.eye[0], u.eye[1], u.eye[2]), pixel }
     }
 
     /// Classifies `b` after the shaders' pixel padding.
