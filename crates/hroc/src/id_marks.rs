@@ -4,12 +4,17 @@
 //! marks a method reads, one compute pass marks every object that owns a
 //! pixel of the ID target (`id_marks.wgsl`).
 //!
-//! The marks then mean "owns a pixel after this list" rather than "had a
-//! fragment pass the depth test while drawn": a subset (an object
-//! overdrawn later in the frame, or by a later object of the same list,
-//! is not marked). Every method that reads marks stays conservative with
-//! the subset: an unmarked object is only left out of the next frame's
-//! occluders and tested like any other (`roc`, `ioc`, HROC's O and D).
+//! The marks then mean "owns a pixel after this list, and is one of the
+//! objects a given set holds" rather than "had a fragment pass the depth
+//! test while drawn". Of the list's own objects this is a subset (one
+//! overdrawn later in the frame, or by a later object of the same list, is
+//! not marked), and every method that reads marks stays conservative with
+//! it: an unmarked object is only left out of the next frame's occluders
+//! and tested like any other (`roc`, `ioc`, HROC's O and D). Pixels the
+//! list did not draw (never-culled objects, the host's own geometry with
+//! IDs of its own) may hold any ID: where a mark would skip an object's
+//! test (HROC's O), the set is the list's own objects, so no such pixel
+//! marks an object that was neither drawn nor tested.
 //!
 //! [`Marks::Ids`]: crate::Marks::Ids
 
@@ -21,21 +26,27 @@ use crate::reflect::{pipeline_layout, Layout};
 pub struct IdMarks {
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
+    /// One u32 1 per object slot: the set that holds every object.
+    everyone: wgpu::Buffer,
 }
 
 impl IdMarks {
-    /// Builds the pass on `gpu`.
-    pub fn new(gpu: &Gpu) -> IdMarks {
+    /// Builds the pass on `gpu`, for `slots` objects.
+    pub fn new(gpu: &Gpu, slots: u32) -> IdMarks {
         let module = gpu.shader("id_marks.wgsl", &crate::shaders::source("id_marks.wgsl"));
         let layout = Layout::IdMarks.create(gpu);
         let pipeline = gpu.compute_pipeline(&module, "mark_ids", Some(&pipeline_layout(gpu, Layout::IdMarks.label(), &layout)), &[]);
-        IdMarks { pipeline, layout }
+        let everyone = gpu.buffer_init("hroc every object", bytemuck::cast_slice(&vec![1u32; slots as usize]), wgpu::BufferUsages::STORAGE);
+        IdMarks { pipeline, layout, everyone }
     }
 
-    /// The pass from `ids` (an `R32Uint` view, `size` pixels) into `marks`.
-    pub fn bind(&self, gpu: &Gpu, ids: &wgpu::TextureView, size: (u32, u32), marks: &wgpu::Buffer) -> IdPass {
-        let bind = Layout::IdMarks.bind(gpu, &self.layout, &[(0, wgpu::BindingResource::TextureView(ids)), (1, marks.as_entire_binding())]);
-        IdPass { pipeline: self.pipeline.clone(), bind, size }
+    /// The pass from `ids` (an `R32Uint` view, `size` pixels) into `marks`,
+    /// of the objects `within` flags (u32 per object, nonzero: in the
+    /// set), or of every object.
+    pub fn bind(&self, gpu: &Gpu, ids: &wgpu::TextureView, size: (u32, u32), marks: &wgpu::Buffer, within: Option<&wgpu::Buffer>) -> IdPass {
+        let within = within.unwrap_or(&self.everyone);
+        let resources = [(0, wgpu::BindingResource::TextureView(ids)), (1, marks.as_entire_binding()), (2, within.as_entire_binding())];
+        IdPass { pipeline: self.pipeline.clone(), bind: Layout::IdMarks.bind(gpu, &self.layout, &resources), size }
     }
 }
 

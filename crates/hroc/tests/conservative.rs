@@ -57,7 +57,8 @@ fn every_method_family_draws_every_visible_object() {
 /// Orthographic views (a directional light's shadow cascade looks at the
 /// scene this way): every method family draws every object `noc` shows,
 /// in both depth conventions, from the side and from above, with near
-/// planes in front of the scene and cutting through it, across cuts.
+/// planes in front of the scene and cutting through it, across cuts, on
+/// the full and the portable tier.
 #[test]
 fn orthographic_views_draw_every_visible_object() {
     use glam::Mat4;
@@ -71,9 +72,9 @@ fn orthographic_views_draw_every_visible_object() {
         };
         ViewDesc { view: Mat4::look_at_rh(eye, target, up), proj, depth }
     };
-    for depth in [DepthRange::Standard, DepthRange::Reversed] {
+    for (depth, caps) in [DepthRange::Standard, DepthRange::Reversed].into_iter().flat_map(|d| [(d, Capabilities::FULL), (d, Capabilities::PORTABLE)]) {
         let (host, objects) = street_on(&device, Depth { range: depth, ..Depth::default() });
-        let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+        let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
         let path: Vec<(ViewDesc, bool)> = vec![
             (ortho(Vec3::new(0.0, 2.0, 12.0), Vec3::new(0.0, 1.0, -10.0), 6.0, 0.1, 40.0, depth), true),
             (ortho(Vec3::new(1.0, 2.0, 12.0), Vec3::new(0.5, 1.0, -10.0), 6.0, 0.1, 40.0, depth), false),
@@ -98,7 +99,7 @@ fn orthographic_views_draw_every_visible_object() {
             for (k, &(desc, cut)) in path.iter().enumerate() {
                 let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
                 let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
-                assert!(missed.is_empty(), "{method} {depth:?} orthographic frame {k}: visible objects {missed:?} not drawn");
+                assert!(missed.is_empty(), "{method} {depth:?} {caps:?} orthographic frame {k}: visible objects {missed:?} not drawn");
                 culled += objects.len() - drawn.len();
             }
             assert!(culled > 0, "{method} {depth:?} culled nothing in orthographic views");

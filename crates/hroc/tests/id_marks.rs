@@ -1,18 +1,20 @@
 //! The ID-marks pass (`Marks::Ids`) against its CPU reference: from an
 //! object-ID image with every kind of value (background 0, IDs in range,
 //! IDs past the marks buffer, which a host's bug could write), the GPU
-//! marks exactly the objects whose `index + 1` appears, and nothing else.
+//! marks exactly the objects whose `index + 1` appears (of those a set
+//! holds, when given one), and nothing else.
 
 use hroc::testing::gpu::Gpu;
 use hroc::testing::id_marks::IdMarks;
 
 mod common;
 
-/// What the pass must mark: object `i` when some pixel holds `i + 1`.
-fn cpu_marks(ids: &[u32], objects: usize) -> Vec<u32> {
+/// What the pass must mark: object `i` when some pixel holds `i + 1` and
+/// `within` holds `i` (every object without it).
+fn cpu_marks(ids: &[u32], objects: usize, within: Option<&[u32]>) -> Vec<u32> {
     let mut marks = vec![0u32; objects];
     for &id in ids {
-        if id != 0 && (id as usize) <= objects {
+        if id != 0 && (id as usize) <= objects && within.is_none_or(|w| w[id as usize - 1] != 0) {
             marks[id as usize - 1] = 1;
         }
     }
@@ -23,7 +25,7 @@ fn cpu_marks(ids: &[u32], objects: usize) -> Vec<u32> {
 fn id_marks_match_the_cpu_reference() {
     let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
     let gpu = Gpu::from_device(&device, &queue);
-    let pass = IdMarks::new(&gpu);
+    let pass = IdMarks::new(&gpu, 3000);
     // A xorshift: values below `n`.
     let mut state = 0x9e37_79b9_7f4a_7c15u64;
     let mut below = |n: u64| {
@@ -56,14 +58,19 @@ fn id_marks_match_the_cpu_reference() {
             wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(w * 4), rows_per_image: None },
             texture.size(),
         );
-        let marks = gpu.buffer("marks", objects as u64 * 4, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
-        let bound = pass.bind(&gpu, &texture.create_view(&Default::default()), (w, h), &marks);
-        let mut enc = gpu.encoder("id marks");
-        bound.record(&mut enc.begin_compute_pass(&Default::default()));
-        queue.submit([enc.finish()]);
-        let got: Vec<u32> = gpu.read(&marks, 0, objects as u64).unwrap();
-        let want = cpu_marks(&ids, objects);
-        assert!(want.contains(&1), "the image marks something");
-        assert_eq!(got, want, "{w}x{h}, {objects} objects");
+        // Every object, then every third one.
+        let third: Vec<u32> = (0..objects as u32).map(|i| (i % 3 == 0) as u32).collect();
+        let within = gpu.buffer_init("within", bytemuck::cast_slice(&third), wgpu::BufferUsages::STORAGE);
+        for set in [None, Some(&third[..])] {
+            let marks = gpu.buffer("marks", objects as u64 * 4, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
+            let bound = pass.bind(&gpu, &texture.create_view(&Default::default()), (w, h), &marks, set.map(|_| &within));
+            let mut enc = gpu.encoder("id marks");
+            bound.record(&mut enc.begin_compute_pass(&Default::default()));
+            queue.submit([enc.finish()]);
+            let got: Vec<u32> = gpu.read(&marks, 0, objects as u64).unwrap();
+            let want = cpu_marks(&ids, objects, set);
+            assert!(want.contains(&1), "the image marks something");
+            assert_eq!(got, want, "{w}x{h}, {objects} objects, within {}", set.is_some());
+        }
     }
 }

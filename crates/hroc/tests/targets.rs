@@ -1,12 +1,13 @@
 //! Every depth format a host may draw into, and a view on another layer
-//! or mip of its depth texture: each frame of each method family draws
+//! or mip of its depth texture, on the full and the portable tier: each
+//! frame of each method family draws
 //! exactly `noc`'s picture (the same object-ID image, so no object that
 //! owns a pixel is missed and no pixel is missing), across a walk, a camera
 //! cut and the eye inside an object's box.
 
 use common::street::{look, street_on, Depth};
 use glam::Vec3;
-use hroc::{Culler, CullerDesc, Method, Variant, ViewDesc};
+use hroc::{Capabilities, Culler, CullerDesc, Method, Variant, ViewDesc};
 
 mod common;
 
@@ -17,10 +18,18 @@ fn path() -> Vec<(ViewDesc, bool)> {
     path
 }
 
-/// Every frame of every method family on `at` gives `noc`'s ID image.
+/// Every frame of every method family on `at` gives `noc`'s ID image, with
+/// the full tier's capabilities and the portable tier's (ID marks, box
+/// tests that load depth and compare it themselves).
 fn same_picture_as_noc(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth) {
+    for caps in [Capabilities::FULL, Capabilities::PORTABLE] {
+        same_picture_with(device, queue, at, caps);
+    }
+}
+
+fn same_picture_with(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth, caps: Capabilities) {
     let (host, objects) = street_on(device, at);
-    let culler = Culler::new(device, queue, &CullerDesc::new(&objects)).unwrap();
+    let culler = Culler::new(device, queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
     let path = path();
     let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
     let pictures: Vec<Vec<u32>> = path
@@ -37,10 +46,10 @@ fn same_picture_as_noc(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth) {
         for (k, &(desc, cut)) in path.iter().enumerate() {
             let drawn = host.frame(device, queue, &culler, &mut view, desc, cut);
             let differing = host.ids(device, queue).iter().zip(&pictures[k]).filter(|(a, b)| a != b).count();
-            assert_eq!(differing, 0, "{method} on {at:?}, frame {k}: pixels differ from noc's");
+            assert_eq!(differing, 0, "{method} on {at:?} ({caps:?}), frame {k}: pixels differ from noc's");
             culled += objects.len() - drawn.len();
         }
-        assert!(culled > 0, "{method} on {at:?} culled nothing");
+        assert!(culled > 0, "{method} on {at:?} ({caps:?}) culled nothing");
     }
 }
 

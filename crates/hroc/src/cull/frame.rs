@@ -297,13 +297,15 @@ pub struct MethodContext<'a> {
 
 impl MethodContext<'_> {
     /// Where a list's objects drawn visibly are marked in `marks` (u32 per
-    /// object), for [`Frame::draw`]: from the ID target with ID marks
-    /// (the view has one: [`crate::Culler::view`] checks), else by the
-    /// host's fragments.
-    pub fn marks_bind(&self, marks: &wgpu::Buffer) -> MarkTarget {
-        match (self.id_marks, &self.targets.ids) {
-            (Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, self.targets.size, marks)),
-            _ => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks])),
+    /// object), for [`Frame::draw`]: by the host's fragments, or with ID
+    /// marks from the ID target (the view has one: [`crate::Culler::view`]
+    /// checks), of the objects `within` flags when given (the list's own
+    /// objects, where a mark skips an object's test), else of any.
+    pub fn mark_target(&self, marks: &wgpu::Buffer, within: Option<&wgpu::Buffer>) -> MarkTarget {
+        match (self.capabilities.marks, self.id_marks, &self.targets.ids) {
+            (crate::Marks::EarlyZ, _, _) => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks])),
+            (crate::Marks::Ids, Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, self.targets.size, marks, within)),
+            (crate::Marks::Ids, _, _) => unreachable!("Culler::view_with checks the ID target of methods that read marks, and ID marks build the pass"),
         }
     }
 }

@@ -129,7 +129,8 @@ pub struct Roc {
     compactor: Compactor,
     v_job: CompactJob,
     u_job: CompactJob,
-    marks_next: crate::id_marks::MarkTarget,
+    /// `roc`: where its lists mark next V (`roc-all` reads no marks).
+    marks_next: Option<crate::id_marks::MarkTarget>,
     bind: wgpu::BindGroup,
     select: wgpu::ComputePipeline,
     split: wgpu::ComputePipeline,
@@ -163,7 +164,7 @@ impl Roc {
             split: gpu.compute_pipeline(&module, "split", Some(&pl), &constants),
             box_bind: boxes.bind(gpu, cx.frame, &candidates, cx.bounds, &tested),
             boxes,
-            marks_next: cx.marks_bind(&next),
+            marks_next: (!all).then(|| cx.mark_target(&next, None)),
             visible,
             next,
             tested,
@@ -216,12 +217,10 @@ impl CullMethod for Roc {
         f.stage(Stage::OcclusionMap);
         let (enc, q) = f.counted();
         self.compactor.record(enc, &q, &self.v_job);
-        if self.all {
-            f.draw(Phase::Occluders, &self.v_list, None);
-        } else {
+        if !self.all {
             enc.clear_buffer(&self.next, 0, None);
-            f.draw(Phase::Occluders, &self.v_list, Some(&self.marks_next));
         }
+        f.draw(Phase::Occluders, &self.v_list, self.marks_next.as_ref());
         // 2. Box test.
         f.stage(Stage::OcclusionTest);
         let enc = f.encoder();
@@ -236,10 +235,8 @@ impl CullMethod for Roc {
         f.stage(Stage::OccludeeRendering);
         let (enc, q) = f.counted();
         self.compactor.record(enc, &q, &self.u_job);
-        if self.all {
-            f.draw(Phase::Occludees, &self.u_list, None);
-        } else {
-            f.draw(Phase::Occludees, &self.u_list, Some(&self.marks_next));
+        f.draw(Phase::Occludees, &self.u_list, self.marks_next.as_ref());
+        if !self.all {
             let bytes = self.n as u64 * 4;
             f.encoder().copy_buffer_to_buffer(&self.next, 0, &self.visible, 0, bytes);
         }

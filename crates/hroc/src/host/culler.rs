@@ -144,7 +144,6 @@ impl Culler {
         }
         check_limits(&device.limits(), "hroc::Culler", &shared)?;
         let gpu = Gpu::from_device(device, queue);
-        let id_marks = (caps.marks == Marks::Ids).then(|| IdMarks::new(&gpu));
         let objects = desc.objects;
         for (i, o) in objects.iter().enumerate() {
             check_box(i as u32, &o.bounds)?;
@@ -155,6 +154,7 @@ impl Culler {
         check_motion(&m)?;
         let capacity = (desc.capacity as u64).max(objects.len() as u64).max(1);
         check_capacity(device, capacity)?;
+        let id_marks = (caps.marks == Marks::Ids).then(|| IdMarks::new(&gpu, capacity as u32));
         let n = capacity as usize;
         let mut boxes = vec![Aabb::new(glam::Vec3::ZERO, glam::Vec3::ZERO); n];
         let mut oriented = vec![None; n];

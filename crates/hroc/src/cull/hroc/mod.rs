@@ -256,8 +256,9 @@ impl Hroc {
             n,
             nodes,
             tree_nodes: bvh.nodes.len() as u32,
-            marks_o: cx.marks_bind(&occluders),
-            marks_d: cx.marks_bind(&drawn),
+            // O skips the test of what it marks: only V's own objects.
+            marks_o: cx.mark_target(&occluders, Some(&visible)),
+            marks_d: cx.mark_target(&drawn, None),
             extract,
             collect,
             merge,

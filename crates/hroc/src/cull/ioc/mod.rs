@@ -133,7 +133,7 @@ impl Ioc {
             start,
             bottom,
             start_len,
-            marks_next: cx.marks_bind(&next),
+            marks_next: cx.mark_target(&next, None),
             expand: gpu.compute_pipeline(&module, "expand", Some(&pl), &[("BOTTOM", 0.0)]),
             expand_bottom: gpu.compute_pipeline(&module, "expand", Some(&pl), &[("BOTTOM", 1.0)]),
             visible,
