@@ -14,8 +14,8 @@
 @group(0) @binding(3) var<storage, read_write> marks: array<u32>; // per item: 1 = a fragment passed
 @group(0) @binding(4) var depth: texture_2d<f32>;                 // the depth tested against
 
-// Without early-Z marks or read-only depth attachments, the pass binds no
-// depth attachment and each fragment compares itself, as the attachment's
+// With ID marks (no forced early-Z), the pass binds no depth attachment
+// and each fragment compares itself, as the attachment's
 // LessEqual (GreaterEqual reversed) with its bias toward the camera would,
 // and a little more (as HROC's test, hroc_test.wgsl).
 override MANUAL_DEPTH: bool = false;

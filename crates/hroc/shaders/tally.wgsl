@@ -4,7 +4,7 @@
 
 @group(0) @binding(0) var<storage, read> commands: array<DrawCommand>;
 @group(0) @binding(1) var<storage, read> count: array<u32>;
-// x: the list's max_count (y: u32 words per command, 5 here).
+// x: the list's max_count.
 @group(0) @binding(2) var<uniform> limit: vec4<u32>;
 // [objects, triangles]
 @group(0) @binding(3) var<storage, read_write> totals: array<atomic<u32>, 2>;

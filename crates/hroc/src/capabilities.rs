@@ -49,11 +49,14 @@ pub struct Capabilities {
     pub marks: Marks,
     /// A depth attachment may be read-only while the same texture is
     /// sampled (wgpu's `READ_ONLY_DEPTH_STENCIL`: every backend but GL).
-    /// With it and [`Marks::EarlyZ`], the box tests (`roc`, `ioc`, HROC)
-    /// rasterize against the attached depth under forced early-Z;
-    /// otherwise they bind no depth attachment and compare each fragment
-    /// against the depth they load, as the attachment's test would, and
-    /// HROC's rounds are refused.
+    /// With [`Marks::EarlyZ`] the box tests (`roc`, `ioc`, HROC) rasterize
+    /// against the attached depth under forced early-Z; HROC's rays sample
+    /// that depth too, so without read-only depth HROC attaches its blocks'
+    /// occlusion map and loads a copy (with test blocks above one pixel,
+    /// [`crate::MethodOptions::hroc_test_scale`]), or else compares
+    /// depth itself; and HROC's rounds are refused. With [`Marks::Ids`] the
+    /// box tests bind no depth attachment and compare each fragment
+    /// against the depth they load, as the attachment's test would.
     pub read_only_depth: bool,
 }
 

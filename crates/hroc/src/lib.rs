@@ -85,7 +85,8 @@
 //!   geometry inside the object's box. The depth texture has usage
 //!   `RENDER_ATTACHMENT | TEXTURE_BINDING`, one sample; the culler binds
 //!   it read-only between the host's draws (box tests) and samples it in
-//!   compute passes (Hi-Z).
+//!   compute and fragment passes (Hi-Z, HROC's rays, box tests that
+//!   compare depth themselves).
 //! - **Clearing.** Clear the depth target (and the ID target) once per
 //!   frame, before [`View::cull`]: in a pass of its own, or with
 //!   `LoadOp::Clear` in any pass recorded into the encoder before the
@@ -115,8 +116,9 @@
 //! - **Object IDs.** For HROC with occluder filtering (OF, §4.2; the default
 //!   [`Method::HROC`]), and with [`Marks::Ids`] for every method that reads
 //!   marks, the host writes `object index + 1` to an `R32Uint` target
-//!   ([`ViewTargets::ids`]) in every occluding phase and clears it to 0
-//!   each frame. Otherwise `hroc-na`, `hroc-cr` and `hroc-sf` need no ID
+//!   ([`ViewTargets::ids`], of which the culler reads layer 0, mip 0) in
+//!   the pass of every occluding [`Draw`], depth-tested as the depth is,
+//!   and clears it to 0 each frame. Otherwise `hroc-na`, `hroc-cr` and `hroc-sf` need no ID
 //!   target.
 //! - **Encoders.** A view records everything a frame writes into the
 //!   encoder it is handed (copies from a staging belt, never

@@ -12,9 +12,8 @@ use crate::reflect::{pipeline_layout, Layout};
 const BINDS: usize = 256;
 
 /// One pass over a list's commands: binding 0 the commands, 1 the GPU
-/// count, 2 a uniform `(max_count, u32 words per command, first command,
-/// 0)` written
-/// in the encoder before each dispatch, 3 the pass's own buffer (if any).
+/// count, 2 a uniform `(max_count, 0, 0, 0)` written in the encoder before
+/// each dispatch, 3 the pass's own buffer (if any).
 pub(crate) struct ListPass {
     which: Layout,
     pipeline: wgpu::ComputePipeline,
@@ -36,25 +35,13 @@ impl ListPass {
         ListPass { which, pipeline, layout, params, own, binds: HashMap::new() }
     }
 
-    /// Records the pass over the commands `[0, max_count)` of a list
-    /// (`words` u32s each, the list starting at command `first` of
-    /// `commands`) whose GPU count is in `count`.
-    #[allow(clippy::too_many_arguments)]
-    pub(crate) fn record(
-        &mut self,
-        gpu: &Gpu,
-        enc: &mut wgpu::CommandEncoder,
-        uploads: &mut Uploads,
-        commands: &wgpu::Buffer,
-        count: &wgpu::Buffer,
-        max_count: u32,
-        words: u32,
-        first: u32,
-    ) {
+    /// Records the pass over the commands `[0, max_count)` of a list of
+    /// `DrawCommand`s whose GPU count is in `count`.
+    pub(crate) fn record(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, commands: &wgpu::Buffer, count: &wgpu::Buffer, max_count: u32) {
         if max_count == 0 {
             return;
         }
-        uploads.write(enc, &self.params, 0, bytemuck::cast_slice(&[max_count, words, first, 0]));
+        uploads.write(enc, &self.params, 0, bytemuck::cast_slice(&[max_count, 0, 0, 0]));
         if self.binds.len() > BINDS {
             self.binds.clear();
         }

@@ -95,7 +95,9 @@ named_enum!(
         U => "U",
         /// Occludees drawn in the front lists of HROC's rounds before the last.
         Front => "front",
-        /// |D|: occludees with a fragment through early-Z.
+        /// |D|: occludees with a fragment through early-Z (with ID marks,
+        /// that own a pixel after their draw; not kept with occluder
+        /// filtering, which reads the ID target itself).
         D => "D",
         /// Rays cast by HROC's test.
         Rays => "rays",

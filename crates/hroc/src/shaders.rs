@@ -97,9 +97,10 @@ pub const MANUAL_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 
 /// What a box-test pass renders into: the depth it tests against, attached
 /// read-only ([`BoxDepth::Test`]), or, where the culler runs without
-/// early-Z marks or read-only depth attachments
-/// ([`crate::Capabilities::read_only_depth`]), a colour target of
-/// [`MANUAL_TARGET`] that nothing writes ([`BoxDepth::Manual`]).
+/// early-Z marks, or its test samples the depth it would attach without
+/// read-only depth attachments ([`crate::Capabilities::read_only_depth`]),
+/// a colour target of [`MANUAL_TARGET`] that nothing writes
+/// ([`BoxDepth::Manual`]).
 pub struct BoxTarget(Option<wgpu::TextureView>);
 
 impl BoxTarget {

@@ -70,7 +70,7 @@ impl DrawTally {
 
     /// Counts what `list` draws, after the host recorded its draw.
     pub(crate) fn count(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, list: &DrawList) {
-        self.pass.record(gpu, enc, uploads, &list.commands, &list.count, list.max_count, 5, 0);
+        self.pass.record(gpu, enc, uploads, &list.commands, &list.count, list.max_count);
     }
 
     /// Ends a frame: copies the totals, with `stats` (the frame's number

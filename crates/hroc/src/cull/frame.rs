@@ -147,7 +147,7 @@ impl<'a> Frame<'a> {
     pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) {
         self.work.command_slots += list.max_count as u64;
         if let Some(tail) = self.tail.as_deref_mut() {
-            tail.record(self.gpu, self.encoder, self.uploads, &list.commands, &list.count, list.max_count, 5, 0);
+            tail.record(self.gpu, self.encoder, self.uploads, &list.commands, &list.count, list.max_count);
         }
         let statistics = self.pass_count();
         let draw = Draw {

@@ -18,7 +18,9 @@ pub enum Counters {
     /// Stall-free (`sf`, what §6 asks for): last frames' counts, read
     /// without waiting, plus a margin; a second indirect-count draw takes
     /// whatever overflows the estimate, its count (count − estimate, at
-    /// least 0) computed on the GPU, so nothing is dropped.
+    /// least 0) computed on the GPU, so nothing is dropped. With an
+    /// emulated draw count ([`crate::DrawCount::Emulated`]) every list is
+    /// drawn to its capacity anyway, and this runs as [`Counters::Capacity`].
     StallFree,
 }
 

@@ -42,8 +42,8 @@ use crate::shaders::{box_pipeline, BoxDepth, BoxTarget};
 /// The box rasterization test (`roc_boxes.wgsl`), shared with IOC: a
 /// pipeline with forced early-Z on a read-only depth attachment, no depth
 /// writes, `LessEqual` and a small bias toward the camera (as HROC's); or,
-/// without early-Z marks or read-only depth, a pipeline whose fragments
-/// load the depth and compare themselves ([`BoxTarget`]).
+/// with ID marks (no forced early-Z), a pipeline whose fragments load the
+/// depth and compare themselves ([`BoxTarget`]).
 pub(crate) struct BoxPass {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,

@@ -6,13 +6,14 @@ use super::*;
 use crate::gpu::{Gpu, PassCount};
 
 /// The occlusion map of the test's blocks (`reduce_fs` in `hroc_test.wgsl`),
-/// twice: the box tests are attached to one and their rays load the other,
-/// so no texture is attached and sampled in one pass (GL, without read-only
-/// depth attachments, then attaches it too).
+/// and, where the culler has early-Z marks but no read-only depth
+/// attachments (GL), a copy: the box tests are attached to the map and
+/// their rays load the copy, so no texture is attached and sampled in one
+/// pass.
 pub(super) struct Blocks {
     pub(super) scale: u32,
     pub(super) view: wgpu::TextureView,
-    pub(super) copy: wgpu::TextureView,
+    pub(super) copy: Option<wgpu::TextureView>,
     pub(super) bind: wgpu::BindGroup,
     pub(super) reduce: wgpu::RenderPipeline,
 }
@@ -44,7 +45,9 @@ impl Blocks {
                 })
                 .create_view(&Default::default())
         };
-        let (view, copy) = (map("hroc test blocks", BLOCK_FORMAT), map("hroc test blocks copy", BLOCK_FORMAT));
+        let caps = cx.capabilities;
+        let view = map("hroc test blocks", BLOCK_FORMAT);
+        let copy = (caps.marks == crate::Marks::EarlyZ && !caps.read_only_depth).then(|| map("hroc test blocks copy", BLOCK_FORMAT));
         let layout = crate::reflect::Layout::HrocReduce.create(gpu);
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc reduce"),
@@ -82,9 +85,9 @@ impl Blocks {
     }
 
     /// Reduces the host's depth (the occlusion map) to the blocks' farthest
-    /// depth, in the map and in its copy.
+    /// depth, in the map and in its copy, if it has one.
     pub(super) fn reduce(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount) {
-        for view in [&self.view, &self.copy] {
+        for view in std::iter::once(&self.view).chain(&self.copy) {
             let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hroc test blocks"),
                 color_attachments: &[],

@@ -200,7 +200,9 @@ impl Hroc {
         let test_layout = Layout::HrocTest.create(gpu);
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         let blocks = (scale > 1).then(|| Blocks::new(gpu, cx, &test_module, scale));
-        let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| &b.copy);
+        // The depth the rays load: the host's, or the blocks' map (its copy
+        // where the test cannot sample what it is attached to).
+        let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| b.copy.as_ref().unwrap_or(&b.view));
         let test_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc test"),
             layout: &test_layout,
@@ -219,10 +221,10 @@ impl Hroc {
         let test_pl = crate::reflect::pipeline_layout(gpu, "hroc test", &test_layout);
         let test_depth = (blocks.as_ref().map_or(cx.targets.depth_format, |_| BLOCK_FORMAT), cx.targets.depth);
         // Without early-Z marks, the test binds no depth and compares each
-        // fragment itself; so too without blocks (whose rays load a copy of
-        // the depth the test is attached to) and read-only depth attachments.
+        // fragment itself; so too where its rays sample the depth it would
+        // attach and attachments cannot be read-only.
         let (w, h) = cx.targets.size;
-        let test_target = BoxTarget::new(gpu, cx.capabilities, blocks.is_none(), if blocks.is_some() { (w / scale, h / scale) } else { (w, h) });
+        let test_target = BoxTarget::new(gpu, cx.capabilities, blocks.as_ref().is_none_or(|b| b.copy.is_none()), if blocks.is_some() { (w / scale, h / scale) } else { (w, h) });
         let constants = [("TEST_SCALE", scale as f64), ("MANUAL_DEPTH", test_target.manual_depth())];
         // With an emulated draw count, the groups are one instanced draw of
         // `group_args` (36 vertices, |G| instances copied in each frame).

@@ -1,7 +1,8 @@
 //! `ioc`: iterative GPU occlusion culling with a BVH (Lee & Lee, HPG 2020
 //! poster; the HROC paper's IOC row). ROC on BVH nodes, level by level:
 //! 1. occlusion map — draw V (last frame's visible set, packed in object
-//!    order) with forced early-Z; fragments that pass mark next frame's V;
+//!    order) with forced early-Z; fragments that pass mark next frame's V
+//!    (with ID marks, the objects owning a pixel after the draw);
 //! 2. from depth `start` down to `bottom`: rasterize the boxes of the
 //!    level's queue with the ROC box test (`roc_boxes.wgsl`), then one
 //!    thread per queued node (`ioc.wgsl`): a culled node leaves its subtree
