@@ -81,7 +81,9 @@
 //!   lists): draw every list when it comes.
 //! - **Depth.** Every occluding phase ([`Phase::occludes`]) writes depth with
 //!   the depth test of its [`DepthRange`] (`Less`/`LessEqual` standard,
-//!   `Greater`/`GreaterEqual` reversed), no depth bias, and only for
+//!   `Greater`/`GreaterEqual` reversed), depth bias only away from the
+//!   viewer (constant and slope-scaled bias ≥ 0 standard, ≤ 0 reversed, as
+//!   shadow passes use: a farther depth only lets more boxes pass), and only for
 //!   geometry inside the object's box. The depth texture has usage
 //!   `RENDER_ATTACHMENT | TEXTURE_BINDING`, one sample; the culler binds
 //!   it read-only between the host's draws (box tests) and samples it in

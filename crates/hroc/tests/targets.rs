@@ -11,10 +11,17 @@ use hroc::{Capabilities, Culler, CullerDesc, Method, Variant, ViewDesc};
 
 mod common;
 
-fn path() -> Vec<(ViewDesc, bool)> {
-    let mut path: Vec<(ViewDesc, bool)> = (0..4).map(|k| (look(Vec3::new(-2.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
-    path.push((look(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
-    path.push((look(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
+fn path(range: hroc::DepthRange) -> Vec<(ViewDesc, bool)> {
+    let view = |eye: Vec3, target: Vec3| {
+        let v = look(eye, target);
+        match range {
+            hroc::DepthRange::Standard => v,
+            hroc::DepthRange::Reversed => ViewDesc { proj: glam::Mat4::perspective_infinite_reverse_rh(1.1, 1.0, 0.1), depth: range, ..v },
+        }
+    };
+    let mut path: Vec<(ViewDesc, bool)> = (0..4).map(|k| (view(Vec3::new(-2.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
+    path.push((view(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
+    path.push((view(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
     path
 }
 
@@ -30,7 +37,7 @@ fn same_picture_as_noc(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth) {
 fn same_picture_with(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth, caps: Capabilities) {
     let (host, objects) = street_on(device, at);
     let culler = Culler::new(device, queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
-    let path = path();
+    let path = path(at.range);
     let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
     let pictures: Vec<Vec<u32>> = path
         .iter()
@@ -90,4 +97,16 @@ fn a_layer_or_mip_outside_the_texture_is_an_error() {
     // Mip 1 is 32 × 32: the 64 × 64 ID target no longer fits it.
     let e = culler.view(Method::Hzb, &host.targets().at(1, 1)).err().expect("an ID target of another size").to_string();
     assert!(e.contains("32x32"), "{e}");
+}
+
+/// A host that biases its depth away from the viewer, as shadow passes do
+/// (constant and slope-scaled, positive for standard depth, negative for
+/// reversed), gets `noc`'s picture from every method family.
+#[test]
+fn depth_bias_away_from_the_viewer_gives_noc_s_picture() {
+    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    for (range, sign) in [(hroc::DepthRange::Standard, 1), (hroc::DepthRange::Reversed, -1)] {
+        let bias = wgpu::DepthBiasState { constant: sign * 200, slope_scale: sign as f32 * 2.0, clamp: 0.0 };
+        same_picture_as_noc(&device, &queue, Depth { range, bias, ..Depth::default() });
+    }
 }

@@ -50,12 +50,19 @@ pub fn depth_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
 /// `R32Uint` target. Returns the pipeline and the camera's bind group
 /// layout.
 pub fn host_pipeline(device: &wgpu::Device, ids: bool, mark: bool) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
-    host_pipeline_on(device, ids, mark, wgpu::TextureFormat::Depth32Float, hroc::DepthRange::Standard)
+    host_pipeline_on(device, ids, mark, wgpu::TextureFormat::Depth32Float, hroc::DepthRange::Standard, Default::default())
 }
 
 /// [`host_pipeline`] drawing into a depth target of `format` with the
-/// depth test of `range`.
-pub fn host_pipeline_on(device: &wgpu::Device, ids: bool, mark: bool, format: wgpu::TextureFormat, range: hroc::DepthRange) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
+/// depth test of `range` and depth bias `bias`.
+pub fn host_pipeline_on(
+    device: &wgpu::Device,
+    ids: bool,
+    mark: bool,
+    format: wgpu::TextureFormat,
+    range: hroc::DepthRange,
+    bias: wgpu::DepthBiasState,
+) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
     let (output, ret) = if ids { (" -> @location(0) u32", " return in.object + 1u;") } else { ("", "") };
     let (early, marking) = if mark { ("@early_depth_test(force) ", " hroc_mark(in.object);") } else { ("", "") };
     let source = format!(
@@ -94,7 +101,7 @@ pub fn host_pipeline_on(device: &wgpu::Device, ids: bool, mark: bool, format: wg
             depth_write_enabled: Some(true),
             depth_compare: Some(if range == hroc::DepthRange::Standard { wgpu::CompareFunction::Less } else { wgpu::CompareFunction::Greater }),
             stencil: Default::default(),
-            bias: Default::default(),
+            bias,
         }),
         multisample: Default::default(),
         fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs"), compilation_options: Default::default(), targets: if ids { &targets } else { &[] } }),

@@ -35,6 +35,8 @@ pub fn cube(b: &Aabb) -> ([[f32; 3]; 8], [u32; 36]) {
 pub struct Depth {
     pub format: wgpu::TextureFormat,
     pub range: DepthRange,
+    /// The host's depth bias (a shadow pass's).
+    pub bias: wgpu::DepthBiasState,
     pub layers: u32,
     pub mips: u32,
     pub layer: u32,
@@ -43,7 +45,7 @@ pub struct Depth {
 
 impl Default for Depth {
     fn default() -> Depth {
-        Depth { format: wgpu::TextureFormat::Depth32Float, range: DepthRange::Standard, layers: 1, mips: 1, layer: 0, mip: 0 }
+        Depth { format: wgpu::TextureFormat::Depth32Float, range: DepthRange::Standard, bias: Default::default(), layers: 1, mips: 1, layer: 0, mip: 0 }
     }
 }
 
@@ -70,8 +72,8 @@ impl Host {
     pub fn with_depth(device: &wgpu::Device, vertices: &[[f32; 3]], indices: &[u32], at: Depth) -> Host {
         // The marking pipeline where the device forces early-Z; the plain
         // one for draws that need no mark (Marks::Ids, or nothing read).
-        let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, at.format, at.range).0);
-        let (plain, camera_layout) = super::host_pipeline_on(device, true, false, at.format, at.range);
+        let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, at.format, at.range, at.bias).0);
+        let (plain, camera_layout) = super::host_pipeline_on(device, true, false, at.format, at.range, at.bias);
         let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let camera = init("camera", &[0u8; 64], wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
         let camera_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
