@@ -22,14 +22,7 @@ fn every_method_family_draws_every_visible_object() {
     path.push((look(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
     path.push((look(Vec3::new(0.0, 1.5, 2.5), Vec3::new(0.0, 1.0, -10.0)), true));
     path.push((look(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
-    let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
-    let visible: Vec<Vec<u32>> = path
-        .iter()
-        .map(|&(desc, cut)| {
-            host.frame(&device, &queue, &culler, &mut truth, desc, cut);
-            host.visible(&device, &queue)
-        })
-        .collect();
+    let visible = host.visible_along(&device, &queue, &culler, &path);
     assert!(visible.iter().all(|v| !v.is_empty()) && visible[0].len() < objects.len() / 2, "the wall hides most of the street: {visible:?}");
     // The full tier; what GL has (an emulated count, early-Z marks, no
     // read-only depth attachments, so the box tests compare depth
@@ -42,13 +35,7 @@ fn every_method_family_draws_every_visible_object() {
         assert_eq!(culler.capabilities(), caps);
         for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::RocAll, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
             let mut view = culler.view(method, &host.targets()).unwrap();
-            let mut culled = 0;
-            for (k, &(desc, cut)) in path.iter().enumerate() {
-                let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
-                let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
-                assert!(missed.is_empty(), "{method} ({caps:?}) frame {k}: visible objects {missed:?} not drawn");
-                culled += objects.len() - drawn.len();
-            }
+            let culled = host.draws_visible_along(&device, &queue, &culler, &mut view, &path, &visible, &format!("{method} ({caps:?})"));
             assert!(culled > 0, "{method} ({caps:?}) culled nothing");
         }
     }
@@ -84,24 +71,11 @@ fn orthographic_views_draw_every_visible_object() {
             (ortho(Vec3::new(3.0, 12.0, 8.0), Vec3::new(0.0, 0.0, -8.0), 14.0, -20.0, 60.0, depth), true),
             (ortho(Vec3::new(3.5, 12.0, 8.0), Vec3::new(0.0, 0.0, -8.0), 14.0, -20.0, 60.0, depth), false),
         ];
-        let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
-        let visible: Vec<Vec<u32>> = path
-            .iter()
-            .map(|&(desc, cut)| {
-                host.frame(&device, &queue, &culler, &mut truth, desc, cut);
-                host.visible(&device, &queue)
-            })
-            .collect();
+        let visible = host.visible_along(&device, &queue, &culler, &path);
         assert!(visible.iter().all(|v| !v.is_empty()), "{depth:?}: the street is in view");
         for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::RocAll, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
             let mut view = culler.view(method, &host.targets()).unwrap();
-            let mut culled = 0;
-            for (k, &(desc, cut)) in path.iter().enumerate() {
-                let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
-                let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
-                assert!(missed.is_empty(), "{method} {depth:?} {caps:?} orthographic frame {k}: visible objects {missed:?} not drawn");
-                culled += objects.len() - drawn.len();
-            }
+            let culled = host.draws_visible_along(&device, &queue, &culler, &mut view, &path, &visible, &format!("{method} {depth:?} {caps:?} orthographic"));
             assert!(culled > 0, "{method} {depth:?} culled nothing in orthographic views");
         }
     }

@@ -98,23 +98,10 @@ fn a_device_without_early_z_culls_conservatively() {
     let mut path: Vec<(hroc::ViewDesc, bool)> = (0..4).map(|k| (look(Vec3::new(-2.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
     path.push((look(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
     path.push((look(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
-    let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
-    let visible: Vec<Vec<u32>> = path
-        .iter()
-        .map(|&(desc, cut)| {
-            host.frame(&device, &queue, &culler, &mut truth, desc, cut);
-            host.visible(&device, &queue)
-        })
-        .collect();
+    let visible = host.visible_along(&device, &queue, &culler, &path);
     for method in [Method::Roc, Method::RocAll, Method::Ioc, Method::Chc, Method::Hroc(hroc::Variant::NA), Method::HROC] {
         let mut view = culler.view(method, &host.targets()).unwrap();
-        let mut culled = 0;
-        for (k, &(desc, cut)) in path.iter().enumerate() {
-            let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
-            let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
-            assert!(missed.is_empty(), "{method} frame {k}: visible objects {missed:?} not drawn");
-            culled += objects.len() - drawn.len();
-        }
+        let culled = host.draws_visible_along(&device, &queue, &culler, &mut view, &path, &visible, &method.to_string());
         assert!(culled > 0, "{method} culled nothing");
         let stats = view.frame_stats(&culler).expect("the last frame's statistics");
         assert_eq!(stats.id_passes > 0, method.reads_marks(), "{method}: {stats:?}");

@@ -71,19 +71,7 @@ impl BoxPass {
         // so GL (no read-only depth attachments) can attach the depth.
         let depth = match target.mode() {
             BoxDepth::Manual => cx.targets.depth_sampled.clone(),
-            _ => gpu
-                .device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some("roc no depth"),
-                    size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: 1,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: wgpu::TextureFormat::R32Float,
-                    usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default()),
+            _ => gpu.stand_in("roc no depth", wgpu::TextureFormat::R32Float),
         };
         BoxPass { pipeline, layout, target, depth }
     }

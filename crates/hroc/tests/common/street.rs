@@ -207,6 +207,42 @@ impl Host {
         drawn
     }
 
+    /// The objects `noc` shows at each view of `path` (a `noc` view of
+    /// `culler` drawn along it).
+    pub fn visible_along(&self, device: &wgpu::Device, queue: &wgpu::Queue, culler: &Culler, path: &[(ViewDesc, bool)]) -> Vec<Vec<u32>> {
+        let mut truth = culler.view(hroc::Method::Noc, &self.targets()).unwrap();
+        path.iter()
+            .map(|&(desc, cut)| {
+                self.frame(device, queue, culler, &mut truth, desc, cut);
+                self.visible(device, queue)
+            })
+            .collect()
+    }
+
+    /// Draws `view` along `path`, asserting that each frame draws every
+    /// object of `visible` (from [`Host::visible_along`]); returns how many
+    /// objects it culled over the path. `label` names the run.
+    #[allow(clippy::too_many_arguments)]
+    pub fn draws_visible_along(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        culler: &Culler,
+        view: &mut View,
+        path: &[(ViewDesc, bool)],
+        visible: &[Vec<u32>],
+        label: &str,
+    ) -> usize {
+        let mut culled = 0;
+        for (k, &(desc, cut)) in path.iter().enumerate() {
+            let drawn = self.frame(device, queue, culler, view, desc, cut);
+            let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
+            assert!(missed.is_empty(), "{label} frame {k}: visible objects {missed:?} not drawn");
+            culled += culler.object_count() as usize - drawn.len();
+        }
+        culled
+    }
+
     /// Records into `enc` a copy of the object-ID image as it stands there.
     pub fn copy_ids(&self, device: &wgpu::Device, enc: &mut wgpu::CommandEncoder) -> wgpu::Buffer {
         let buf = device.create_buffer(&wgpu::BufferDescriptor {

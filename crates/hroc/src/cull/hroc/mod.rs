@@ -165,18 +165,7 @@ impl Hroc {
         let ids = match cx.targets.ids.as_ref() {
             Some(v) => v,
             None => {
-                stand_in = device
-                    .create_texture(&wgpu::TextureDescriptor {
-                        label: Some("hroc no ids"),
-                        size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format: wgpu::TextureFormat::R32Uint,
-                        usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                        view_formats: &[],
-                    })
-                    .create_view(&Default::default());
+                stand_in = gpu.stand_in("hroc no ids", wgpu::TextureFormat::R32Uint);
                 &stand_in
             }
         };
