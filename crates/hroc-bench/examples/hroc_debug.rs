@@ -32,18 +32,9 @@ fn main() -> hroc_bench::Result<()> {
         let dbg = h.method_state::<Hroc>().unwrap().debug_state(&gpu)?;
         let cam = s.cameras[k];
         println!("frame {k}: fn {} missing {} eye {:?}", chk.false_negatives, chk.missing_pixels, cam.eye);
-        let planes = hroc_bench::scene::camera::frustum_planes(&cam.view_proj(s.renderer.aspect()));
         let size = (s.renderer.targets.width, s.renderer.targets.height);
-        let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(s.renderer.aspect()), depth: hroc::DepthRange::Standard }.geometry()?;
-        let (cg, forced) = cpu::groups(
-            s.bvh(),
-            &cpu::node_states(s.bvh(), &dbg.occluders),
-            &planes,
-            cam.near,
-            cam.eye,
-            cpu::pixel_angle_xy(&g, size),
-            h.method_state::<Hroc>().unwrap().test_scale(),
-        );
+        let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(s.renderer.aspect()), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry()?;
+        let (cg, forced) = cpu::groups(s.bvh(), &cpu::node_states(s.bvh(), &dbg.occluders), &g, cpu::pixel_angle_xy(&g, size), h.method_state::<Hroc>().unwrap().test_scale());
         println!("  groups gpu {} cpu {} equal {}; forced {}", dbg.groups.len(), cg.len(), cg == dbg.groups, forced.len());
         for &o in truth.visible.iter().filter(|&&o| !drawn[o as usize]) {
             let leaf = s.bvh().leaf_of_object[o as usize];

@@ -119,11 +119,11 @@ fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
             let state = cpu::node_states(s.bvh(), &dbg.occluders);
             assert_eq!(state, dbg.state, "{key} frame {k}: node states differ");
             // The CPU references take the view as the culler derives it.
-            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
+            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
             let (vp, rays) = (g.view_proj, g.ray_dirs);
             let pixel = cpu::pixel_angle_xy(&g, RES);
             let scale = h.method_state::<Hroc>().unwrap().test_scale();
-            let (groups, forced) = cpu::groups(s.bvh(), &state, &g.planes, g.near, g.eye, pixel, scale);
+            let (groups, forced) = cpu::groups(s.bvh(), &state, &g, pixel, scale);
             let obb = oriented_boxes(&s);
             assert_eq!(groups, dbg.groups, "{key} frame {k}: groups differ");
             // Ray marking: everything a slightly shrunk box test per pixel
@@ -215,7 +215,7 @@ fn gpu_late_test_matches_cpu_reference() {
             s.gpu.queue.submit([enc.finish()]);
             let depth = s.read_depth().unwrap();
             let cam = s.cameras[k];
-            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
+            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
             let pixel = cpu::pixel_angle_xy(&g, RES);
             let obb = oriented_boxes(&s);
             let rest: Vec<u32> = (0..u.len()).filter(|&o| u[o] && front[o] == 0).map(|o| s.bvh().leaf_of_object[o]).collect();
@@ -291,7 +291,7 @@ fn gpu_seed_matches_cpu_reference() {
             let mut gpu_v: Vec<u32> = s.gpu.read_list(&list.commands, &list.count, list.max_count).unwrap().iter().map(|c| c.first_instance).collect();
             gpu_v.sort_unstable();
             let cam = s.cameras[k];
-            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard }.geometry().unwrap();
+            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
             let cpu_v = cpu::seed(s.bvh(), &g.ray_dirs, &g.ray_origins, hroc::testing::cull::hroc::SEED_GRID);
             // Ties between boxes entered at the same distance may round either way.
             let differ = gpu_v.iter().filter(|o| cpu_v.binary_search(o).is_err()).count() + cpu_v.iter().filter(|o| gpu_v.binary_search(o).is_err()).count();

@@ -148,7 +148,7 @@ fn open_view(eye: Vec3) -> NodeView {
     let far = Vec4::new(0.0, 0.0, 0.0, 1e6);
     let mut planes = [far; 6];
     planes[4] = Vec4::new(1.0, 0.0, 0.0, -eye.x - 0.01); // near plane at x = eye.x + 0.01
-    NodeView { planes, near: 0.01, eye, pixel: glam::Vec2::new(0.0, 1e-3) }
+    NodeView { planes, near_plane: planes[4], near: 0.01, eye, pixel: glam::Vec2::new(0.0, 1e-3) }
 }
 
 #[test]

@@ -21,6 +21,9 @@ struct Frame {
     // a = 0; orthographic: b = 0).
     footprint: vec4<f32>,
     planes: array<vec4<f32>, 6>, // frustum planes, n·p + d >= 0 inside
+    // The near plane (planes[4], but for unclipped depth, where planes[4]
+    // culls nothing): boxes reaching it are drawn untested.
+    near_plane: vec4<f32>,
     object_count: u32,
     node_count: u32,
     near: f32,
@@ -207,8 +210,7 @@ fn pixel_angle_xy(f: Frame) -> vec2<f32> {
 // True when the box reaches within `frame.near` of the near plane or behind
 // it (this includes every box that holds the eye). Such a box loses
 // fragments to clipping, so it cannot be tested by rasterization (§6).
-fn crosses_near(planes: array<vec4<f32>, 6>, near: f32, b: Box) -> bool {
-    let p = planes[4];
+fn crosses_near(p: vec4<f32>, near: f32, b: Box) -> bool {
     let v = select(b.max, b.min, p.xyz >= vec3<f32>(0.0)); // nearest corner
     return dot(p.xyz, v) + p.w <= near;
 }

@@ -48,7 +48,7 @@ fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
         // rays as ROC marks its boxes; near-plane boxes are visible untested.
         let b = test_box(BvhNode(bounds[i].min, 0u, bounds[i].max, 0u));
         if box_in_frustum(frame.planes, b.min, b.max) {
-            if crosses_near(frame.planes, frame.near, b) {
+            if crosses_near(frame.near_plane, frame.near, b) {
                 occludees[i] = 1u;
             } else {
                 emit_group(LEAF_BIT | i);
@@ -101,7 +101,7 @@ fn collect(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
         if !box_in_frustum(frame.planes, b.min, b.max) {
             continue;
         }
-        if !crosses_near(frame.planes, frame.near, b) {
+        if !crosses_near(frame.near_plane, frame.near, b) {
             emit_group(n);
         } else if (node.child & LEAF_BIT) != 0u {
             occludees[node.child & ~LEAF_BIT] = 1u;

@@ -314,7 +314,7 @@ fn rounds_init(@builtin(global_invocation_id) id: vec3<u32>, @builtin(num_workgr
     if o >= frame.object_count || candidates[o] != round.candidate {
         return;
     }
-    if crosses_near(frame.planes, frame.near, test_box(BvhNode(bounds[o].min, 0u, bounds[o].max, 0u))) {
+    if crosses_near(frame.near_plane, frame.near, test_box(BvhNode(bounds[o].min, 0u, bounds[o].max, 0u))) {
         round_marks[o] = round.front;
     }
 }

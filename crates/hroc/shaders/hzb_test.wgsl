@@ -82,7 +82,7 @@ fn test(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec
         let b = padded_box(bounds[i], frame.eye.xyz, pixel_angle(frame));
         var vis = false;
         if box_in_frustum(frame.planes, b.min, b.max) {
-            if crosses_near(frame.planes, frame.near, b) {
+            if crosses_near(frame.near_plane, frame.near, b) {
                 vis = true;
                 atomicAdd(&counts[1], 1u);
             } else {

@@ -43,7 +43,7 @@ fn expand(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: v
         return;
     }
     let m = marks[n];
-    let near = crosses_near(frame.planes, frame.near, b);
+    let near = crosses_near(frame.near_plane, frame.near, b);
     marks[n] = m | select(2u, 4u, near);
     if !near && (m & 1u) == 0u {
         return; // occluded: the subtree stays unmarked

@@ -28,7 +28,7 @@ fn select_boxes(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) 
     if !box_in_frustum(frame.planes, b.min, b.max) {
         return;
     }
-    if crosses_near(frame.planes, frame.near, b) {
+    if crosses_near(frame.near_plane, frame.near, b) {
         tested[i] = 1u;
         return;
     }

@@ -31,7 +31,7 @@ fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> 
     let b = padded_box(boxes[item], frame.eye.xyz, pixel_angle(frame));
     var out: BoxOut;
     out.item = item;
-    if !box_in_frustum(frame.planes, b.min, b.max) || crosses_near(frame.planes, 0.5 * frame.near, b) {
+    if !box_in_frustum(frame.planes, b.min, b.max) || crosses_near(frame.near_plane, 0.5 * frame.near, b) {
         out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0); // degenerate and clipped: no fragments
         return out;
     }

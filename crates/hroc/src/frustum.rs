@@ -73,6 +73,12 @@ pub struct ViewDesc {
     pub proj: Mat4,
     /// Which end of the depth range is near; it must match `proj`.
     pub depth: DepthRange,
+    /// The host's pipelines clamp depth rather than clip it at the near
+    /// plane (wgpu's `PrimitiveState::unclipped_depth`, as shadow passes
+    /// "pancake" casters in front of a cascade): geometry in front of the
+    /// near plane is drawn at the near depth, so the near plane culls
+    /// nothing, and every box that reaches it is drawn untested.
+    pub unclipped_depth: bool,
 }
 
 /// What the culling passes know of a view (the CPU side of the `Frame`
@@ -81,8 +87,13 @@ pub struct ViewDesc {
 pub struct ViewGeometry {
     /// `proj * view`.
     pub view_proj: Mat4,
-    /// Frustum planes, plane 4 the near plane ([`frustum_planes_for`]).
+    /// Frustum planes, plane 4 the near plane ([`frustum_planes_for`]),
+    /// which with [`ViewDesc::unclipped_depth`] is `(0, 0, 0, 1)`: it culls
+    /// nothing.
     pub planes: [Vec4; 6],
+    /// The near plane: a box that reaches it (or within [`ViewGeometry::near`]
+    /// of it) is drawn untested.
+    pub near_plane: Vec4,
     /// Camera position in world space.
     pub eye: Vec3,
     /// Columns x, y, z: world offsets such that the ray through NDC (x, y)
@@ -128,6 +139,7 @@ impl ViewGeometry {
             viewport: [w, h, 1.0 / w, 1.0 / h],
             footprint: self.footprint(size).to_array(),
             planes: self.planes.map(|p| p.to_array()),
+            near_plane: self.near_plane.to_array(),
             object_count,
             node_count,
             near: self.near,
@@ -140,7 +152,12 @@ impl ViewDesc {
     /// A right-handed standard-depth view from a look-at camera (what hroc's
     /// own scenes and camera paths use).
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y_deg: f32, aspect: f32, near: f32, far: f32) -> Self {
-        ViewDesc { view: Mat4::look_at_rh(eye, target, up), proj: Mat4::perspective_rh(fov_y_deg.to_radians(), aspect, near, far), depth: DepthRange::Standard }
+        ViewDesc {
+            view: Mat4::look_at_rh(eye, target, up),
+            proj: Mat4::perspective_rh(fov_y_deg.to_radians(), aspect, near, far),
+            depth: DepthRange::Standard,
+            unclipped_depth: false,
+        }
     }
 
     /// Checks the projection and derives the view's geometry. Errors (never
@@ -200,7 +217,15 @@ impl ViewDesc {
         let cz = inv_view.transform_vector3(Vec3::new(-s * p20 * near / p00, -s * p21 * near / p11, s * near));
         let ray_dirs = Mat4::from_cols(cx.extend(0.0), cy.extend(0.0), cz.extend(0.0), Vec4::W);
         let ray_origins = Mat4::from_cols(Vec4::ZERO, Vec4::ZERO, Vec4::ZERO, eye.extend(1.0));
-        Ok(ViewGeometry { view_proj, planes, eye, ray_dirs, ray_origins, near, far, orthographic: false })
+        Ok(self.unclip(ViewGeometry { view_proj, planes, near_plane: planes[4], eye, ray_dirs, ray_origins, near, far, orthographic: false }))
+    }
+
+    /// With [`ViewDesc::unclipped_depth`], a frustum whose near plane culls nothing.
+    fn unclip(&self, mut g: ViewGeometry) -> ViewGeometry {
+        if self.unclipped_depth {
+            g.planes[4] = Vec4::W;
+        }
+        g
     }
 
     /// [`ViewDesc::geometry`] of an orthographic projection: parallel rays
@@ -244,6 +269,6 @@ impl ViewDesc {
         let ray_origins = Mat4::from_cols(right.extend(0.0), up.extend(0.0), Vec4::ZERO, (centre - dir).extend(1.0));
         let near = 1e-3 * length;
         let far = planes[5].truncate().dot(eye) + planes[5].w;
-        Ok(ViewGeometry { view_proj, planes, eye, ray_dirs, ray_origins, near, far, orthographic: true })
+        Ok(self.unclip(ViewGeometry { view_proj, planes, near_plane: planes[4], eye, ray_dirs, ray_origins, near, far, orthographic: true }))
     }
 }

@@ -22,6 +22,8 @@ pub struct FrameUniform {
     pub footprint: [f32; 4],
     /// Frustum planes, `n·p + d >= 0` inside, plane 4 the near plane.
     pub planes: [[f32; 4]; 6],
+    /// The near plane ([`crate::ViewGeometry::near_plane`]).
+    pub near_plane: [f32; 4],
     /// Objects registered with the culler.
     pub object_count: u32,
     /// Nodes of the object BVH.

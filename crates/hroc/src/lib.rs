@@ -19,7 +19,7 @@
 //! let mut main_view = culler.view(Method::HROC, &targets)?;
 //! // Every frame: clear the targets, cull, draw what comes back, submit.
 //! let mut encoder = device.create_command_encoder(&Default::default());
-//! let input = FrameInput { view: ViewDesc { view, proj, depth: DepthRange::Standard }, targets, cut: false, time: 0.0 };
+//! let input = FrameInput { view: ViewDesc { view, proj, depth: DepthRange::Standard, unclipped_depth: false }, targets, cut: false, time: 0.0 };
 //! main_view.cull(&culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
 //!     draw_with_my_pipeline(enc, draw) // multi_draw_indexed_indirect_count(draw.commands, draw.count)
 //! })?;
@@ -83,7 +83,9 @@
 //!   the depth test of its [`DepthRange`] (`Less`/`LessEqual` standard,
 //!   `Greater`/`GreaterEqual` reversed), depth bias only away from the
 //!   viewer (constant and slope-scaled bias ≥ 0 standard, ≤ 0 reversed, as
-//!   shadow passes use: a farther depth only lets more boxes pass), and only for
+//!   shadow passes use: a farther depth only lets more boxes pass), depth
+//!   clamped rather than clipped at the near plane only when the view says
+//!   so ([`ViewDesc::unclipped_depth`]), and only for
 //!   geometry inside the object's box. The depth texture has usage
 //!   `RENDER_ATTACHMENT | TEXTURE_BINDING`, one sample; the culler binds
 //!   it read-only between the host's draws (box tests) and samples it in

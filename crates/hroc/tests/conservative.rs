@@ -57,7 +57,7 @@ fn orthographic_views_draw_every_visible_object() {
             DepthRange::Standard => Mat4::orthographic_rh(-half, half, -half, half, near, far),
             DepthRange::Reversed => Mat4::orthographic_rh(-half, half, -half, half, far, near),
         };
-        ViewDesc { view: Mat4::look_at_rh(eye, target, up), proj, depth }
+        ViewDesc { view: Mat4::look_at_rh(eye, target, up), proj, depth, unclipped_depth: false }
     };
     for (depth, caps) in [DepthRange::Standard, DepthRange::Reversed].into_iter().flat_map(|d| [(d, Capabilities::FULL), (d, Capabilities::PORTABLE)]) {
         let (host, objects) = street_on(&device, Depth { range: depth, ..Depth::default() });

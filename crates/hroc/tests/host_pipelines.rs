@@ -48,7 +48,12 @@ fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
     let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
     let vertex_buf = init("vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX);
     let index_buf = init("indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX);
-    let view = ViewDesc { view: Mat4::look_at_rh(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y), proj: Mat4::perspective_rh(1.2, 1.0, 0.1, 100.0), depth: DepthRange::Standard };
+    let view = ViewDesc {
+        view: Mat4::look_at_rh(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y),
+        proj: Mat4::perspective_rh(1.2, 1.0, 0.1, 100.0),
+        depth: DepthRange::Standard,
+        unclipped_depth: false,
+    };
     let camera_buf = init("camera", bytemuck::bytes_of(&(view.proj * view.view)), wgpu::BufferUsages::UNIFORM);
     let camera = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,

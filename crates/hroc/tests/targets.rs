@@ -11,12 +11,15 @@ use hroc::{Capabilities, Culler, CullerDesc, Method, Variant, ViewDesc};
 
 mod common;
 
-fn path(range: hroc::DepthRange) -> Vec<(ViewDesc, bool)> {
+/// The walk, a cut and the eye in a box, for a host on `at`: with unclipped
+/// depth, the near plane 6 units ahead, so the nearest cubes lie before it.
+fn path(at: Depth) -> Vec<(ViewDesc, bool)> {
+    let near = if at.unclipped { 6.0 } else { 0.1 };
     let view = |eye: Vec3, target: Vec3| {
-        let v = look(eye, target);
-        match range {
-            hroc::DepthRange::Standard => v,
-            hroc::DepthRange::Reversed => ViewDesc { proj: glam::Mat4::perspective_infinite_reverse_rh(1.1, 1.0, 0.1), depth: range, ..v },
+        let v = ViewDesc { unclipped_depth: at.unclipped, ..look(eye, target) };
+        match at.range {
+            hroc::DepthRange::Standard => ViewDesc { proj: glam::Mat4::perspective_rh(1.1, 1.0, near, 200.0), ..v },
+            hroc::DepthRange::Reversed => ViewDesc { proj: glam::Mat4::perspective_infinite_reverse_rh(1.1, 1.0, near), depth: at.range, ..v },
         }
     };
     let mut path: Vec<(ViewDesc, bool)> = (0..4).map(|k| (view(Vec3::new(-2.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
@@ -37,7 +40,7 @@ fn same_picture_as_noc(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth) {
 fn same_picture_with(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth, caps: Capabilities) {
     let (host, objects) = street_on(device, at);
     let culler = Culler::new(device, queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
-    let path = path(at.range);
+    let path = path(at);
     let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
     let pictures: Vec<Vec<u32>> = path
         .iter()
@@ -108,5 +111,18 @@ fn depth_bias_away_from_the_viewer_gives_noc_s_picture() {
     for (range, sign) in [(hroc::DepthRange::Standard, 1), (hroc::DepthRange::Reversed, -1)] {
         let bias = wgpu::DepthBiasState { constant: sign * 200, slope_scale: sign as f32 * 2.0, clamp: 0.0 };
         same_picture_as_noc(&device, &queue, Depth { range, bias, ..Depth::default() });
+    }
+}
+
+/// A host that clamps depth instead of clipping at the near plane (a
+/// shadow pass "pancaking" casters, `unclipped_depth`), with the near plane
+/// cutting the street: every method family draws what lies before it.
+#[test]
+fn unclipped_depth_draws_what_lies_before_the_near_plane() {
+    let adapter = common::adapter();
+    assert!(adapter.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL), "lavapipe clamps depth");
+    let (device, queue) = common::device(hroc::FULL_FEATURES | wgpu::Features::DEPTH_CLIP_CONTROL);
+    for range in [hroc::DepthRange::Standard, hroc::DepthRange::Reversed] {
+        same_picture_as_noc(&device, &queue, Depth { range, unclipped: true, ..Depth::default() });
     }
 }

@@ -250,7 +250,7 @@ impl<'g> Session<'g> {
     /// The view of camera `camera` as the culler sees it.
     pub fn view_desc(&self, camera: &Camera) -> ViewDesc {
         let aspect = self.renderer.aspect();
-        ViewDesc { view: camera.view(), proj: camera.proj(aspect), depth: hroc::DepthRange::Standard }
+        ViewDesc { view: camera.view(), proj: camera.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }
     }
 
     /// The `Frame` uniform the culler writes for camera `k` (CPU references).

@@ -50,11 +50,12 @@ pub fn depth_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
 /// `R32Uint` target. Returns the pipeline and the camera's bind group
 /// layout.
 pub fn host_pipeline(device: &wgpu::Device, ids: bool, mark: bool) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
-    host_pipeline_on(device, ids, mark, wgpu::TextureFormat::Depth32Float, hroc::DepthRange::Standard, Default::default())
+    host_pipeline_on(device, ids, mark, wgpu::TextureFormat::Depth32Float, hroc::DepthRange::Standard, Default::default(), false)
 }
 
 /// [`host_pipeline`] drawing into a depth target of `format` with the
-/// depth test of `range` and depth bias `bias`.
+/// depth test of `range` and depth bias `bias`, clamping depth rather than
+/// clipping at the near plane when `unclipped`.
 pub fn host_pipeline_on(
     device: &wgpu::Device,
     ids: bool,
@@ -62,6 +63,7 @@ pub fn host_pipeline_on(
     format: wgpu::TextureFormat,
     range: hroc::DepthRange,
     bias: wgpu::DepthBiasState,
+    unclipped: bool,
 ) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
     let (output, ret) = if ids { (" -> @location(0) u32", " return in.object + 1u;") } else { ("", "") };
     let (early, marking) = if mark { ("@early_depth_test(force) ", " hroc_mark(in.object);") } else { ("", "") };
@@ -95,7 +97,7 @@ pub fn host_pipeline_on(
             compilation_options: Default::default(),
             buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 12, step_mode: wgpu::VertexStepMode::Vertex, attributes: &wgpu::vertex_attr_array![0 => Float32x3] })],
         },
-        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), unclipped_depth: unclipped, ..Default::default() },
         depth_stencil: Some(wgpu::DepthStencilState {
             format,
             depth_write_enabled: Some(true),

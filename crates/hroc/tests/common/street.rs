@@ -37,6 +37,8 @@ pub struct Depth {
     pub range: DepthRange,
     /// The host's depth bias (a shadow pass's).
     pub bias: wgpu::DepthBiasState,
+    /// The host clamps depth rather than clip it at the near plane.
+    pub unclipped: bool,
     pub layers: u32,
     pub mips: u32,
     pub layer: u32,
@@ -45,7 +47,7 @@ pub struct Depth {
 
 impl Default for Depth {
     fn default() -> Depth {
-        Depth { format: wgpu::TextureFormat::Depth32Float, range: DepthRange::Standard, bias: Default::default(), layers: 1, mips: 1, layer: 0, mip: 0 }
+        Depth { format: wgpu::TextureFormat::Depth32Float, range: DepthRange::Standard, bias: Default::default(), unclipped: false, layers: 1, mips: 1, layer: 0, mip: 0 }
     }
 }
 
@@ -72,8 +74,9 @@ impl Host {
     pub fn with_depth(device: &wgpu::Device, vertices: &[[f32; 3]], indices: &[u32], at: Depth) -> Host {
         // The marking pipeline where the device forces early-Z; the plain
         // one for draws that need no mark (Marks::Ids, or nothing read).
-        let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, at.format, at.range, at.bias).0);
-        let (plain, camera_layout) = super::host_pipeline_on(device, true, false, at.format, at.range, at.bias);
+        let marking =
+            device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, at.format, at.range, at.bias, at.unclipped).0);
+        let (plain, camera_layout) = super::host_pipeline_on(device, true, false, at.format, at.range, at.bias, at.unclipped);
         let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let camera = init("camera", &[0u8; 64], wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
         let camera_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -302,5 +305,5 @@ pub fn street_on(device: &wgpu::Device, at: Depth) -> (Host, Vec<ObjectDesc>) {
 
 /// A view from `eye` towards `target` with a standard-depth projection.
 pub fn look(eye: Vec3, target: Vec3) -> ViewDesc {
-    ViewDesc { view: Mat4::look_at_rh(eye, target, Vec3::Y), proj: Mat4::perspective_rh(1.1, 1.0, 0.1, 200.0), depth: DepthRange::Standard }
+    ViewDesc { view: Mat4::look_at_rh(eye, target, Vec3::Y), proj: Mat4::perspective_rh(1.1, 1.0, 0.1, 200.0), depth: DepthRange::Standard, unclipped_depth: false }
 }

@@ -87,17 +87,17 @@ pub fn block_pad_px(scale: u32) -> f32 {
     (scale - 1) as f32 * std::f32::consts::FRAC_1_SQRT_2 + scale as f32 * PIXEL_PAD
 }
 
-/// `crosses_near` in common.wgsl.
-pub fn crosses_near(planes: &[Vec4; 6], near: f32, b: &Aabb) -> bool {
-    let p = planes[4];
+/// `crosses_near` in common.wgsl, of the near plane `p`.
+pub fn crosses_near(p: Vec4, near: f32, b: &Aabb) -> bool {
     let v = Vec3::select(p.truncate().cmpge(Vec3::ZERO), b.min, b.max);
     p.truncate().dot(v) + p.w <= near
 }
 
 /// Groups to rasterize (sorted) and leaves made visible without a test
 /// (adaptive grouping), from the node states, with boxes padded for a test
-/// of `scale` × `scale` blocks (`pixel` from [`pixel_angle_xy`]).
-pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3, pixel: Vec2, scale: u32) -> (Vec<u32>, Vec<u32>) {
+/// of `scale` × `scale` blocks (`pixel` from [`pixel_angle_xy`]) in `view`.
+pub fn groups(bvh: &Bvh, state: &[u32], view: &ViewGeometry, pixel: Vec2, scale: u32) -> (Vec<u32>, Vec<u32>) {
+    let (planes, eye) = (&view.planes, view.eye);
     let (mut groups, mut forced) = (Vec::new(), Vec::new());
     for g in 0..bvh.nodes.len() as u32 {
         let s = state[g as usize];
@@ -110,7 +110,7 @@ pub fn groups(bvh: &Bvh, state: &[u32], planes: &[Vec4; 6], near: f32, eye: Vec3
             if !aabb_in_frustum(planes, b.min, b.max) {
                 continue;
             }
-            if !crosses_near(planes, near, &b) {
+            if !crosses_near(view.near_plane, view.near, &b) {
                 groups.push(n);
             } else if let Some(o) = bvh.object(n) {
                 forced.push(o);

@@ -101,7 +101,7 @@ pub fn test(mips: &[Mip], hiz: &[f32], u: &FrameUniform, b: Aabb, slack: f32, to
     if !aabb_in_frustum(&planes, b.min, b.max) {
         return Outcome::OutsideFrustum;
     }
-    if crosses_near(&planes, u.near, &b) {
+    if crosses_near(Vec4::from(u.near_plane), u.near, &b) {
         return Outcome::Near;
     }
     let (mut lo, mut hi) = (Vec3::splat(1e30), Vec2::splat(-1e30));

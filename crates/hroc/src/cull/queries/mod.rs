@@ -51,6 +51,8 @@ pub const SET_SIZE: u32 = wgpu::QUERY_SET_MAX_QUERIES;
 pub struct NodeView {
     /// Frustum planes, plane 4 the near plane (`n·p + d >= 0` inside).
     pub planes: [Vec4; 6],
+    /// The near plane ([`crate::ViewGeometry::near_plane`]).
+    pub near_plane: Vec4,
     /// Distance from the eye to the near plane.
     pub near: f32,
     /// Camera position in world space.
@@ -76,7 +78,7 @@ impl NodeView {
     pub fn from_frame(f: &Frame) -> Self {
         let u = &f.uniform;
         let pixel = glam::Vec2::new(u.footprint[0], u.footprint[1]);
-        NodeView { planes: u.planes.map(Vec4::from), near: u.near, eye: Vec3::new(u.eye[0], u.eye[1], u.eye[2]), pixel }
+        NodeView { planes: u.planes.map(Vec4::from), near_plane: Vec4::from(u.near_plane), near: u.near, eye: Vec3::new(u.eye[0], u.eye[1], u.eye[2]), pixel }
     }
 
     /// Classifies `b` after the shaders' pixel padding.
@@ -84,7 +86,7 @@ impl NodeView {
         let p = cpu::padded(b, self.eye, self.pixel);
         if !aabb_in_frustum(&self.planes, p.min, p.max) {
             Class::Outside
-        } else if cpu::crosses_near(&self.planes, self.near, &p) {
+        } else if cpu::crosses_near(self.near_plane, self.near, &p) {
             Class::Near
         } else {
             Class::Testable
