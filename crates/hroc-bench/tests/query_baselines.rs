@@ -167,6 +167,7 @@ fn traversal_is_front_to_back() {
         let mut view = open_view(eye);
         if expect_rev {
             view.planes[4] = Vec4::new(-1.0, 0.0, 0.0, eye.x - 0.01);
+            view.near_plane = view.planes[4];
         }
         let mut order = Vec::new();
         let tested = oq::traverse(&bvh, &view, |v| {
