@@ -1,9 +1,18 @@
 //! Every depth format a host may draw into, and a view on another layer
 //! or mip of its depth texture, on the full and the portable tier: each
-//! frame of each method family draws
-//! exactly `noc`'s picture (the same object-ID image, so no object that
-//! owns a pixel is missed and no pixel is missing), across a walk, a camera
-//! cut and the eye inside an object's box.
+//! frame of each method family draws exactly `noc`'s picture (the same
+//! object-ID image, so no object that owns a pixel is missed and no pixel
+//! is missing), across a walk, a camera cut and the eye inside an object's
+//! box. So does a host that biases its depth away from the viewer, or
+//! clamps it at the near plane (shadow passes).
+//!
+//! Why the box tests' margins need not grow with the format's step: an
+//! object that owns a pixel in `noc` won the depth test there, so its
+//! depth, stored, is a step or more in front of every occluder's stored
+//! depth; a box fragment lies in front of (or on) the object's surface, so
+//! it is in front of the stored occluder depth by at least the rounding of
+//! one store, whatever the step. The margins cover the rasterizer's
+//! interpolation, which the format does not change.
 
 use common::street::{look, street_on, Depth};
 use glam::Vec3;
