@@ -200,7 +200,7 @@ fn hi_z_pyramid_matches_cpu_on_npot_sizes() {
     for (w, h) in [(160, 96), (37, 23), (1, 7), (64, 64), (701, 403)] {
         let scene = hroc_bench::scene::load("figures", Some(600), 1).unwrap();
         let mut s = Session::new(gpu, scene, None, 3, (w, h), Split::Sah).unwrap();
-        let pyramid = Pyramid::new(gpu, &s.renderer.targets.depth_view, w, h, hroc::DepthRange::Standard);
+        let pyramid = Pyramid::new(gpu, &s.renderer.targets.depth_view, (w, h, 1), hroc::DepthRange::Standard);
         for k in 0..s.cameras.len() {
             let (_, truth) = s.truth(k).unwrap();
             let mut enc = gpu.encoder("pyramid");

@@ -1,5 +1,7 @@
-// STACK and STAT_SLOTS come before this header, written from their Rust
-// constants (src/shaders.rs).
+// STACK, STAT_SLOTS and HOST_SAMPLES come before this header, written from
+// their Rust constants, with the aliases HostDepth and HostIds: the host's
+// targets, one sample per pixel (texture_2d) or several
+// (texture_multisampled_2d) (src/shaders.rs).
 // Shared layouts, prepended to every pass (src/layout.rs mirrors them;
 // tests/shaders.rs checks the sizes).
 
@@ -35,6 +37,27 @@ struct Frame {
 // stays conservative.
 fn std_depth(f: Frame, d: f32) -> f32 {
     return select(d, 1.0 - d, f.reversed != 0u);
+}
+
+// The farthest of the host depth's samples at pixel p, in standard form
+// (`reversed`: the texture holds reversed depth). Whatever reduces or
+// compares against the host's depth keeps a pixel's farthest sample: what
+// lies in front of it lies in front of every sample. One sample: mip 0.
+fn farthest_host_depth(t: HostDepth, p: vec2<i32>, reversed: u32) -> f32 {
+    var far = 0.0;
+    for (var s = 0; s < i32(HOST_SAMPLES); s++) {
+        let d = textureLoad(t, p, s).r;
+        far = max(far, select(d, 1.0 - d, reversed != 0u));
+    }
+    return far;
+}
+
+// The object at sample s of pixel p of the ID target: its index + 1, 0
+// where nothing was drawn. `R32Uint` holds it in r; `Rg16Uint` (which
+// every backend can multisample) in r, the low 16 bits, and g, the high.
+fn host_id(t: HostIds, p: vec2<i32>, s: i32) -> u32 {
+    let v = textureLoad(t, p, s);
+    return v.r | (v.g << 16u);
 }
 
 struct ObjectBounds {
@@ -197,9 +220,12 @@ fn ray_oriented(o: OrientedBounds, eye: vec3<f32>, dir: vec3<f32>, pad: f32) -> 
 // padded by that much at its farthest corner (the box grown by a ball of
 // that radius) is entered by the block's ray no later than by the pixel's
 // (depth depends on t alone: t = 1 on the near plane for every ray), plus
-// the snapping slack of the block-sized pixels the test rasterizes.
+// the snapping slack of the block-sized pixels the test rasterizes. With
+// several samples per pixel, a sample may lie anywhere in its pixel, and
+// any ray through one passes within scale / √2 pixels of the block's ray.
 fn block_pad_px(scale: u32) -> f32 {
-    return f32(scale - 1u) * 0.70710678 + f32(scale) * PIXEL_PAD;
+    let spread = select(f32(scale - 1u), f32(scale), HOST_SAMPLES > 1u);
+    return spread * 0.70710678 + f32(scale) * PIXEL_PAD;
 }
 
 // pixel_angle over both axes, for pixels that may not be square.

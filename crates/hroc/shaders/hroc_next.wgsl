@@ -7,7 +7,7 @@
 @group(0) @binding(3) var<storage, read> occluders: array<u32>;      // O marks
 @group(0) @binding(8) var<storage, read> drawn: array<u32>;           // D marks
 @group(0) @binding(9) var<storage, read_write> visible: array<u32>;   // next V
-@group(0) @binding(10) var ids: texture_2d<u32>;
+@group(0) @binding(10) var ids: HostIds;
 
 @compute @workgroup_size(256)
 fn merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
@@ -18,7 +18,8 @@ fn merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: ve
 }
 
 // Occluder filtering (§4.2): the item buffer decides the next occluders.
-// One thread reads the centre pixel of each FILTER_STRIDE² square.
+// One thread reads the centre pixel of each FILTER_STRIDE² square, every
+// sample of it.
 override FILTER_STRIDE: u32 = 1u;
 
 @compute @workgroup_size(16, 16)
@@ -28,8 +29,10 @@ fn filter_occluders(@builtin(global_invocation_id) gid: vec3<u32>) {
     if px.x >= size.x || px.y >= size.y {
         return;
     }
-    let id = textureLoad(ids, px, 0).r;
-    if id != 0u {
-        visible[id - 1u] = 1u;
+    for (var s = 0; s < i32(HOST_SAMPLES); s++) {
+        let id = host_id(ids, vec2<i32>(px), s);
+        if id != 0u {
+            visible[id - 1u] = 1u;
+        }
     }
 }

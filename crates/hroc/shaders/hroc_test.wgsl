@@ -23,7 +23,7 @@
 @group(0) @binding(5) var<storage, read_write> ray_stats: array<atomic<u32>>;
 @group(0) @binding(6) var<storage, read> bounds: array<ObjectBounds>;
 // The host's depth, which reduce_fs reduces to the test's blocks.
-@group(0) @binding(7) var host_depth: texture_2d<f32>;
+@group(0) @binding(7) var host_depth: HostDepth;
 @group(0) @binding(15) var<storage, read> oriented: array<OrientedBounds>;
 
 override TEST_SCALE: u32 = 1u;
@@ -47,7 +47,7 @@ fn reduce_fs(@builtin(position) p: vec4<f32>) -> @builtin(frag_depth) f32 {
     var farthest = 0.0;
     for (var y = 0; y < i32(TEST_SCALE); y++) {
         for (var x = 0; x < i32(TEST_SCALE); x++) {
-            farthest = max(farthest, std_depth(frame, textureLoad(host_depth, base + vec2<i32>(x, y), 0).r));
+            farthest = max(farthest, farthest_host_depth(host_depth, base + vec2<i32>(x, y), frame.reversed));
         }
     }
     return std_depth(frame, farthest);

@@ -25,11 +25,10 @@ struct Step {
 @group(0) @binding(0) var<uniform> step: Step;
 @group(0) @binding(1) var<storage, read> mips: array<Mip>;
 @group(0) @binding(2) var<storage, read_write> hiz: array<f32>;
-@group(0) @binding(3) var depth: texture_2d<f32>;
+@group(0) @binding(3) var depth: HostDepth;
 
 fn load_depth(p: vec2<u32>) -> f32 {
-    let d = textureLoad(depth, p, 0).r;
-    return select(d, 1.0 - d, step.reversed != 0u);
+    return farthest_host_depth(depth, vec2<i32>(p), step.reversed);
 }
 
 // The texels [lo, hi] of level `src` that texel t of the next level `dst`

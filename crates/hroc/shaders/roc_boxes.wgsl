@@ -12,12 +12,17 @@
 @group(0) @binding(1) var<storage, read> list: array<u32>;     // items to test, one per instance
 @group(0) @binding(2) var<storage, read> boxes: array<BvhNode>;
 @group(0) @binding(3) var<storage, read_write> marks: array<u32>; // per item: 1 = a fragment passed
-@group(0) @binding(4) var depth: texture_2d<f32>;                 // the depth tested against
+@group(0) @binding(4) var depth: HostDepth;                 // the depth tested against
 
 // With ID marks (no forced early-Z), the pass binds no depth attachment
 // and each fragment compares itself, as the attachment's
 // LessEqual (GreaterEqual reversed) with its bias toward the camera would,
-// and a little more (as HROC's test, hroc_test.wgsl).
+// and a little more (as HROC's test, hroc_test.wgsl). It rasterizes one
+// sample per pixel, at its centre, against the farthest of the pixel's
+// samples: over a multisampled target, boxes are padded by half a pixel's
+// diagonal more, so a box that covers any sample of a pixel covers its
+// centre, nearer there than the geometry at that sample
+// (block_pad_px with one-pixel blocks).
 override MANUAL_DEPTH: bool = false;
 
 struct BoxOut {
@@ -28,7 +33,10 @@ struct BoxOut {
 @vertex
 fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> BoxOut {
     let item = list[slot];
-    let b = padded_box(boxes[item], frame.eye.xyz, pixel_angle(frame));
+    var b = padded_box(boxes[item], frame.eye.xyz, pixel_angle(frame));
+    if MANUAL_DEPTH && HOST_SAMPLES > 1u {
+        b = padded_box_px(boxes[item], frame.eye.xyz, pixel_angle_xy(frame), block_pad_px(1u));
+    }
     var out: BoxOut;
     out.item = item;
     if !box_in_frustum(frame.planes, b.min, b.max) || crosses_near(frame.near_plane, 0.5 * frame.near, b) {
@@ -41,7 +49,7 @@ fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> 
 
 @fragment @early_depth_test(force)
 fn box_fs(in: BoxOut) {
-    if MANUAL_DEPTH && std_depth(frame, in.clip.z) > std_depth(frame, textureLoad(depth, vec2<i32>(in.clip.xy), 0).r) + 4e-6 {
+    if MANUAL_DEPTH && std_depth(frame, in.clip.z) > farthest_host_depth(depth, vec2<i32>(in.clip.xy), frame.reversed) + 4e-6 {
         return;
     }
     marks[in.item] = 1u;

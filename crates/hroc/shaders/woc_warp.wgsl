@@ -13,7 +13,7 @@
 @group(0) @binding(1) var<uniform> reproject: mat4x4<f32>; // current view-proj * inverse(previous)
 @group(0) @binding(2) var<storage, read_write> prev_depth: array<f32>;
 @group(0) @binding(3) var<storage, read_write> level0: array<atomic<u32>>;
-@group(0) @binding(4) var depth: texture_2d<f32>;
+@group(0) @binding(4) var depth: HostDepth;
 @group(0) @binding(5) var<storage, read_write> holes: array<atomic<u32>>;
 
 var<workgroup> wg_holes: atomic<u32>;
@@ -55,7 +55,7 @@ fn save(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     let far = bitcast<u32>(1.0);
     if gid.x < s.x && gid.y < s.y {
         let i = gid.y * s.x + gid.x;
-        prev_depth[i] = textureLoad(depth, gid.xy, 0).r;
+        prev_depth[i] = farthest_host_depth(depth, vec2<i32>(gid.xy), 0u);
         if atomicExchange(&level0[i], far) == far {
             atomicAdd(&wg_holes, 1u);
         }

@@ -144,16 +144,21 @@ impl<F: FnMut(&mut wgpu::CommandEncoder, &Draw<'_>)> DrawHost for F {
 #[derive(Clone, Copy, Debug)]
 pub struct ViewTargets<'a> {
     /// The depth texture the host draws into: usage `RENDER_ATTACHMENT |
-    /// TEXTURE_BINDING`, one sample, a depth format. The view uses one
+    /// TEXTURE_BINDING`, a depth format, one sample or several (MSAA; an
+    /// MSAA array needs `Features::MULTISAMPLE_ARRAY`). The view uses one
     /// layer and one mip of it ([`ViewTargets::layer`], [`ViewTargets::mip`]).
     pub depth: &'a wgpu::Texture,
     /// Which end of `depth` is near.
     pub depth_range: DepthRange,
-    /// The object-ID target: `R32Uint`, usage `TEXTURE_BINDING`, the size
-    /// of the depth mip the view uses; the host writes `object index + 1`
-    /// for every occluding fragment and clears it to 0 each frame. Needed
-    /// by HROC with OF, and with [`crate::Marks::Ids`] by every method that
-    /// reads marks. The culler reads its layer 0, mip 0.
+    /// The object-ID target: usage `TEXTURE_BINDING`, the size of the depth
+    /// mip the view uses and the depth's sample count; the host writes
+    /// `object index + 1` for every occluding fragment and clears it to 0
+    /// each frame. `R32Uint` holds the index + 1 whole; `Rg16Uint`, which
+    /// wgpu can multisample on every backend (`R32Uint` only where the
+    /// adapter allows it), its low 16 bits in r and its high 16 in g.
+    /// Needed by HROC with OF, and with [`crate::Marks::Ids`] by every
+    /// method that reads marks. The culler reads its layer 0, mip 0, every
+    /// sample.
     pub ids: Option<&'a wgpu::Texture>,
     /// The array layer (or cube face) of `depth` the view draws into.
     pub layer: u32,
@@ -187,6 +192,8 @@ pub struct Targets {
     pub depth_sampled: wgpu::TextureView,
     /// The depth attachment's format.
     pub depth_format: wgpu::TextureFormat,
+    /// Samples per pixel of the depth (and ID) target.
+    pub samples: u32,
     /// Which end of the depth range is near.
     pub depth: DepthRange,
     /// The object-ID target, when the host has one.
@@ -200,7 +207,8 @@ pub struct Targets {
 }
 
 impl Targets {
-    pub(super) fn new(t: &ViewTargets) -> Result<Targets> {
+    /// The targets `t` describes, on a device with `features`.
+    pub(super) fn new(t: &ViewTargets, features: wgpu::Features) -> Result<Targets> {
         use wgpu::TextureUsages as U;
         let d = t.depth;
         let bad = |m: String| Err(Error::InvalidTargets(m));
@@ -210,8 +218,12 @@ impl Targets {
         if !d.usage().contains(U::RENDER_ATTACHMENT | U::TEXTURE_BINDING) {
             return bad(format!("depth target usage {:?} lacks RENDER_ATTACHMENT | TEXTURE_BINDING (the culler samples it)", d.usage()));
         }
-        if d.sample_count() != 1 || d.dimension() != wgpu::TextureDimension::D2 {
-            return bad("depth target must be 2D with one sample (resolve MSAA depth first)".into());
+        if d.dimension() != wgpu::TextureDimension::D2 {
+            return bad(format!("depth target is {:?}; views draw into 2D textures (a layer of an array or cube)", d.dimension()));
+        }
+        let samples = d.sample_count();
+        if samples > 1 && d.depth_or_array_layers() > 1 && !features.contains(wgpu::Features::MULTISAMPLE_ARRAY) {
+            return bad(format!("depth target is a multisampled array of {} layers, which needs Features::MULTISAMPLE_ARRAY, missing on this device", d.depth_or_array_layers()));
         }
         if t.layer >= d.depth_or_array_layers() || t.mip >= d.mip_level_count() {
             return bad(format!("layer {} mip {} is outside the depth target ({} layers, {} mips)", t.layer, t.mip, d.depth_or_array_layers(), d.mip_level_count()));
@@ -219,15 +231,17 @@ impl Targets {
         let mip = d.size().mip_level_size(t.mip, d.dimension());
         let size = (mip.width, mip.height);
         if let Some(ids) = t.ids {
-            if ids.format() != wgpu::TextureFormat::R32Uint || !ids.usage().contains(U::TEXTURE_BINDING) || (ids.width(), ids.height()) != size {
+            let format = matches!(ids.format(), wgpu::TextureFormat::R32Uint | wgpu::TextureFormat::Rg16Uint);
+            if !format || !ids.usage().contains(U::TEXTURE_BINDING) || (ids.width(), ids.height()) != size || ids.sample_count() != samples {
                 return bad(format!(
-                    "ID target must be R32Uint with TEXTURE_BINDING and the depth target's size {}x{} (got {:?}, {:?}, {}x{})",
+                    "ID target must be R32Uint or Rg16Uint with TEXTURE_BINDING, the depth target's size {}x{} and its {samples} sample(s) (got {:?}, {:?}, {}x{}, {} sample(s))",
                     size.0,
                     size.1,
                     ids.format(),
                     ids.usage(),
                     ids.width(),
-                    ids.height()
+                    ids.height(),
+                    ids.sample_count()
                 ));
             }
         }
@@ -235,6 +249,7 @@ impl Targets {
             depth_attachment: d.create_view(&subresource(wgpu::TextureAspect::All, t.layer, t.mip)),
             depth_sampled: d.create_view(&subresource(wgpu::TextureAspect::DepthOnly, t.layer, t.mip)),
             depth_format: d.format(),
+            samples,
             depth: t.depth_range,
             ids: t.ids.map(|i| i.create_view(&subresource(wgpu::TextureAspect::All, 0, 0))),
             size,

@@ -18,14 +18,16 @@
 //!
 //! [`Marks::Ids`]: crate::Marks::Ids
 
+use std::sync::{Arc, Mutex};
+
 use crate::gpu::Gpu;
 use crate::reflect::{pipeline_layout, Layout};
 
-/// The ID-marks pass, built once per culler.
+/// The ID-marks pass, built once per culler: its pipeline per sample count
+/// of the ID targets it reads, each built when first bound.
 #[derive(Clone, Debug)]
 pub struct IdMarks {
-    pipeline: wgpu::ComputePipeline,
-    layout: wgpu::BindGroupLayout,
+    pipelines: Arc<Mutex<Vec<(u32, wgpu::ComputePipeline, wgpu::BindGroupLayout)>>>,
     /// One u32 1 per object slot: the set that holds every object.
     everyone: wgpu::Buffer,
 }
@@ -33,20 +35,26 @@ pub struct IdMarks {
 impl IdMarks {
     /// Builds the pass on `gpu`, for `slots` objects.
     pub fn new(gpu: &Gpu, slots: u32) -> IdMarks {
-        let module = gpu.shader("id_marks.wgsl", &crate::shaders::source("id_marks.wgsl"));
-        let layout = Layout::IdMarks.create(gpu);
-        let pipeline = gpu.compute_pipeline(&module, "mark_ids", Some(&pipeline_layout(gpu, Layout::IdMarks.label(), &layout)), &[]);
         let everyone = gpu.buffer_init("hroc every object", bytemuck::cast_slice(&vec![1u32; slots as usize]), wgpu::BufferUsages::STORAGE);
-        IdMarks { pipeline, layout, everyone }
+        IdMarks { pipelines: Default::default(), everyone }
     }
 
-    /// The pass from `ids` (an `R32Uint` view, `size` pixels) into `marks`,
-    /// of the objects `within` flags (u32 per object, nonzero: in the
-    /// set), or of every object.
-    pub fn bind(&self, gpu: &Gpu, ids: &wgpu::TextureView, size: (u32, u32), marks: &wgpu::Buffer, within: Option<&wgpu::Buffer>) -> IdPass {
+    /// The pass from `ids` (a view of an `R32Uint` or `Rg16Uint` target,
+    /// `size` pixels of `samples` samples) into `marks`, of the objects
+    /// `within` flags (u32 per object, nonzero: in the set), or of every
+    /// object.
+    pub fn bind(&self, gpu: &Gpu, ids: &wgpu::TextureView, (size, samples): ((u32, u32), u32), marks: &wgpu::Buffer, within: Option<&wgpu::Buffer>) -> IdPass {
+        let mut built = self.pipelines.lock().unwrap_or_else(|p| p.into_inner());
+        if !built.iter().any(|(n, ..)| *n == samples) {
+            let module = gpu.shader("id_marks.wgsl", &crate::shaders::source_for("id_marks.wgsl", samples));
+            let layout = Layout::IdMarks.create_for(gpu, samples);
+            let pipeline = gpu.compute_pipeline(&module, "mark_ids", Some(&pipeline_layout(gpu, Layout::IdMarks.label(), &layout)), &[]);
+            built.push((samples, pipeline, layout));
+        }
+        let (_, pipeline, layout) = built.iter().find(|(n, ..)| *n == samples).expect("built above");
         let within = within.unwrap_or(&self.everyone);
         let resources = [(0, wgpu::BindingResource::TextureView(ids)), (1, marks.as_entire_binding()), (2, within.as_entire_binding())];
-        IdPass { pipeline: self.pipeline.clone(), bind: Layout::IdMarks.bind(gpu, &self.layout, &resources), size }
+        IdPass { pipeline: pipeline.clone(), bind: Layout::IdMarks.bind(gpu, layout, &resources), size }
     }
 }
 

@@ -87,10 +87,14 @@
 //!   clamped rather than clipped at the near plane only when the view says
 //!   so ([`ViewDesc::unclipped_depth`]), and only for
 //!   geometry inside the object's box. The depth texture has usage
-//!   `RENDER_ATTACHMENT | TEXTURE_BINDING`, one sample; the culler binds
-//!   it read-only between the host's draws (box tests) and samples it in
-//!   compute and fragment passes (Hi-Z, HROC's rays, box tests that
-//!   compare depth themselves).
+//!   `RENDER_ATTACHMENT | TEXTURE_BINDING`, one sample or several (MSAA);
+//!   the culler binds it read-only between the host's draws (box tests,
+//!   rasterized at its sample count, exact per sample) and loads it in
+//!   compute and fragment passes (Hi-Z, HROC's occlusion map, box tests
+//!   that compare depth themselves), which keep a pixel's farthest
+//!   sample. A fragment that may leave samples it covers unwritten
+//!   (`discard`, alpha-to-coverage, a sample-mask output) cannot occlude:
+//!   flag its object [`ObjectFlags::NOT_OCCLUDER`].
 //! - **Clearing.** Clear the depth target (and the ID target) once per
 //!   frame, before [`View::cull`]: in a pass of its own, or with
 //!   `LoadOp::Clear` in any pass recorded into the encoder before the
@@ -119,10 +123,12 @@
 //!     one ([`ViewTargets::ids`]).
 //! - **Object IDs.** For HROC with occluder filtering (OF, §4.2; the default
 //!   [`Method::HROC`]), and with [`Marks::Ids`] for every method that reads
-//!   marks, the host writes `object index + 1` to an `R32Uint` target
-//!   ([`ViewTargets::ids`], of which the culler reads layer 0, mip 0) in
-//!   the pass of every occluding [`Draw`], depth-tested as the depth is,
-//!   and clears it to 0 each frame. Otherwise `hroc-na`, `hroc-cr` and `hroc-sf` need no ID
+//!   marks, the host writes `object index + 1` to an `R32Uint` target (or,
+//!   split in 16-bit halves, to an `Rg16Uint` one, which every backend can
+//!   multisample; [`ViewTargets::ids`], of which the culler reads layer 0,
+//!   mip 0, every sample) in the pass of every occluding [`Draw`],
+//!   depth-tested as the depth is, at the depth's sample count, and
+//!   clears it to 0 each frame. Otherwise `hroc-na`, `hroc-cr` and `hroc-sf` need no ID
 //!   target.
 //! - **Encoders.** A view records everything a frame writes into the
 //!   encoder it is handed (copies from a staging belt, never

@@ -158,12 +158,23 @@ impl Layout {
 
     /// Its entries, in binding order ([`entries`]).
     pub fn entries(self) -> Vec<wgpu::BindGroupLayoutEntry> {
-        entries(self.passes(), 0)
+        self.entries_for(1)
+    }
+
+    /// Its entries for host targets of `samples` samples ([`entries_for`]).
+    pub fn entries_for(self, samples: u32) -> Vec<wgpu::BindGroupLayoutEntry> {
+        entries_for(self.passes(), 0, samples)
     }
 
     /// Creates it on `gpu`'s device.
     pub fn create(self, gpu: &Gpu) -> wgpu::BindGroupLayout {
-        gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(self.label()), entries: &self.entries() })
+        self.create_for(gpu, 1)
+    }
+
+    /// Creates it for host targets of `samples` samples per pixel: the
+    /// passes then load the host's depth and IDs as multisampled textures.
+    pub fn create_for(self, gpu: &Gpu, samples: u32) -> wgpu::BindGroupLayout {
+        gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(self.label()), entries: &self.entries_for(samples) })
     }
 
     /// A bind group of `layout` (created from this) holding, for each of
@@ -210,9 +221,15 @@ pub fn pipeline_layout(gpu: &Gpu, label: &str, layout: &wgpu::BindGroupLayout) -
 /// validate; a binding shared by several entry points has one type in all
 /// of them.
 pub fn entries(passes: &[Pass], group: u32) -> Vec<wgpu::BindGroupLayoutEntry> {
+    entries_for(passes, group, 1)
+}
+
+/// [`entries`] of the passes compiled for host targets of `samples`
+/// samples per pixel ([`shaders::source_for`]).
+pub fn entries_for(passes: &[Pass], group: u32, samples: u32) -> Vec<wgpu::BindGroupLayoutEntry> {
     let mut merged: BTreeMap<u32, (wgpu::BindingType, wgpu::ShaderStages, String)> = BTreeMap::new();
     for &(name, entry_points) in passes {
-        let reflected = reflect(name);
+        let reflected = reflect(name, samples > 1);
         let chosen: Vec<&(String, Bindings)> = if entry_points.is_empty() {
             reflected.iter().collect()
         } else {
@@ -232,15 +249,15 @@ pub fn entries(passes: &[Pass], group: u32) -> Vec<wgpu::BindGroupLayoutEntry> {
     merged.into_iter().map(|(binding, (ty, visibility, _))| wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None }).collect()
 }
 
-/// The bindings of each entry point of pass `name`, reflected once per
-/// process.
-fn reflect(name: &str) -> EntryPoints {
-    static CACHE: OnceLock<Mutex<HashMap<String, EntryPoints>>> = OnceLock::new();
+/// The bindings of each entry point of pass `name` (compiled for
+/// multisampled host targets or not), reflected once per process.
+fn reflect(name: &str, multisampled: bool) -> EntryPoints {
+    static CACHE: OnceLock<Mutex<HashMap<(String, bool), EntryPoints>>> = OnceLock::new();
     let cache = CACHE.get_or_init(Default::default);
-    if let Some(b) = cache.lock().unwrap_or_else(|p| p.into_inner()).get(name) {
+    if let Some(b) = cache.lock().unwrap_or_else(|p| p.into_inner()).get(&(name.to_string(), multisampled)) {
         return b.clone();
     }
-    let source = shaders::source(name);
+    let source = shaders::source_for(name, if multisampled { 4 } else { 1 });
     let module = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
     let info = naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
         .validate(&module)
@@ -264,7 +281,7 @@ fn reflect(name: &str) -> EntryPoints {
         reflected.push((ep.name.clone(), bindings));
     }
     let reflected = Arc::new(reflected);
-    cache.lock().unwrap_or_else(|p| p.into_inner()).insert(name.to_string(), reflected.clone());
+    cache.lock().unwrap_or_else(|p| p.into_inner()).insert((name.to_string(), multisampled), reflected.clone());
     reflected
 }
 

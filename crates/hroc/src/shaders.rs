@@ -1,7 +1,7 @@
 //! Every WGSL pass of the culler. Each is compiled with `common.wgsl`
 //! prepended. Depth is bound as `texture_2d<f32>` (unfilterable float, which
-//! wgpu accepts for depth views): naga's GLSL back end cannot load from a
-//! `texture_depth_2d`. `tests/shaders.rs` validates each with naga and checks the
+//! wgpu accepts for depth views; `texture_multisampled_2d<f32>` for MSAA
+//! targets): naga's GLSL back end cannot load from a `texture_depth_2d`. `tests/shaders.rs` validates each with naga and checks the
 //! Rust mirrors in [`crate::layout`] against the WGSL structs.
 
 use crate::frustum::DepthRange;
@@ -42,17 +42,31 @@ pub const STACK: u32 = 64;
 /// against atomic contention.
 pub const STAT_SLOTS: u32 = 64;
 
-/// The constants the WGSL shares with Rust, written from the Rust ones.
-fn constants() -> String {
-    format!("const STACK: u32 = {STACK}u;\nconst STAT_SLOTS: u32 = {STAT_SLOTS}u;\n")
+/// The constants the WGSL shares with Rust, written from the Rust ones, and
+/// the host's targets as the passes that load them declare them, for
+/// targets of `samples` samples per pixel: `HostDepth` and `HostIds` are
+/// `texture_2d` (loaded at mip 0) or `texture_multisampled_2d` (loaded per
+/// sample), and `HOST_SAMPLES` their sample count.
+fn prelude(samples: u32) -> String {
+    let kind = if samples > 1 { "texture_multisampled_2d" } else { "texture_2d" };
+    format!(
+        "const STACK: u32 = {STACK}u;\nconst STAT_SLOTS: u32 = {STAT_SLOTS}u;\nconst HOST_SAMPLES: u32 = {samples}u;\n\
+         alias HostDepth = {kind}<f32>;\nalias HostIds = {kind}<u32>;\n"
+    )
 }
 
-/// The full source of a pass: the constants shared with Rust, the shared
-/// header, then the pass. Panics on a name not in [`SHADERS`] (a
-/// programming error, caught by the tests).
+/// The full source of a pass over single-sample targets: the constants
+/// shared with Rust, the shared header, then the pass. Panics on a name not
+/// in [`SHADERS`] (a programming error, caught by the tests).
 pub fn source(name: &str) -> String {
+    source_for(name, 1)
+}
+
+/// [`source`] for host targets of `samples` samples per pixel (1, or an
+/// MSAA count): what the passes that load the host's depth or IDs compile.
+pub fn source_for(name: &str, samples: u32) -> String {
     let body = SHADERS.iter().find(|(n, _)| *n == name).map(|(_, s)| *s).unwrap_or_else(|| panic!("no shader {name}"));
-    format!("{}{COMMON_WGSL}\n{body}", constants())
+    format!("{}{COMMON_WGSL}\n{body}", prelude(samples))
 }
 
 /// The raster occlusion test's pipeline, shared by every box-testing
@@ -61,7 +75,9 @@ pub fn source(name: &str) -> String {
 /// every ray that reaches what it bounds), depth test "nearer or equal"
 /// (`LessEqual`, or `GreaterEqual` for reversed depth) with a small bias
 /// toward the camera so a face lying on the surface it bounds passes, no
-/// depth or colour writes. `fragment`: the entry point that records a
+/// depth or colour writes, at the attachment's sample count (exact per
+/// sample). `depth`: the attachment's format, convention and samples per
+/// pixel. `fragment`: the entry point that records a
 /// passing fragment (forced early-Z), or `None` for a depth-only pass
 /// counted by occlusion queries. `constants`: override constants of both
 /// stages (HROC's `TEST_SCALE`).
@@ -71,7 +87,7 @@ pub fn box_test_pipeline(
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     fragment: Option<&str>,
-    depth: (wgpu::TextureFormat, DepthRange),
+    depth: (wgpu::TextureFormat, DepthRange, u32),
     constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
     box_pipeline(gpu, label, layout, module, ("box_vs", fragment), depth, BoxDepth::Test, constants)
@@ -169,7 +185,7 @@ pub fn box_pipeline(
     layout: &wgpu::PipelineLayout,
     module: &wgpu::ShaderModule,
     (vertex, fragment): (&str, Option<&str>),
-    depth: (wgpu::TextureFormat, DepthRange),
+    depth: (wgpu::TextureFormat, DepthRange, u32),
     mode: BoxDepth,
     constants: &[(&str, f64)],
 ) -> wgpu::RenderPipeline {
@@ -193,7 +209,8 @@ pub fn box_pipeline(
             stencil: Default::default(),
             bias: wgpu::DepthBiasState { constant: bias, slope_scale: 0.0, clamp: 0.0 },
         }),
-        multisample: Default::default(),
+        // A manual pass renders into its own single-sample target.
+        multisample: wgpu::MultisampleState { count: if mode == BoxDepth::Manual { 1 } else { depth.2 }, ..Default::default() },
         fragment: fragment.map(|entry| wgpu::FragmentState {
             module,
             entry_point: Some(entry),

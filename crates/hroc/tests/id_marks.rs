@@ -63,7 +63,7 @@ fn id_marks_match_the_cpu_reference() {
         let within = gpu.buffer_init("within", bytemuck::cast_slice(&third), wgpu::BufferUsages::STORAGE);
         for set in [None, Some(&third[..])] {
             let marks = gpu.buffer("marks", objects as u64 * 4, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
-            let bound = pass.bind(&gpu, &texture.create_view(&Default::default()), (w, h), &marks, set.map(|_| &within));
+            let bound = pass.bind(&gpu, &texture.create_view(&Default::default()), ((w, h), 1), &marks, set.map(|_| &within));
             let mut enc = gpu.encoder("id marks");
             bound.record(&mut enc.begin_compute_pass(&Default::default()));
             queue.submit([enc.finish()]);

@@ -25,6 +25,29 @@ fn every_shader_validates() {
     }
 }
 
+/// Compiled for multisampled host targets (the host's depth and IDs as
+/// `texture_multisampled_2d`), every pass validates too, and the passes
+/// that load the host's targets bind them multisampled.
+#[test]
+fn every_shader_validates_for_msaa_targets() {
+    use hroc::testing::reflect::entries_for;
+    use hroc::testing::shaders::source_for;
+    let mut multisampled = Vec::new();
+    for (name, _) in SHADERS {
+        let source = source_for(name, 4);
+        let m = naga::front::wgsl::parse_str(&source).unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&source)));
+        naga::valid::Validator::new(naga::valid::ValidationFlags::all(), naga::valid::Capabilities::all())
+            .validate(&m)
+            .unwrap_or_else(|e| panic!("{name} (4 samples): {}", e.emit_to_string(&source)));
+        if entries_for(&[(name, &[])], 0, 4).iter().any(|e| matches!(e.ty, wgpu::BindingType::Texture { multisampled: true, .. })) {
+            multisampled.push(*name);
+        }
+    }
+    for name in ["hzb_pyramid.wgsl", "hroc_test.wgsl", "hroc_next.wgsl", "roc_boxes.wgsl", "woc_warp.wgsl", "id_marks.wgsl"] {
+        assert!(multisampled.contains(&name), "{name} loads the host's targets: {multisampled:?}");
+    }
+}
+
 /// Without early-Z (DX12 and Metal lack `SHADER_EARLY_DEPTH_TEST`, and
 /// wgpu then rejects the attribute), every pass still validates once the
 /// attribute is dropped, as the culler drops it there; with it left in,

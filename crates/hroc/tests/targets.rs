@@ -1,5 +1,5 @@
-//! Every depth format a host may draw into, and a view on another layer
-//! or mip of its depth texture, on the full and the portable tier: each
+//! Every depth format a host may draw into, multisampled targets, and a
+//! view on another layer or mip of its depth texture, on the full and the portable tier: each
 //! frame of each method family draws exactly `noc`'s picture (the same
 //! object-ID image, so no object that owns a pixel is missed and no pixel
 //! is missing), across a walk, a camera cut and the eye inside an object's
@@ -20,7 +20,7 @@ use hroc::{Capabilities, Culler, CullerDesc, Method, Variant, ViewDesc};
 
 mod common;
 
-/// The walk, a cut and the eye in a box, for a host on `at`: with unclipped
+/// The walk, a cut, the eye in a box and a look over the wall, for a host on `at`: with unclipped
 /// depth, the near plane 6 units ahead, so the nearest cubes lie before it.
 fn path(at: Depth) -> Vec<(ViewDesc, bool)> {
     let near = if at.unclipped { 6.0 } else { 0.1 };
@@ -34,6 +34,9 @@ fn path(at: Depth) -> Vec<(ViewDesc, bool)> {
     let mut path: Vec<(ViewDesc, bool)> = (0..4).map(|k| (view(Vec3::new(-2.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
     path.push((view(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
     path.push((view(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
+    // Above the wall: far cubes peek over its top edge, some by less than
+    // a pixel (what one sample of a pixel sees and another does not).
+    path.extend([6.5f32, 7.0].map(|y| (view(Vec3::new(0.3, y, 8.0), Vec3::new(0.0, 1.0, -14.0)), false)));
     path
 }
 
@@ -93,6 +96,24 @@ fn a_view_on_layer_1_or_mip_1_gives_noc_s_picture() {
     same_picture_as_noc(&device, &queue, Depth { layers: 3, layer: 1, ..Depth::default() });
     same_picture_as_noc(&device, &queue, Depth { mips: 2, mip: 1, ..Depth::default() });
     same_picture_as_noc(&device, &queue, Depth { layers: 2, mips: 3, layer: 1, mip: 2, ..Depth::default() });
+}
+
+/// Multisampled targets (4× MSAA depth, `Rg16Uint` IDs), standard and
+/// reversed, and a layer of an MSAA array where the device has
+/// `MULTISAMPLE_ARRAY`: box tests raster at the target's sample count, and
+/// every load of depth or IDs reads every sample, so each method gives
+/// `noc`'s picture sample for sample.
+#[test]
+fn msaa_targets_give_noc_s_picture() {
+    let adapter = common::adapter();
+    let array = adapter.features() & wgpu::Features::MULTISAMPLE_ARRAY;
+    let (device, queue) = common::device(hroc::FULL_FEATURES | array);
+    for range in [hroc::DepthRange::Standard, hroc::DepthRange::Reversed] {
+        same_picture_as_noc(&device, &queue, Depth { range, samples: 4, ..Depth::default() });
+    }
+    if !array.is_empty() {
+        same_picture_as_noc(&device, &queue, Depth { samples: 4, layers: 2, layer: 1, ..Depth::default() });
+    }
 }
 
 /// A layer or mip the depth texture does not have is an error that says so.

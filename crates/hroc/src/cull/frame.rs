@@ -304,7 +304,7 @@ impl MethodContext<'_> {
     pub fn mark_target(&self, marks: &wgpu::Buffer, within: Option<&wgpu::Buffer>) -> MarkTarget {
         match (self.capabilities.marks, self.id_marks, &self.targets.ids) {
             (crate::Marks::EarlyZ, _, _) => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks])),
-            (crate::Marks::Ids, Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, self.targets.size, marks, within)),
+            (crate::Marks::Ids, Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, (self.targets.size, self.targets.samples), marks, within)),
             (crate::Marks::Ids, _, _) => unreachable!("Culler::view_with checks the ID target of methods that read marks, and ID marks build the pass"),
         }
     }

@@ -61,17 +61,18 @@ pub(crate) enum BoxCount<'a> {
 impl BoxPass {
     pub(crate) fn new(cx: &MethodContext) -> Self {
         let gpu = cx.gpu;
-        let layout = crate::reflect::Layout::RocBoxes.create(gpu);
+        let samples = cx.targets.samples;
+        let layout = crate::reflect::Layout::RocBoxes.create_for(gpu, samples);
         let pl = crate::reflect::pipeline_layout(gpu, "roc boxes", &layout);
-        let module = gpu.shader("roc_boxes.wgsl", &shader_source("roc_boxes.wgsl"));
+        let module = gpu.shader("roc_boxes.wgsl", &crate::shaders::source_for("roc_boxes.wgsl", samples));
         let target = BoxTarget::new(gpu, cx.capabilities, false, cx.targets.size);
-        let depth = (cx.targets.depth_format, cx.targets.depth);
+        let depth = (cx.targets.depth_format, cx.targets.depth, samples);
         let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, ("box_vs", Some("box_fs")), depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth())]);
         // Attached, the test never loads depth: a stand-in fills the binding,
         // so GL (no read-only depth attachments) can attach the depth.
         let depth = match target.mode() {
             BoxDepth::Manual => cx.targets.depth_sampled.clone(),
-            _ => gpu.stand_in("roc no depth", wgpu::TextureFormat::R32Float),
+            _ => gpu.stand_in("roc no depth", wgpu::TextureFormat::R32Float, samples),
         };
         BoxPass { pipeline, layout, target, depth }
     }

@@ -32,7 +32,6 @@ use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::Gpu;
-use crate::shaders::source as shader_source;
 
 /// The `woc` method: forward-warped last-frame depth, Hi-Z tested before drawing.
 pub struct Woc {
@@ -68,13 +67,13 @@ impl Woc {
         let prev_depth = gpu.buffer("woc previous depth", w as u64 * h as u64 * 4, U::STORAGE | U::COPY_SRC);
         let flags = gpu.buffer("woc flags", n as u64 * 4, U::STORAGE | U::COPY_SRC);
         let unused = gpu.buffer("woc unused", 16, U::STORAGE);
-        let pyramid = Pyramid::new(gpu, &cx.targets.depth_sampled, w, h, cx.targets.depth);
+        let pyramid = Pyramid::new(gpu, &cx.targets.depth_sampled, (w, h, cx.targets.samples), cx.targets.depth);
         // Level 0 starts at far; after that `save` resets it each frame.
         let far = vec![1.0f32; (w * h) as usize];
         gpu.queue.write_buffer(&pyramid.levels, 0, bytemuck::cast_slice(&far));
         let holes = gpu.buffer("woc holes", 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let test = HizTest::new(cx, &pyramid, &unused, &flags, false);
-        let layout = crate::reflect::Layout::WocWarp.create(gpu);
+        let layout = crate::reflect::Layout::WocWarp.create_for(gpu, cx.targets.samples);
         let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("woc warp"),
             layout: &layout,
@@ -88,7 +87,7 @@ impl Woc {
             ],
         });
         let pl = crate::reflect::pipeline_layout(gpu, "woc warp", &layout);
-        let module = gpu.shader("woc_warp.wgsl", &shader_source("woc_warp.wgsl"));
+        let module = gpu.shader("woc_warp.wgsl", &crate::shaders::source_for("woc_warp.wgsl", cx.targets.samples));
         let list = DrawList {
             commands: gpu.buffer("woc list", n as u64 * 20, U::STORAGE | U::INDIRECT | U::COPY_SRC),
             count: gpu.buffer("woc count", 4, U::STORAGE | U::INDIRECT | U::COPY_SRC),

@@ -1,9 +1,9 @@
 //! The host's device and queue as the culler records with them, read-back
 //! helpers, GPU timestamps and pipeline statistics.
 
-mod depth_read;
 mod readback;
 pub mod stats;
+mod target_read;
 pub mod timer;
 mod uploads;
 
@@ -74,17 +74,20 @@ impl Gpu {
         self.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16).next_multiple_of(4), usage, mapped_at_creation: false })
     }
 
-    /// A 1 × 1 texture of `format` to fill a binding no pass reads.
-    pub fn stand_in(&self, label: &str, format: wgpu::TextureFormat) -> wgpu::TextureView {
+    /// A 1 × 1 texture of `format` and `samples` samples to fill a binding
+    /// no pass reads.
+    pub fn stand_in(&self, label: &str, format: wgpu::TextureFormat, samples: u32) -> wgpu::TextureView {
+        // wgpu multisamples only textures that can be attached.
+        let attach = if samples > 1 { wgpu::TextureUsages::RENDER_ATTACHMENT } else { wgpu::TextureUsages::empty() };
         self.device
             .create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
                 size: wgpu::Extent3d { width: 1, height: 1, depth_or_array_layers: 1 },
                 mip_level_count: 1,
-                sample_count: 1,
+                sample_count: samples,
                 dimension: wgpu::TextureDimension::D2,
                 format,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING | attach,
                 view_formats: &[],
             })
             .create_view(&Default::default())

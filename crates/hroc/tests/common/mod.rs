@@ -50,22 +50,17 @@ pub fn depth_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
 /// `R32Uint` target. Returns the pipeline and the camera's bind group
 /// layout.
 pub fn host_pipeline(device: &wgpu::Device, ids: bool, mark: bool) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
-    host_pipeline_on(device, ids, mark, wgpu::TextureFormat::Depth32Float, hroc::DepthRange::Standard, Default::default(), false)
+    host_pipeline_on(device, ids, mark, &street::Depth::default())
 }
 
-/// [`host_pipeline`] drawing into a depth target of `format` with the
-/// depth test of `range` and depth bias `bias`, clamping depth rather than
-/// clipping at the near plane when `unclipped`.
-pub fn host_pipeline_on(
-    device: &wgpu::Device,
-    ids: bool,
-    mark: bool,
-    format: wgpu::TextureFormat,
-    range: hroc::DepthRange,
-    bias: wgpu::DepthBiasState,
-    unclipped: bool,
-) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
-    let (output, ret) = if ids { (" -> @location(0) u32", " return in.object + 1u;") } else { ("", "") };
+/// [`host_pipeline`] drawing into the depth target `at` describes: its
+/// format, samples (the ID target's format with them), depth test and
+/// bias, and clamping rather than clipping at the near plane.
+pub fn host_pipeline_on(device: &wgpu::Device, ids: bool, mark: bool, at: &street::Depth) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
+    let street::Depth { format, range, bias, unclipped, samples, .. } = *at;
+    // Rg16Uint holds the ID's low 16 bits in r, its high in g.
+    let value = if at.ids_format() == wgpu::TextureFormat::Rg16Uint { "vec4<u32>(id & 0xffffu, id >> 16u, 0u, 0u)" } else { "vec4<u32>(id, 0u, 0u, 0u)" };
+    let (output, ret) = if ids { (" -> @location(0) vec4<u32>".to_string(), format!(" let id = in.object + 1u; return {value};")) } else { (String::new(), String::new()) };
     let (early, marking) = if mark { ("@early_depth_test(force) ", " hroc_mark(in.object);") } else { ("", "") };
     let source = format!(
         "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\
@@ -87,7 +82,7 @@ pub fn host_pipeline_on(
     let marks = hroc::marks_layout(device);
     let layout =
         device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("host"), bind_group_layouts: &[Some(&camera_layout), Some(&marks)], immediate_size: 0 });
-    let targets = [Some(wgpu::ColorTargetState { format: wgpu::TextureFormat::R32Uint, blend: None, write_mask: wgpu::ColorWrites::ALL })];
+    let targets = [Some(wgpu::ColorTargetState { format: at.ids_format(), blend: None, write_mask: wgpu::ColorWrites::ALL })];
     let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some("host"),
         layout: Some(&layout),
@@ -105,7 +100,7 @@ pub fn host_pipeline_on(
             stencil: Default::default(),
             bias,
         }),
-        multisample: Default::default(),
+        multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
         fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs"), compilation_options: Default::default(), targets: if ids { &targets } else { &[] } }),
         multiview_mask: None,
         cache: None,

@@ -43,11 +43,35 @@ pub struct Depth {
     pub mips: u32,
     pub layer: u32,
     pub mip: u32,
+    /// Samples per pixel (MSAA above 1: the ID target is then `Rg16Uint`).
+    pub samples: u32,
+}
+
+impl Depth {
+    /// The ID target's format: `Rg16Uint` multisampled (every backend can),
+    /// else `R32Uint`.
+    pub fn ids_format(&self) -> wgpu::TextureFormat {
+        if self.samples > 1 {
+            wgpu::TextureFormat::Rg16Uint
+        } else {
+            wgpu::TextureFormat::R32Uint
+        }
+    }
 }
 
 impl Default for Depth {
     fn default() -> Depth {
-        Depth { format: wgpu::TextureFormat::Depth32Float, range: DepthRange::Standard, bias: Default::default(), unclipped: false, layers: 1, mips: 1, layer: 0, mip: 0 }
+        Depth {
+            format: wgpu::TextureFormat::Depth32Float,
+            range: DepthRange::Standard,
+            bias: Default::default(),
+            unclipped: false,
+            layers: 1,
+            mips: 1,
+            layer: 0,
+            mip: 0,
+            samples: 1,
+        }
     }
 }
 
@@ -74,9 +98,8 @@ impl Host {
     pub fn with_depth(device: &wgpu::Device, vertices: &[[f32; 3]], indices: &[u32], at: Depth) -> Host {
         // The marking pipeline where the device forces early-Z; the plain
         // one for draws that need no mark (Marks::Ids, or nothing read).
-        let marking =
-            device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, at.format, at.range, at.bias, at.unclipped).0);
-        let (plain, camera_layout) = super::host_pipeline_on(device, true, false, at.format, at.range, at.bias, at.unclipped);
+        let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, &at).0);
+        let (plain, camera_layout) = super::host_pipeline_on(device, true, false, &at);
         let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let camera = init("camera", &[0u8; 64], wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
         let camera_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -88,9 +111,9 @@ impl Host {
             label: Some("ids"),
             size: wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
             mip_level_count: 1,
-            sample_count: 1,
+            sample_count: at.samples,
             dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Uint,
+            format: at.ids_format(),
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });
@@ -98,7 +121,7 @@ impl Host {
             label: Some("depth"),
             size: wgpu::Extent3d { width: SIZE << at.mip, height: SIZE << at.mip, depth_or_array_layers: at.layers },
             mip_level_count: at.mips,
-            sample_count: 1,
+            sample_count: at.samples,
             dimension: wgpu::TextureDimension::D2,
             format: at.format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
@@ -262,8 +285,12 @@ impl Host {
         buf
     }
 
-    /// The object-ID image now: `object + 1` per pixel, 0 where nothing is.
+    /// The object-ID image now: `object + 1` per pixel (per sample, each
+    /// pixel's in turn), 0 where nothing is.
     pub fn ids(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<u32> {
+        if self.at.samples > 1 {
+            return hroc::testing::gpu::Gpu::from_device(device, queue).read_ids(&self.ids).unwrap();
+        }
         let mut enc = device.create_command_encoder(&Default::default());
         let buf = self.copy_ids(device, &mut enc);
         queue.submit([enc.finish()]);

@@ -1,6 +1,6 @@
 //! The occlusion test on blocks of pixels: the blocks' occlusion map
-//! (each block's farthest depth) and the pass that reduces the host's
-//! depth to it.
+//! (each block's farthest depth, of every sample of its pixels) and the
+//! pass that reduces the host's depth to it.
 
 use super::*;
 use crate::gpu::{Gpu, PassCount};
@@ -48,7 +48,7 @@ impl Blocks {
         let caps = cx.capabilities;
         let view = map("hroc test blocks", BLOCK_FORMAT);
         let copy = (caps.marks == crate::Marks::EarlyZ && !caps.read_only_depth).then(|| map("hroc test blocks copy", BLOCK_FORMAT));
-        let layout = crate::reflect::Layout::HrocReduce.create(gpu);
+        let layout = crate::reflect::Layout::HrocReduce.create_for(gpu, cx.targets.samples);
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc reduce"),
             layout: &layout,

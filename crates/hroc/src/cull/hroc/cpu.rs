@@ -82,9 +82,10 @@ pub fn oriented_span(o: &OrientedBox, eye: Vec3, dir: Vec3, pad: f32, grow: f32)
 }
 
 /// `block_pad_px` in common.wgsl: the padding, in pixels, of boxes tested
-/// by one ray per block of `scale` × `scale` pixels.
-pub fn block_pad_px(scale: u32) -> f32 {
-    (scale - 1) as f32 * std::f32::consts::FRAC_1_SQRT_2 + scale as f32 * PIXEL_PAD
+/// by one ray per block of `scale` × `scale` pixels of `samples` samples.
+pub fn block_pad_px(scale: u32, samples: u32) -> f32 {
+    let spread = if samples > 1 { scale } else { scale - 1 };
+    spread as f32 * std::f32::consts::FRAC_1_SQRT_2 + scale as f32 * PIXEL_PAD
 }
 
 /// `crosses_near` in common.wgsl, of the near plane `p`.
@@ -106,7 +107,7 @@ pub fn groups(bvh: &Bvh, state: &[u32], view: &ViewGeometry, pixel: Vec2, scale:
         }
         let mut stack = vec![g];
         while let Some(n) = stack.pop() {
-            let b = padded_px(bvh.aabb(n), eye, pixel, block_pad_px(scale));
+            let b = padded_px(bvh.aabb(n), eye, pixel, block_pad_px(scale, 1));
             if !aabb_in_frustum(planes, b.min, b.max) {
                 continue;
             }
@@ -176,8 +177,8 @@ pub fn ray_marked(
             let limit = farthest + tolerance;
             let mut stack = vec![0u32];
             while let Some(n) = stack.pop() {
-                let pad = pixel.map_or(0.0, |px| box_pad(bvh.aabb(n), eye, px, block_pad_px(s)));
-                let b = pixel.map_or(bvh.aabb(n), |px| padded_px(bvh.aabb(n), eye, px, block_pad_px(s)));
+                let pad = pixel.map_or(0.0, |px| box_pad(bvh.aabb(n), eye, px, block_pad_px(s, 1)));
+                let b = pixel.map_or(bvh.aabb(n), |px| padded_px(bvh.aabb(n), eye, px, block_pad_px(s, 1)));
                 let g = Vec3::splat(grow * (b.max - b.min).length().max(1e-3));
                 let (t0, t1) = ((b.min - g - origin) / dir, (b.max + g - origin) / dir);
                 let (mut enter, mut exit) = (t0.min(t1).max_element(), t0.max(t1).min_element());

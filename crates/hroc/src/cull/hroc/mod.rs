@@ -46,7 +46,7 @@ use crate::error::{Error, Result};
 use crate::gpu::{dispatch_size, Gpu};
 use crate::id_marks::MarkTarget;
 use crate::reflect::Layout;
-use crate::shaders::source as shader_source;
+use crate::shaders::source_for as shader_source_for;
 use crate::shaders::BoxTarget;
 use stall_free::{Counted, StallFree};
 
@@ -142,6 +142,7 @@ impl Hroc {
         let n = cx.object_count;
         let scale = test_scale(cx.options.hroc_test_scale, cx.targets.size);
         let filter_stride = cx.options.hroc_filter_stride.max(1);
+        let samples = cx.targets.samples;
         // Rebuilds keep the buffers: size them for the largest tree.
         let nodes = cx.node_capacity;
         use wgpu::BufferUsages as U;
@@ -165,7 +166,7 @@ impl Hroc {
         let ids = match cx.targets.ids.as_ref() {
             Some(v) => v,
             None => {
-                stand_in = gpu.stand_in("hroc no ids", wgpu::TextureFormat::R32Uint);
+                stand_in = gpu.stand_in("hroc no ids", wgpu::TextureFormat::Rg16Uint, cx.targets.samples);
                 &stand_in
             }
         };
@@ -174,8 +175,8 @@ impl Hroc {
         let mut resources: Vec<(u32, wgpu::BindingResource)> = bufs.iter().enumerate().map(|(i, b)| (i as u32, b.as_entire_binding())).collect();
         resources.extend([(10, wgpu::BindingResource::TextureView(ids)), (11, cx.bounds.as_entire_binding())]);
         let step = |layout: Layout, pass: &str, entry: &str, constants: &[(&str, f64)]| {
-            let bind_layout = layout.create(gpu);
-            let module = gpu.shader(pass, &shader_source(pass));
+            let bind_layout = layout.create_for(gpu, samples);
+            let module = gpu.shader(pass, &shader_source_for(pass, samples));
             let pipeline = gpu.compute_pipeline(&module, entry, Some(&crate::reflect::pipeline_layout(gpu, layout.label(), &bind_layout)), constants);
             Step { pipeline, bind: layout.bind(gpu, &bind_layout, &resources) }
         };
@@ -187,8 +188,10 @@ impl Hroc {
         let filter = step(Layout::HrocNext, "hroc_next.wgsl", "filter_occluders", &[("FILTER_STRIDE", filter_stride as f64)]);
 
         let test_layout = Layout::HrocTest.create(gpu);
-        let test_module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
-        let blocks = (scale > 1).then(|| Blocks::new(gpu, cx, &test_module, scale));
+        let test_module = gpu.shader("hroc_test.wgsl", &shader_source_for("hroc_test.wgsl", samples));
+        // Multisampled depth is reduced to blocks (of one pixel at least):
+        // the rays and the test then read a pixel's farthest sample.
+        let blocks = (scale > 1 || samples > 1).then(|| Blocks::new(gpu, cx, &test_module, scale));
         // The depth the rays load: the host's, or the blocks' map (its copy
         // where the test cannot sample what it is attached to).
         let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| b.copy.as_ref().unwrap_or(&b.view));
@@ -208,7 +211,10 @@ impl Hroc {
             ],
         });
         let test_pl = crate::reflect::pipeline_layout(gpu, "hroc test", &test_layout);
-        let test_depth = (blocks.as_ref().map_or(cx.targets.depth_format, |_| BLOCK_FORMAT), cx.targets.depth);
+        let test_depth = match blocks {
+            Some(_) => (BLOCK_FORMAT, cx.targets.depth, 1),
+            None => (cx.targets.depth_format, cx.targets.depth, samples),
+        };
         // Without early-Z marks, the test binds no depth and compares each
         // fragment itself; so too where its rays sample the depth it would
         // attach and attachments cannot be read-only.

@@ -138,7 +138,7 @@ impl Rounds {
         cx: &MethodContext,
         module: &wgpu::ShaderModule,
         scale: u32,
-        test_depth: (wgpu::TextureFormat, crate::DepthRange),
+        test_depth: (wgpu::TextureFormat, crate::DepthRange, u32),
         occlusion_map: &wgpu::TextureView,
         count: u32,
         list_marks: &wgpu::Buffer,
@@ -180,7 +180,7 @@ impl Rounds {
         }
         let (pl, init_pl) = (crate::reflect::pipeline_layout(gpu, "hroc rounds", &layout), crate::reflect::pipeline_layout(gpu, "hroc rounds init", &init_layout));
         let constants = [("TEST_SCALE", scale as f64)];
-        let block_depth = (BLOCK_FORMAT, cx.targets.depth);
+        let block_depth = (BLOCK_FORMAT, cx.targets.depth, 1);
         use crate::shaders::{box_pipeline, BoxDepth};
         let make_list = |label: &str, flags: &wgpu::Buffer, select: u32| {
             let list = compactor.list(gpu, label);

@@ -48,17 +48,18 @@ pub struct Pyramid {
 }
 
 impl Pyramid {
-    /// A pyramid for a `width` x `height` depth target, built from `depth_view`.
-    pub fn new(gpu: &Gpu, depth_view: &wgpu::TextureView, width: u32, height: u32, depth: crate::DepthRange) -> Self {
+    /// A pyramid for a `width` x `height` depth target of `samples`
+    /// samples per pixel, built from `depth_view` (a pixel's farthest sample).
+    pub fn new(gpu: &Gpu, depth_view: &wgpu::TextureView, (width, height, samples): (u32, u32, u32), depth: crate::DepthRange) -> Self {
         let reversed = (depth == crate::DepthRange::Reversed) as u32;
         use wgpu::BufferUsages as U;
         let mips = cpu::mip_chain(width, height);
         let texels = mips.last().map_or(1, |m| m.offset + 1);
         let levels = gpu.buffer("hi-z levels", texels as u64 * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST);
         let mip_table = gpu.buffer_init("hi-z mips", bytemuck::cast_slice(&mips), U::STORAGE);
-        let layout = crate::reflect::Layout::HiZBuild.create(gpu);
+        let layout = crate::reflect::Layout::HiZBuild.create_for(gpu, samples);
         let pl = crate::reflect::pipeline_layout(gpu, "hi-z build", &layout);
-        let module = gpu.shader("hzb_pyramid.wgsl", &shader_source("hzb_pyramid.wgsl"));
+        let module = gpu.shader("hzb_pyramid.wgsl", &crate::shaders::source_for("hzb_pyramid.wgsl", samples));
         let binds = (0..mips.len() as u32)
             .map(|l| {
                 let step = gpu.buffer_init("hi-z step", bytemuck::cast_slice(&[l, reversed, 0, 0]), U::UNIFORM);
@@ -197,7 +198,7 @@ impl Hzb {
         use wgpu::BufferUsages as U;
         let flags = |label| gpu.buffer(label, n as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let (visible, fresh) = (flags("hzb V"), flags("hzb fresh"));
-        let pyramid = Pyramid::new(gpu, &cx.targets.depth_sampled, cx.targets.size.0, cx.targets.size.1, cx.targets.depth);
+        let pyramid = Pyramid::new(gpu, &cx.targets.depth_sampled, (cx.targets.size.0, cx.targets.size.1, cx.targets.samples), cx.targets.depth);
         let test = HizTest::new(cx, &pyramid, &visible, &fresh, true);
         let compactor = Compactor::new(gpu, n);
         let (v_list, v_job) = compactor.packed_list(gpu, "hzb V list", &visible, cx.commands);

@@ -221,7 +221,7 @@ impl QueryRenderer {
         // HROC's box vertex stage (group 0: frame, nodes, boxes; node = instance).
         let module = gpu.shader("hroc_test.wgsl", &shader_source("hroc_test.wgsl"));
         // Depth-only: the occlusion query counts the samples that pass.
-        let pipeline = crate::shaders::box_test_pipeline(gpu, "query boxes", &pl, &module, None, (cx.targets.depth_format, cx.targets.depth), &[]);
+        let pipeline = crate::shaders::box_test_pipeline(gpu, "query boxes", &pl, &module, None, (cx.targets.depth_format, cx.targets.depth, cx.targets.samples), &[]);
         let commands = if cx.object_count > 0 { gpu.read::<DrawCommand>(cx.commands, 0, cx.object_count as u64)? } else { Vec::new() };
         let mut q = QueryRenderer {
             pipeline,
