@@ -103,6 +103,14 @@ impl SceneArgs {
     }
 }
 
+/// An MSAA sample count wgpu takes for depth: 1, 2, 4 or 8 (clap value parser).
+fn parse_msaa(s: &str) -> std::result::Result<u32, String> {
+    match s.parse::<u32>() {
+        Ok(n @ (1 | 2 | 4 | 8)) => Ok(n),
+        _ => Err(format!("--msaa {s}: samples per pixel are 1, 2, 4 or 8")),
+    }
+}
+
 fn open_device(backend: Backend, tier: Option<Tier>) -> Result<Headless> {
     let mut gpu = Headless::open(backend)?;
     gpu.capabilities = tier.map(Tier::capabilities);
@@ -208,6 +216,16 @@ struct BenchArgs {
     /// (pipeline-statistics queries, where the device has them).
     #[arg(long)]
     breakdown: bool,
+    /// Samples per pixel of the camera's colour, depth and object-ID
+    /// targets: 1 (none), 2, 4 or 8 (the IDs then `Rg16Uint`).
+    #[arg(long, default_value_t = 1, value_parser = parse_msaa)]
+    msaa: u32,
+    /// Light the scene with a directional light whose shadow map has this
+    /// many cascades (0 to 4): each an orthographic view, drawn with depth
+    /// bias into a layer of one depth array, culled by every method as a
+    /// view of its own and checked against its own unculled picture.
+    #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=4))]
+    shadow_cascades: u32,
     /// Fractions of the objects that move every frame, 0 to 1, each run in
     /// turn (e.g. `0,0.1,1`), with a motion table after them; the query
     /// methods take static scenes only.
@@ -368,6 +386,8 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         dynamic: a.dynamic,
         motion: hroc::MotionOptions { refit: a.refit, rebuild_sah_growth: a.rebuild_growth, ..Default::default() },
         timestamps: a.breakdown,
+        msaa: a.msaa,
+        shadow_cascades: a.shadow_cascades,
     };
     if let Some(bad) = a.moving.iter().find(|f| !(0.0..=1.0).contains(*f)) {
         return Err(Error::Arg(format!("--moving {bad} is not a fraction from 0 to 1")));

@@ -207,8 +207,8 @@ pub struct Targets {
 }
 
 impl Targets {
-    /// The targets `t` describes, on a device with `features`.
-    pub(super) fn new(t: &ViewTargets, features: wgpu::Features) -> Result<Targets> {
+    /// The targets `t` describes, on a device with `features`, of `backend`.
+    pub(super) fn new(t: &ViewTargets, features: wgpu::Features, backend: wgpu::Backend) -> Result<Targets> {
         use wgpu::TextureUsages as U;
         let d = t.depth;
         let bad = |m: String| Err(Error::InvalidTargets(m));
@@ -222,6 +222,17 @@ impl Targets {
             return bad(format!("depth target is {:?}; views draw into 2D textures (a layer of an array or cube)", d.dimension()));
         }
         let samples = d.sample_count();
+        if backend == wgpu::Backend::Gl && samples > 1 {
+            return bad(format!(
+                "depth target has {samples} samples: wgpu's GL backend cannot sample multisampled textures (it allocates them as TEXTURE_2D; gfx-rs/wgpu#6084), so no method can load it there"
+            ));
+        }
+        if backend == wgpu::Backend::Gl && t.layer > 0 {
+            return bad(format!(
+                "layer {} of the depth target: wgpu's GL backend samples only layer 0 of an array (its views cannot start at another layer); draw this view into a texture of its own",
+                t.layer
+            ));
+        }
         if samples > 1 && d.depth_or_array_layers() > 1 && !features.contains(wgpu::Features::MULTISAMPLE_ARRAY) {
             return bad(format!("depth target is a multisampled array of {} layers, which needs Features::MULTISAMPLE_ARRAY, missing on this device", d.depth_or_array_layers()));
         }

@@ -54,6 +54,12 @@ pub struct BenchOptions {
     /// flush of the rasterizer), which costs methods of many stages most:
     /// runs compare ms/frame without them.
     pub timestamps: bool,
+    /// Samples per pixel of the camera's targets (`--msaa`; 1: none).
+    pub msaa: u32,
+    /// Cascades of a directional light's shadow map (`--shadow-cascades`,
+    /// 0 to 4), each a view of its own culled by every method and checked
+    /// against its own `noc` picture.
+    pub shadow_cascades: u32,
 }
 
 impl BenchOptions {
@@ -79,6 +85,8 @@ impl BenchOptions {
             motion: hroc::MotionOptions::default(),
             method_options: crate::cull::MethodOptions::default(),
             timestamps: false,
+            msaa: 1,
+            shadow_cascades: 0,
         }
     }
 }
@@ -99,8 +107,11 @@ pub struct MethodRow {
     pub missing_pixels: u64,
     /// `noc`'s stray fragments the method did not reproduce (`Check::stray_pixels`).
     pub stray_pixels: u64,
-    /// Mean objects drawn per frame.
+    /// Mean objects drawn per frame, over every view.
     pub drawn_mean: f64,
+    /// Mean objects drawn per frame by each view: the camera's, then each
+    /// shadow cascade's.
+    pub drawn_per_view: Vec<f64>,
     /// Mean triangles drawn per frame, and their fraction of the scene's.
     pub triangles_mean: f64,
     pub triangles_fraction: f64,
@@ -172,6 +183,10 @@ pub struct BenchReport {
     pub frames_per_second: f64,
     /// The camera path: `own` (the scene's), `hard`, `cuts`, or a file.
     pub path: String,
+    /// Samples per pixel of the camera's targets.
+    pub msaa: u32,
+    /// Shadow cascades, each a view culled beside the camera's.
+    pub shadow_cascades: u32,
     /// Frames at the start left out of the timing statistics (not of the checks).
     pub warmup_frames: usize,
     pub split: String,
@@ -217,6 +232,8 @@ struct Acc {
     fneg: u64,
     missing: u64,
     stray: u64,
+    /// Objects drawn by each view, summed over frames.
+    view_drawn: Vec<u64>,
 }
 
 /// Like the paper (§5.1), the first frames pay for lazy initialisation and
@@ -275,7 +292,8 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
     let base: Vec<glam::Mat4> = scene.objects.iter().map(|ob| ob.transform).collect();
     let centre = scene.bounds().center();
     let frames = frame_count(o, path.as_ref().unwrap_or(&scene.path))?;
-    let mut s = Session::new_timed(gpu, scene, path, frames, o.resolution, o.split, o.timestamps)?;
+    let mut s = Session::new_msaa(gpu, scene, path, frames, o.resolution, o.split, o.timestamps, o.msaa)?;
+    s.set_shadow_cascades(o.shadow_cascades)?;
     s.culler.set_motion(o.motion)?;
     s.set_oriented_boxes(o.oriented_boxes)?;
     if o.dynamic {
@@ -284,7 +302,8 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
     }
     let (mut update_ms, mut refit_ms, mut host_ms, mut rebuilds, mut growth) = (Vec::new(), Vec::new(), Vec::new(), 0, Some(1.0));
     s.options = o.method_options.clone();
-    let mut cullers = o.methods.iter().filter(|&&m| m != Method::Noc).map(|&m| Ok((m, s.create(m)?))).collect::<Result<Vec<_>>>()?;
+    let cascade_views = |m: Method| (0..s.cascade_count()).map(|c| s.create_cascade(m, c)).collect::<Result<Vec<_>>>();
+    let mut cullers = o.methods.iter().filter(|&&m| m != Method::Noc).map(|&m| Ok((m, s.create(m)?, cascade_views(m)?))).collect::<Result<Vec<_>>>()?;
     let n = s.renderer.object_count as u64;
     let scene_triangles = s.scene.stats().triangles;
     let frames = s.cameras.len();
@@ -296,8 +315,12 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
     bar.set_message(format!("bench {}", s.scene.name));
     let mut accs: HashMap<Method, Acc> = HashMap::new();
     let mut ref_culled = 0u64;
-    let mut record = |method: Method, k: usize, r: &FrameResult, c: Check, stats: Vec<(hroc::Stat, f64)>, update: Option<f64>| {
+    let mut record = |method: Method, k: usize, r: &FrameResult, c: Check, views: &[usize], stats: Vec<(hroc::Stat, f64)>, update: Option<f64>| {
         let a = accs.entry(method).or_default();
+        a.view_drawn.resize(views.len(), 0);
+        for (sum, &d) in a.view_drawn.iter_mut().zip(views) {
+            *sum += d as u64;
+        }
         for (st, v) in stats {
             *a.stats.entry(st).or_default() += v;
         }
@@ -314,7 +337,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
                 *a.stages.entry(hroc::Stage::ObjectUpdate).or_default() += ms;
             }
         }
-        a.culled += n - c.drawn as u64;
+        a.culled += n * views.len() as u64 - c.drawn as u64;
         a.drawn += c.drawn as u64;
         a.triangles += c.triangles;
         a.fneg += c.false_negatives as u64;
@@ -338,20 +361,47 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
             growth = u.sah_growth;
         }
         let update = update_ms.last().copied().filter(|_| !movers.is_empty());
-        let (r, truth) = s.truth(k)?;
+        let (mut noc_frame, truth) = s.truth(k)?;
         ref_culled += n - truth.visible.len() as u64;
-        if o.methods.contains(&Method::Noc) {
-            let c = s.check(&r, &truth)?;
-            record(Method::Noc, k, &r, c, Vec::new(), update);
+        // Each cascade's own picture, drawn by noc.
+        let (cascades, time) = (s.cascades(k), s.times[k]);
+        let mut shadow_truths = Vec::new();
+        for (c, cascade) in cascades.iter().enumerate() {
+            let (r, t) = s.cascade_truth(c as u32, cascade, time)?;
+            ref_culled += n - t.visible.len() as u64;
+            shadow_truths.push((r, t));
         }
-        for (method, c) in cullers.iter_mut() {
+        if o.methods.contains(&Method::Noc) {
+            let mut c = s.check(&noc_frame, &truth)?;
+            let mut views = vec![c.drawn];
+            for (cs, (r, t)) in shadow_truths.iter().enumerate() {
+                let cc = s.check_cascade(cs as u32, r, t)?;
+                views.push(cc.drawn);
+                noc_frame.add(r);
+                c += cc;
+            }
+            record(Method::Noc, k, &noc_frame, c, &views, Vec::new(), update);
+        }
+        for (method, c, shadow_views) in cullers.iter_mut() {
             if c.wants_oracle() {
                 c.set_oracle(&s.culler, &truth.visible)?;
             }
-            let r = s.run_frame(c, k)?;
-            let chk = s.check(&r, &truth)?;
-            let stats = c.stats(&s.culler)?;
-            record(*method, k, &r, chk, stats, update);
+            let mut r = s.run_frame(c, k)?;
+            let mut chk = s.check(&r, &truth)?;
+            let mut stats = c.stats(&s.culler)?;
+            let mut views = vec![chk.drawn];
+            for (cs, view) in shadow_views.iter_mut().enumerate() {
+                if view.wants_oracle() {
+                    view.set_oracle(&s.culler, &shadow_truths[cs].1.visible)?;
+                }
+                let rc = s.run_cascade(view, cs as u32, &cascades[cs], time)?;
+                let cc = s.check_cascade(cs as u32, &rc, &shadow_truths[cs].1)?;
+                views.push(cc.drawn);
+                stats.extend(view.stats(&s.culler)?);
+                r.add(&rc);
+                chk += cc;
+            }
+            record(*method, k, &r, chk, &views, stats, update);
         }
         bar.inc(1);
     }
@@ -368,7 +418,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
                 ms_mean: mean(timed),
                 ms_p95: percentile(timed, 0.95),
                 gpu_ms_mean: o.timestamps.then(|| mean(&a.gpu)),
-                c_over_n: a.culled as f64 / (n * frames as u64) as f64,
+                c_over_n: a.culled as f64 / (n * frames as u64 * (1 + o.shadow_cascades as u64)) as f64,
                 c_over_r: if ref_culled == 0 {
                     if a.culled == 0 {
                         1.0
@@ -382,6 +432,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
                 missing_pixels: a.missing,
                 stray_pixels: a.stray,
                 drawn_mean: a.drawn as f64 / frames as f64,
+                drawn_per_view: a.view_drawn.iter().map(|&d| d as f64 / frames as f64).collect(),
                 triangles_mean: a.triangles as f64 / frames as f64,
                 triangles_fraction: a.triangles as f64 / (frames as f64 * scene_triangles.max(1) as f64),
                 stages_ms: a.stages.iter().map(|(k, v)| (*k, v / timed_frames)).collect(),
@@ -409,6 +460,8 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
             }
         },
         path: o.camera_path.as_ref().map_or("own".into(), |p| p.display().to_string()),
+        msaa: o.msaa,
+        shadow_cascades: o.shadow_cascades,
         warmup_frames: warm,
         split: o.split.to_string(),
         bvh_nodes: s.bvh().nodes.len(),

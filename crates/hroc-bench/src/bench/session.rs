@@ -7,6 +7,7 @@ use crate::bvh::{Bvh, Split};
 use crate::cull::{Method, MethodOptions, Stage};
 use crate::error::Result;
 use crate::gpu::Headless;
+use crate::render::cascades::{self, Cascade, CascadeRecorder, Cascades};
 use crate::render::{DrawList, Recorder, Renderer};
 use crate::scene::{camera::clip_planes, Camera, CameraPath, Scene};
 use hroc::{Culler, CullerDesc, FrameInput, View, ViewDesc};
@@ -28,6 +29,14 @@ pub struct Session<'g> {
     noc: Option<View>,
     /// The culler has the objects' oriented boxes ([`Session::set_oriented_boxes`]).
     oriented_boxes: bool,
+    /// A directional light's shadow cascades ([`Session::set_shadow_cascades`]).
+    shadows: Option<Shadows>,
+}
+
+/// The light's cascades and their `noc` views.
+struct Shadows {
+    cascades: Cascades,
+    noc: Vec<View>,
 }
 
 /// `noc`'s picture of one frame: the ground truth every method is checked against.
@@ -37,6 +46,21 @@ pub struct Truth {
     pub depth: Vec<f32>,
     /// Object id + 1 per pixel (0: background).
     pub ids: Vec<u32>,
+}
+
+impl Truth {
+    /// The truth of an ID image (`ids`) and its depth: the objects that
+    /// own a texel of it, of `objects`.
+    pub fn of(ids: Vec<u32>, depth: Vec<f32>, objects: u32) -> Truth {
+        let mut seen = vec![false; objects as usize];
+        for &id in &ids {
+            if let Some(s) = id.checked_sub(1).and_then(|o| seen.get_mut(o as usize)) {
+                *s = true;
+            }
+        }
+        let visible = (0..objects).filter(|&o| seen[o as usize]).collect();
+        Truth { visible, depth, ids }
+    }
 }
 
 /// One method's frame, measured.
@@ -52,6 +76,24 @@ pub struct FrameResult {
 impl FrameResult {
     pub fn gpu_ms(&self) -> f64 {
         self.stages.iter().map(|s| s.1).sum()
+    }
+
+    /// Adds another view's frame to this one (the frame of a light's
+    /// cascade to the camera's): its time, stages and invocations.
+    pub fn add(&mut self, other: &FrameResult) {
+        self.wall_ms += other.wall_ms;
+        self.stages.extend(other.stages.iter().copied());
+        self.invocations.extend(other.invocations.iter().copied());
+    }
+}
+
+impl std::ops::AddAssign for Check {
+    fn add_assign(&mut self, o: Check) {
+        self.drawn += o.drawn;
+        self.triangles += o.triangles;
+        self.false_negatives += o.false_negatives;
+        self.missing_pixels += o.missing_pixels;
+        self.stray_pixels += o.stray_pixels;
     }
 }
 
@@ -80,7 +122,26 @@ impl<'g> Session<'g> {
 
     /// [`Session::new`], with per-stage GPU timestamps or without; with
     /// them, also per-stage pipeline statistics where the device has them.
-    pub fn new_timed(gpu: &'g Headless, mut scene: Scene, path: Option<CameraPath>, frames: usize, (w, h): (u32, u32), split: Split, timestamps: bool) -> Result<Self> {
+    pub fn new_timed(gpu: &'g Headless, scene: Scene, path: Option<CameraPath>, frames: usize, res: (u32, u32), split: Split, timestamps: bool) -> Result<Self> {
+        Self::new_msaa(gpu, scene, path, frames, res, split, timestamps, 1)
+    }
+
+    /// [`Session::new_timed`] with targets of `samples` samples per pixel
+    /// (MSAA above 1).
+    #[allow(clippy::too_many_arguments)]
+    pub fn new_msaa(
+        gpu: &'g Headless,
+        mut scene: Scene,
+        path: Option<CameraPath>,
+        frames: usize,
+        (w, h): (u32, u32),
+        split: Split,
+        timestamps: bool,
+        samples: u32,
+    ) -> Result<Self> {
+        if !gpu.adapter.get_texture_format_features(crate::render::DEPTH_FORMAT).flags.sample_count_supported(samples) {
+            return Err(crate::Error::Arg(format!("--msaa {samples}: the adapter cannot multisample depth {samples} times")));
+        }
         if let Some(p) = path {
             scene.path = p;
         }
@@ -94,9 +155,84 @@ impl<'g> Session<'g> {
         let descs = crate::render::object_descs(&scene);
         let pipeline_statistics = timestamps && gpu.device.features().contains(hroc::PIPELINE_STATISTICS_FEATURES);
         let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, pipeline_statistics, capabilities: gpu.capabilities, ..CullerDesc::new(&descs) })?;
-        let renderer = Renderer::new(gpu, &scene, w, h, culler.marks_layout())?;
+        let renderer = Renderer::new(gpu, &scene, (w, h, samples), culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
-        Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc), oriented_boxes: true })
+        Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc), oriented_boxes: true, shadows: None })
+    }
+
+    /// Lights the scene with a directional light (the renderer's) whose
+    /// shadow map has `count` cascades, each a view culled on its own
+    /// ([`Session::cascades`]); 0 takes the light's shadows away.
+    pub fn set_shadow_cascades(&mut self, count: u32) -> Result<()> {
+        self.shadows = match count {
+            0 => None,
+            n => {
+                let cascades = Cascades::new(self.gpu, &self.renderer, n)?;
+                let noc = (0..n).map(|c| self.culler.view(Method::Noc, &cascades.view_targets(c))).collect::<hroc::Result<Vec<_>>>()?;
+                Some(Shadows { cascades, noc })
+            }
+        };
+        Ok(())
+    }
+
+    /// Cascades of the light's shadow map (0 without shadows).
+    pub fn cascade_count(&self) -> u32 {
+        self.shadows.as_ref().map_or(0, |s| s.cascades.count)
+    }
+
+    /// The cascades fitted to camera `k`.
+    pub fn cascades(&self, k: usize) -> Vec<Cascade> {
+        let k = k.min(self.cameras.len() - 1);
+        cascades::fit(&self.cameras[k], self.renderer.aspect(), self.renderer.light_dir, &self.scene.bounds(), self.cascade_count())
+    }
+
+    /// A view of cascade `c` culled by `method`, with [`Session::options`].
+    pub fn create_cascade(&self, method: Method, c: u32) -> Result<View> {
+        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
+        Ok(self.culler.view_with(method, &s.cascades.view_targets(c), &self.options)?)
+    }
+
+    /// Runs one frame of cascade `c` seen as `cascade` with `view`, timed
+    /// as [`Session::run_frame`].
+    pub fn run_cascade(&mut self, view: &mut View, c: u32, cascade: &Cascade, time: f32) -> Result<FrameResult> {
+        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
+        let start = std::time::Instant::now();
+        s.cascades.write_view(self.gpu, c, cascade);
+        let mut enc = self.gpu.encoder("cascade");
+        s.cascades.clear(&mut enc, c);
+        let input = FrameInput { view: cascade.view_desc(), targets: s.cascades.view_targets(c), cut: false, time };
+        let mut host = CascadeRecorder { renderer: &self.renderer, cascades: &s.cascades, cascade: c, lists: Vec::new() };
+        view.cull(&self.culler, &mut enc, &input, &mut host)?;
+        let lists = host.lists;
+        self.gpu.queue.submit([enc.finish()]);
+        self.gpu.wait()?;
+        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        let stages = view.stage_ms(&self.culler)?.to_vec();
+        let invocations = view.stage_invocations(&self.culler)?;
+        Ok(FrameResult { wall_ms, stages, invocations, lists, camera: self.cameras[0] })
+    }
+
+    /// Renders cascade `c` seen as `cascade` with `noc`, and reads back its truth.
+    pub fn cascade_truth(&mut self, c: u32, cascade: &Cascade, time: f32) -> Result<(FrameResult, Truth)> {
+        let s = self.shadows.as_mut().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
+        let mut noc = std::mem::take(&mut s.noc);
+        let r = self.run_cascade(&mut noc[c as usize], c, cascade, time);
+        self.shadows.as_mut().expect("checked above").noc = noc;
+        let r = r?;
+        let s = self.shadows.as_ref().expect("checked above");
+        let ids = self.gpu.read_ids(&s.cascades.ids[c as usize])?;
+        let (texture, layer) = s.cascades.depth_of(c);
+        let depth = self.gpu.read_depth_layer(texture, layer)?;
+        Ok((r, Truth::of(ids, depth, self.renderer.object_count)))
+    }
+
+    /// Checks cascade `c`'s frame just rendered against `truth` (every
+    /// differing texel counts: the stray-fragment test is the camera's).
+    pub fn check_cascade(&self, c: u32, r: &FrameResult, truth: &Truth) -> Result<Check> {
+        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
+        let (texture, layer) = s.cascades.depth_of(c);
+        let depth = self.gpu.read_depth_layer(texture, layer)?;
+        self.check_with(r, truth, &depth, None)
     }
 
     pub fn load(gpu: &'g Headless, spec: &str, objects: Option<usize>, camera_path: Option<&Path>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {
@@ -279,15 +415,8 @@ impl<'g> Session<'g> {
 
     /// The truth of whatever the targets hold now.
     pub fn read_truth(&self) -> Result<Truth> {
-        let ids: Vec<u32> = self.gpu.read_texture(&self.renderer.targets.id, wgpu::TextureAspect::All)?;
-        let mut seen = vec![false; self.renderer.object_count as usize];
-        for &id in &ids {
-            if id > 0 {
-                seen[(id - 1) as usize] = true;
-            }
-        }
-        let visible = (0..seen.len() as u32).filter(|&o| seen[o as usize]).collect();
-        Ok(Truth { visible, depth: self.read_depth()?, ids })
+        let ids = self.gpu.read_ids(&self.renderer.targets.id)?;
+        Ok(Truth::of(ids, self.read_depth()?, self.renderer.object_count))
     }
 
     pub fn read_depth(&self) -> Result<Vec<f32>> {
@@ -311,12 +440,20 @@ impl<'g> Session<'g> {
 
     /// Checks the frame just rendered against `truth`: false negatives
     /// (visible in `noc`, not drawn) and missing pixels (depth farther than
-    /// `noc`'s), leaving out `noc`'s stray fragments (`Check::stray_pixels`).
+    /// `noc`'s; samples, with MSAA), leaving out `noc`'s stray fragments
+    /// (`Check::stray_pixels`).
     pub fn check(&self, r: &FrameResult, truth: &Truth) -> Result<Check> {
-        let drawn = self.drawn(&r.lists)?;
         let depth = self.read_depth()?;
-        let stray = Stray::new(&r.camera, self.renderer.aspect(), (self.renderer.targets.width, self.renderer.targets.height));
-        let is_stray = |i: usize| truth.ids[i] > 0 && stray.is_stray(i, truth.depth[i], &self.scene.objects[(truth.ids[i] - 1) as usize].bounds);
+        let t = &self.renderer.targets;
+        let stray = Stray::new(&r.camera, self.renderer.aspect(), (t.width, t.height), t.samples);
+        self.check_with(r, truth, &depth, Some(&stray))
+    }
+
+    /// [`Session::check`] against `depth`, the frame's, telling stray
+    /// fragments by `stray` where given.
+    fn check_with(&self, r: &FrameResult, truth: &Truth, depth: &[f32], stray: Option<&Stray>) -> Result<Check> {
+        let drawn = self.drawn(&r.lists)?;
+        let is_stray = |i: usize| truth.ids[i] > 0 && stray.is_some_and(|s| s.is_stray(i, truth.depth[i], &self.scene.objects[(truth.ids[i] - 1) as usize].bounds));
         // The stray test runs only where the method differs from noc (rare).
         let (mut missing, mut strays) = (0, 0);
         for i in (0..depth.len()).filter(|&i| depth[i] > truth.depth[i]) {
@@ -354,24 +491,30 @@ struct Stray {
     ray_dirs: glam::Mat4,
     pixel: glam::Vec2,
     size: (u32, u32),
+    /// Samples per pixel of the checked values (each pixel's in turn).
+    samples: u32,
 }
 
 impl Stray {
-    fn new(camera: &Camera, aspect: f32, size: (u32, u32)) -> Self {
+    fn new(camera: &Camera, aspect: f32, size: (u32, u32), samples: u32) -> Self {
         let ray_dirs = camera.ray_dirs(aspect);
         // A perspective camera: a pixel is `b d` high at distance d.
         let pixel = glam::Vec2::new(0.0, 2.0 * ray_dirs.y_axis.truncate().length() / camera.near / size.1 as f32);
-        Stray { camera: *camera, view_proj: camera.view_proj(aspect), ray_dirs, pixel, size }
+        Stray { camera: *camera, view_proj: camera.view_proj(aspect), ray_dirs, pixel, size, samples }
     }
 
+    /// Sample `i` (of each pixel's [`Stray::samples`], tested at the
+    /// pixel's centre with a pixel more of padding when there are several).
     fn is_stray(&self, i: usize, depth: f32, bounds: &crate::scene::Aabb) -> bool {
         use glam::{Vec2, Vec4};
+        let i = i / self.samples as usize;
         let (w, h) = (self.size.0 as f32, self.size.1 as f32);
         let (x, y) = ((i as u32 % self.size.0) as f32 + 0.5, (i as u32 / self.size.0) as f32 + 0.5);
         let ndc = Vec2::new(x / w * 2.0 - 1.0, 1.0 - y / h * 2.0);
         let dir = (self.ray_dirs * Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
         let eye = self.camera.eye;
-        let b = hroc::testing::cull::hroc::cpu::padded(*bounds, eye, self.pixel);
+        let cpu = hroc::testing::cull::hroc::cpu::padded_px;
+        let b = cpu(*bounds, eye, self.pixel, hroc::testing::cull::hroc::cpu::block_pad_px(1, self.samples));
         let (t0, t1) = ((b.min - eye) / dir, (b.max - eye) / dir);
         let (enter, exit) = (t0.min(t1).max_element().max(1.0), t0.max(t1).min_element());
         if exit.is_nan() || enter.is_nan() || exit < enter {
@@ -402,7 +545,7 @@ mod tests {
     fn stray_fragments_are_told_from_geometry() {
         let cam = Camera { eye: Vec3::ZERO, target: Vec3::new(0.0, 0.0, -1.0), up: Vec3::Y, fov_y_deg: 60.0, near: 0.01, far: 500.0 };
         let (size, aspect) = ((64, 36), 64.0 / 36.0);
-        let s = Stray::new(&cam, aspect, size);
+        let s = Stray::new(&cam, aspect, size, 1);
         let b = Aabb { min: Vec3::new(-2.0, -2.0, -42.0), max: Vec3::new(2.0, 2.0, -38.0) };
         let centre = 18 * 64 + 32;
         // On the box's front face, or behind it: geometry.

@@ -104,6 +104,21 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
         r.adapter,
         r.capabilities
     );
+    if r.msaa > 1 || r.shadow_cascades > 0 {
+        let per_view = |x: &MethodRow| x.drawn_per_view.iter().map(|d| format!("{d:.0}")).collect::<Vec<_>>().join(" + ");
+        let _ = writeln!(
+            out,
+            "{}views: the camera ({}× MSAA){} | drawn/frame per view: {}",
+            if markdown { "" } else { "# " },
+            r.msaa,
+            if r.shadow_cascades > 0 {
+                format!(" and {} shadow cascades (orthographic, depth-biased; every view checked against its own noc picture)", r.shadow_cascades)
+            } else {
+                String::new()
+            },
+            r.rows.iter().map(|x| format!("{} {}", x.method, per_view(x))).collect::<Vec<_>>().join(", ")
+        );
+    }
     if r.moved_objects > 0 {
         let _ = writeln!(
             out,

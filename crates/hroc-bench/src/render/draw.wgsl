@@ -5,6 +5,8 @@
 // that passed" (HROC §3.1, ROC).
 
 override MARK: bool = false;
+// Multisampled targets hold IDs as Rg16Uint: the low 16 bits in r, the high in g.
+override SPLIT_IDS: bool = false;
 
 struct View {
     view_proj: mat4x4<f32>,
@@ -44,7 +46,7 @@ fn vs(v: VsIn) -> VsOut {
 
 struct FsOut {
     @location(0) color: vec4<f32>,
-    @location(1) id: u32,
+    @location(1) id: vec4<u32>,
 }
 
 @fragment @early_depth_test(force)
@@ -57,8 +59,22 @@ fn fs(in: VsOut) -> FsOut {
     let lambert = 0.25 + 0.75 * abs(dot(n, view.light_dir.xyz));
     var out: FsOut;
     out.color = vec4<f32>(base * lambert, 1.0);
-    out.id = in.object + 1u; // 0 is background
+    out.id = id_texel(in.object + 1u); // 0 is background
     return out;
+}
+
+// An ID as its target holds it.
+fn id_texel(id: u32) -> vec4<u32> {
+    return select(vec4<u32>(id, 0u, 0u, 0u), vec4<u32>(id & 0xffffu, id >> 16u, 0u, 0u), SPLIT_IDS);
+}
+
+// Passes without colour that keep object IDs (the light's cascades).
+@fragment @early_depth_test(force)
+fn fs_ids(in: VsOut) -> @location(0) vec4<u32> {
+    if MARK {
+        hroc_mark(in.object);
+    }
+    return id_texel(in.object + 1u);
 }
 
 // Overdraw view: every rasterized fragment adds one (no depth test).

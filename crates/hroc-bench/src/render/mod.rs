@@ -5,6 +5,7 @@
 //! with forced early-Z and hroc's marks snippet, as the crate docs of
 //! `hroc` ask of any host.
 
+pub mod cascades;
 pub mod pictures;
 
 use glam::{Mat4, Vec3};
@@ -17,6 +18,18 @@ pub use hroc::DrawList;
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+/// The ID format of multisampled targets: `object + 1` split in 16-bit
+/// halves (r low, g high), which every backend can multisample.
+pub const MSAA_ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Uint;
+
+/// The ID format of targets of `samples` samples per pixel.
+pub fn id_format(samples: u32) -> wgpu::TextureFormat {
+    if samples > 1 {
+        MSAA_ID_FORMAT
+    } else {
+        ID_FORMAT
+    }
+}
 const OVERDRAW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg16Float;
 
 /// Buffer sizes the renderer needs for a scene, checked against the device before upload.
@@ -45,6 +58,8 @@ pub fn check_limits(scene: &Scene, limits: &wgpu::Limits) -> Result<()> {
 pub struct Targets {
     pub width: u32,
     pub height: u32,
+    /// Samples per pixel of every target (MSAA above 1).
+    pub samples: u32,
     pub color: wgpu::Texture,
     pub depth: wgpu::Texture,
     pub id: wgpu::Texture,
@@ -54,14 +69,21 @@ pub struct Targets {
 }
 
 fn target(gpu: &Headless, label: &str, w: u32, h: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
+    target_of(gpu, label, (w, h, 1), 1, format)
+}
+
+/// A target of `layers` layers of `w` × `h` pixels of `samples` samples.
+pub(crate) fn target_of(gpu: &Headless, label: &str, (w, h, layers): (u32, u32, u32), samples: u32, format: wgpu::TextureFormat) -> wgpu::Texture {
+    // Multisampled textures cannot be copied.
+    let copy = if samples > 1 { wgpu::TextureUsages::empty() } else { wgpu::TextureUsages::COPY_SRC };
     gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
-        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
+        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: layers },
         mip_level_count: 1,
-        sample_count: 1,
+        sample_count: samples,
         dimension: wgpu::TextureDimension::D2,
         format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC | wgpu::TextureUsages::TEXTURE_BINDING,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | copy | wgpu::TextureUsages::TEXTURE_BINDING,
         view_formats: &[],
     })
 }
@@ -139,12 +161,62 @@ pub struct Renderer {
     draw_mark: wgpu::RenderPipeline,
     overdraw: wgpu::RenderPipeline,
     pub light_dir: Vec3,
+    /// The draw shader and its pipeline layout, for passes of other targets
+    /// ([`cascades::Cascades`]).
+    pub(crate) module: wgpu::ShaderModule,
+    pub(crate) layout: wgpu::PipelineLayout,
+}
+
+/// A draw pipeline of the renderer's shader writing depth with `bias` into a
+/// depth target of `samples` samples, with `color` colour at location 0 and
+/// object IDs at 1, else object IDs alone at 0; marking with `mark`.
+pub(crate) fn draw_pipeline(
+    gpu: &Headless,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::PipelineLayout,
+    mark: bool,
+    color: bool,
+    bias: wgpu::DepthBiasState,
+    samples: u32,
+) -> wgpu::RenderPipeline {
+    let constants = [("MARK", if mark { 1.0 } else { 0.0 }), ("SPLIT_IDS", if samples > 1 { 1.0 } else { 0.0 })];
+    let ids = Some(wgpu::ColorTargetState::from(id_format(samples)));
+    let targets = if color { vec![Some(wgpu::ColorTargetState::from(COLOR_FORMAT)), ids] } else { vec![ids] };
+    gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(if mark { "draw+mark" } else { "draw" }),
+        layout: Some(layout),
+        vertex: wgpu::VertexState { module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(vertex_layout())] },
+        primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias,
+        }),
+        multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some(if color { "fs" } else { "fs_ids" }),
+            compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+            targets: &targets,
+        }),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The pooled vertices: position and normal.
+fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+    const ATTRIBUTES: [wgpu::VertexAttribute; 2] = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3];
+    wgpu::VertexBufferLayout { array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64, step_mode: wgpu::VertexStepMode::Vertex, attributes: &ATTRIBUTES }
 }
 
 impl Renderer {
     /// `marks_layout`: the culler's ([`hroc::Culler::marks_layout`]), which
-    /// the draw pipelines take at group 1.
-    pub fn new(gpu: &Headless, scene: &Scene, width: u32, height: u32, marks_layout: &wgpu::BindGroupLayout) -> Result<Renderer> {
+    /// the draw pipelines take at group 1. `samples`: per pixel of every
+    /// target (MSAA above 1; IDs are then [`MSAA_ID_FORMAT`]).
+    pub fn new(gpu: &Headless, scene: &Scene, (width, height, samples): (u32, u32, u32), marks_layout: &wgpu::BindGroupLayout) -> Result<Renderer> {
         scene.validate()?;
         check_limits(scene, &gpu.limits())?;
         let max_dim = gpu.limits().max_texture_dimension_2d;
@@ -186,54 +258,30 @@ impl Renderer {
             bind_group_layouts: &[Some(&frame_layout), Some(marks_layout)],
             immediate_size: 0,
         });
-        let vertex_layout = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<crate::scene::Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3],
-        };
-        let make = |mark: bool, overdraw: bool| {
-            let constants = [("MARK", if mark { 1.0 } else { 0.0 })];
-            let blend = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
-            let targets_draw = [Some(wgpu::ColorTargetState::from(COLOR_FORMAT)), Some(wgpu::ColorTargetState::from(ID_FORMAT))];
-            let targets_over =
-                [Some(wgpu::ColorTargetState { format: OVERDRAW_FORMAT, blend: Some(wgpu::BlendState { color: blend, alpha: blend }), write_mask: wgpu::ColorWrites::ALL })];
-            gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(if overdraw {
-                    "overdraw"
-                } else if mark {
-                    "draw+mark"
-                } else {
-                    "draw"
-                }),
-                layout: Some(&layout),
-                vertex: wgpu::VertexState { module: &module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(vertex_layout.clone())] },
-                primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
-                depth_stencil: (!overdraw).then(|| wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(if overdraw { "fs_overdraw" } else { "fs" }),
-                    compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-                    targets: if overdraw { &targets_over } else { &targets_draw },
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
-        let (draw, draw_mark, overdraw) = (make(false, false), make(true, false), make(false, true));
+        let blend = wgpu::BlendComponent { src_factor: wgpu::BlendFactor::One, dst_factor: wgpu::BlendFactor::One, operation: wgpu::BlendOperation::Add };
+        let overdraw_target =
+            [Some(wgpu::ColorTargetState { format: OVERDRAW_FORMAT, blend: Some(wgpu::BlendState { color: blend, alpha: blend }), write_mask: wgpu::ColorWrites::ALL })];
+        let overdraw = gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("overdraw"),
+            layout: Some(&layout),
+            vertex: wgpu::VertexState { module: &module, entry_point: Some("vs"), compilation_options: Default::default(), buffers: &[Some(vertex_layout())] },
+            primitive: wgpu::PrimitiveState { cull_mode: None, ..Default::default() },
+            depth_stencil: None,
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs_overdraw"), compilation_options: Default::default(), targets: &overdraw_target }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let no_bias = wgpu::DepthBiasState::default();
+        let (draw, draw_mark) = (draw_pipeline(gpu, &module, &layout, false, true, no_bias, samples), draw_pipeline(gpu, &module, &layout, true, true, no_bias, samples));
 
-        let color = target(gpu, "colour", width, height, COLOR_FORMAT);
-        let depth = target(gpu, "depth", width, height, DEPTH_FORMAT);
-        let id = target(gpu, "object id", width, height, ID_FORMAT);
+        let color = target_of(gpu, "colour", (width, height, 1), samples, COLOR_FORMAT);
+        let depth = target_of(gpu, "depth", (width, height, 1), samples, DEPTH_FORMAT);
+        let id = target_of(gpu, "object id", (width, height, 1), samples, id_format(samples));
         let targets = Targets {
             width,
             height,
+            samples,
             color_view: color.create_view(&Default::default()),
             depth_view: depth.create_view(&Default::default()),
             id_view: id.create_view(&Default::default()),
@@ -256,6 +304,8 @@ impl Renderer {
             draw_mark,
             overdraw,
             light_dir: Vec3::new(0.4, 0.8, 0.45).normalize(),
+            module,
+            layout,
         })
     }
 

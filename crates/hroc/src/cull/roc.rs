@@ -72,7 +72,7 @@ impl BoxPass {
         // so GL (no read-only depth attachments) can attach the depth.
         let depth = match target.mode() {
             BoxDepth::Manual => cx.targets.depth_sampled.clone(),
-            _ => gpu.stand_in("roc no depth", wgpu::TextureFormat::R32Float, samples),
+            _ => gpu.stand_in("roc no depth", wgpu::TextureFormat::Depth32Float, samples),
         };
         BoxPass { pipeline, layout, target, depth }
     }

@@ -75,7 +75,8 @@ impl Gpu {
     }
 
     /// A 1 × 1 texture of `format` and `samples` samples to fill a binding
-    /// no pass reads.
+    /// no pass reads. Multisampled, `format` must be one every backend can
+    /// multisample (`Depth32Float` for depth; `Rg16Uint` for IDs).
     pub fn stand_in(&self, label: &str, format: wgpu::TextureFormat, samples: u32) -> wgpu::TextureView {
         // wgpu multisamples only textures that can be attached.
         let attach = if samples > 1 { wgpu::TextureUsages::RENDER_ATTACHMENT } else { wgpu::TextureUsages::empty() };

@@ -354,6 +354,8 @@ impl Runner<'_> {
             method_options: MethodOptions::default(),
             // The report plots HROC's stages (the paper's Figure 6).
             timestamps: true,
+            msaa: 1,
+            shadow_cascades: 0,
         }
     }
 

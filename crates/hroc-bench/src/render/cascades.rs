@@ -1,0 +1,240 @@
+//! A directional light's cascaded shadow map, as the benchmark draws it:
+//! each cascade an orthographic view fitted around a slice of the camera's
+//! frustum, drawn with depth bias into one layer of a depth array (on GL,
+//! whose backend samples only layer 0 of an array, a texture each). Each
+//! cascade also writes object IDs (a shadow pass needs none; the benchmark
+//! checks every cascade against `noc` with them, and HROC's occluder
+//! filtering reads them).
+//!
+//! Culling a cascade is culling its own view against its own depth: a
+//! caster hidden from the camera can still cast a visible shadow, so
+//! nothing here culls casters against the camera's depth.
+
+use glam::{Mat4, Vec3, Vec4Swizzles};
+
+use super::{color_attachment, draw_pipeline, id_format, target_of, DrawList, Renderer, ViewUniform, DEPTH_FORMAT};
+use crate::error::{Error, Result};
+use crate::gpu::Headless;
+use crate::scene::{Aabb, Camera};
+
+/// Width and height of every cascade.
+pub const CASCADE_SIZE: u32 = 512;
+
+/// The cascades' depth bias, away from the light (standard depth: ≥ 0), as
+/// shadow passes bias against acne.
+pub const SHADOW_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState { constant: 2, slope_scale: 1.5, clamp: 0.0 };
+
+/// Most cascades a light has.
+pub const MAX_CASCADES: u32 = 4;
+
+/// One cascade's view of the scene: a right-handed orthographic projection
+/// looking along the light.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cascade {
+    pub view: Mat4,
+    pub proj: Mat4,
+}
+
+impl Cascade {
+    /// The cascade as the culler sees it (standard depth, clipped).
+    pub fn view_desc(&self) -> hroc::ViewDesc {
+        hroc::ViewDesc { view: self.view, proj: self.proj, depth: hroc::DepthRange::Standard, unclipped_depth: false }
+    }
+}
+
+/// `count` cascades of a light shining along `-toward_light` onto `scene`,
+/// for `camera` (aspect `aspect`): the camera's depth range split half
+/// logarithmically, half uniformly (the practical split scheme), each
+/// slice's corners bounded in light space, and the depth range stretched
+/// over the whole scene so every caster lies between the planes.
+pub fn fit(camera: &Camera, aspect: f32, toward_light: Vec3, scene: &Aabb, count: u32) -> Vec<Cascade> {
+    let (near, far) = (camera.near, camera.far.min(camera.near + 2.0 * scene.extent().length()));
+    let split = |i: u32| {
+        let f = i as f32 / count as f32;
+        0.5 * (near * (far / near).powf(f)) + 0.5 * (near + (far - near) * f)
+    };
+    let dir = toward_light.normalize();
+    let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+    let light = Mat4::look_at_rh(Vec3::ZERO, -dir, up);
+    let inv_view = camera.view().inverse();
+    let (ty, tx) = ((camera.fov_y_deg.to_radians() * 0.5).tan(), (camera.fov_y_deg.to_radians() * 0.5).tan() * aspect);
+    let scene_corners: Vec<Vec3> = (0..8).map(|i| corner(scene, i)).map(|p| light.transform_point3(p)).collect();
+    let (zmin, zmax) = scene_corners.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| (lo.min(p.z), hi.max(p.z)));
+    (0..count)
+        .map(|i| {
+            let (d0, d1) = (split(i), split(i + 1));
+            let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+            for d in [d0, d1] {
+                for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+                    let p = (inv_view * glam::Vec4::new(sx * tx * d, sy * ty * d, -d, 1.0)).xyz();
+                    let q = light.transform_point3(p);
+                    (lo, hi) = (lo.min(q), hi.max(q));
+                }
+            }
+            // Light space looks down -z: the near plane at -zmax, the far at -zmin.
+            let proj = Mat4::orthographic_rh(lo.x, hi.x, lo.y, hi.y, -zmax - 1.0, -zmin + 1.0);
+            Cascade { view: light, proj }
+        })
+        .collect()
+}
+
+fn corner(b: &Aabb, i: u32) -> Vec3 {
+    Vec3::new(if i & 1 != 0 { b.max.x } else { b.min.x }, if i & 2 != 0 { b.max.y } else { b.min.y }, if i & 4 != 0 { b.max.z } else { b.min.z })
+}
+
+/// The cascades' targets and pipelines: one depth array of `count`
+/// layers (on GL, `count` depth textures), an ID target per cascade, and a
+/// uniform per cascade.
+pub struct Cascades {
+    pub count: u32,
+    depth: Vec<wgpu::Texture>,
+    pub ids: Vec<wgpu::Texture>,
+    layers: Vec<wgpu::TextureView>,
+    id_views: Vec<wgpu::TextureView>,
+    uniforms: Vec<wgpu::Buffer>,
+    binds: Vec<wgpu::BindGroup>,
+    draw: wgpu::RenderPipeline,
+    draw_mark: wgpu::RenderPipeline,
+}
+
+impl Cascades {
+    /// `count` cascades (1 to [`MAX_CASCADES`]) drawn with `r`'s shader.
+    pub fn new(gpu: &Headless, r: &Renderer, count: u32) -> Result<Cascades> {
+        if !(1..=MAX_CASCADES).contains(&count) {
+            return Err(Error::Arg(format!("--shadow-cascades {count}: a light has 1 to {MAX_CASCADES} cascades")));
+        }
+        let depth: Vec<wgpu::Texture> = match gpu.info.backend {
+            wgpu::Backend::Gl => (0..count).map(|_| target_of(gpu, "shadow cascade", (CASCADE_SIZE, CASCADE_SIZE, 1), 1, DEPTH_FORMAT)).collect(),
+            _ => vec![target_of(gpu, "shadow cascades", (CASCADE_SIZE, CASCADE_SIZE, count), 1, DEPTH_FORMAT)],
+        };
+        let ids: Vec<wgpu::Texture> = (0..count).map(|_| target_of(gpu, "cascade ids", (CASCADE_SIZE, CASCADE_SIZE, 1), 1, id_format(1))).collect();
+        let mut cascades = Cascades {
+            count,
+            depth,
+            ids,
+            layers: Vec::new(),
+            id_views: Vec::new(),
+            uniforms: Vec::new(),
+            binds: Vec::new(),
+            draw: draw_pipeline(gpu, &r.module, &r.layout, false, false, SHADOW_BIAS, 1),
+            draw_mark: draw_pipeline(gpu, &r.module, &r.layout, true, false, SHADOW_BIAS, 1),
+        };
+        cascades.layers = (0..count)
+            .map(|c| {
+                let (texture, layer) = cascades.depth_of(c);
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        use wgpu::BufferUsages as U;
+        let uniforms: Vec<wgpu::Buffer> = (0..count).map(|_| gpu.buffer("cascade view", std::mem::size_of::<ViewUniform>() as u64, U::UNIFORM | U::COPY_DST)).collect();
+        cascades.binds = uniforms.iter().map(|u| gpu.bind_buffers(&r.frame_layout, &[u, &r.objects])).collect();
+        cascades.uniforms = uniforms;
+        cascades.id_views = cascades.ids.iter().map(|t| t.create_view(&Default::default())).collect();
+        Ok(cascades)
+    }
+
+    /// The depth texture cascade `c` draws into, and its layer there.
+    pub fn depth_of(&self, c: u32) -> (&wgpu::Texture, u32) {
+        match self.depth.len() {
+            1 => (&self.depth[0], c),
+            _ => (&self.depth[c as usize], 0),
+        }
+    }
+
+    /// Cascade `c`'s targets as its view of the culler sees them: its layer
+    /// of the depth array, and its ID target.
+    pub fn view_targets(&self, c: u32) -> hroc::ViewTargets<'_> {
+        let (depth, layer) = self.depth_of(c);
+        hroc::ViewTargets::new(depth, hroc::DepthRange::Standard).with_ids(&self.ids[c as usize]).at(layer, 0)
+    }
+
+    /// Writes cascade `c`'s view-projection.
+    pub fn write_view(&self, gpu: &Headless, c: u32, cascade: &Cascade) {
+        let u = ViewUniform { view_proj: (cascade.proj * cascade.view).to_cols_array_2d(), light_dir: [0.0; 4] };
+        gpu.queue.write_buffer(&self.uniforms[c as usize], 0, bytemuck::bytes_of(&u));
+    }
+
+    /// A pass over cascade `c`'s targets, clearing them (depth to far, IDs
+    /// to 0) or loading them.
+    fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, c: u32, clear: bool) -> wgpu::RenderPass<'e> {
+        let c = c as usize;
+        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(if clear { "cascade clear" } else { "cascade draw" }),
+            color_attachments: &[Some(color_attachment(&self.id_views[c], clear.then_some(wgpu::Color::TRANSPARENT)))],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &self.layers[c],
+                depth_ops: Some(wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(1.0) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
+    /// Clears cascade `c`'s targets.
+    pub fn clear(&self, enc: &mut wgpu::CommandEncoder, c: u32) {
+        drop(self.pass(enc, c, true));
+    }
+}
+
+/// The renderer drawing cascade `c` for one frame, as a [`hroc::DrawHost`]:
+/// every list into the cascade's layer (depth-biased, no colour), keeping
+/// the lists as [`super::Recorder`] does.
+pub struct CascadeRecorder<'r> {
+    pub renderer: &'r Renderer,
+    pub cascades: &'r Cascades,
+    pub cascade: u32,
+    pub lists: Vec<DrawList>,
+}
+
+impl hroc::DrawHost for CascadeRecorder<'_> {
+    fn draw(&mut self, enc: &mut wgpu::CommandEncoder, d: &hroc::Draw<'_>) {
+        let s = self.cascades;
+        let mut pass = s.pass(enc, self.cascade, false);
+        pass.set_pipeline(if d.mark { &s.draw_mark } else { &s.draw });
+        pass.set_bind_group(0, &s.binds[self.cascade as usize], &[]);
+        pass.set_vertex_buffer(0, self.renderer.vertices.slice(..));
+        pass.set_index_buffer(self.renderer.indices.slice(..), wgpu::IndexFormat::Uint32);
+        d.record(&mut pass, 1);
+        drop(pass);
+        self.lists.push(DrawList { commands: d.commands.clone(), count: d.count.clone(), max_count: d.max_count });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every cascade holds its slice of the camera's frustum and the whole
+    /// scene in depth: a point of the scene inside the slice's footprint
+    /// lands inside the cascade's clip volume, and the cascades run from
+    /// the camera outwards.
+    #[test]
+    fn cascades_hold_their_slices_and_every_caster() {
+        let scene = Aabb::new(Vec3::new(-100.0, 0.0, -100.0), Vec3::new(100.0, 30.0, 100.0));
+        let camera = Camera { eye: Vec3::new(0.0, 2.0, 50.0), target: Vec3::new(0.0, 2.0, 0.0), up: Vec3::Y, fov_y_deg: 60.0, near: 0.5, far: 400.0 };
+        let cascades = fit(&camera, 16.0 / 9.0, Vec3::new(0.4, 0.8, 0.45), &scene, 3);
+        assert_eq!(cascades.len(), 3);
+        let inside = |c: &Cascade, p: Vec3| {
+            let q = c.proj * c.view * p.extend(1.0);
+            q.x.abs() <= 1.0 + 1e-4 && q.y.abs() <= 1.0 + 1e-4 && (-1e-4..=1.0 + 1e-4).contains(&q.z)
+        };
+        // The eye's neighbourhood in the first, a far point on the view axis in the last.
+        assert!(inside(&cascades[0], Vec3::new(0.0, 2.0, 49.0)));
+        assert!(inside(&cascades[2], Vec3::new(0.0, 2.0, -200.0)));
+        // Every scene corner is between the planes of every cascade.
+        for c in &cascades {
+            for i in 0..8 {
+                let q = c.proj * c.view * corner(&scene, i).extend(1.0);
+                assert!((0.0..=1.0).contains(&q.z), "corner {i} at depth {}", q.z);
+            }
+            assert!(c.view_desc().geometry().is_ok(), "an orthographic view the culler takes");
+        }
+    }
+}
