@@ -43,6 +43,64 @@ impl Camera {
 
 pub use hroc::frustum::{aabb_in_frustum, frustum_planes};
 
+/// One cascade of a directional light's shadow map: a view looking along
+/// the light and the light-space box its orthographic projection spans
+/// (light space looks down -z).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Cascade {
+    pub view: Mat4,
+    pub min: Vec3,
+    pub max: Vec3,
+}
+
+impl Cascade {
+    /// The right-handed orthographic projection of the box: standard depth
+    /// (near 0), or `reversed` (near 1).
+    pub fn proj(&self, reversed: bool) -> Mat4 {
+        let (near, far) = (-self.max.z, -self.min.z);
+        let (n, f) = if reversed { (far, near) } else { (near, far) };
+        Mat4::orthographic_rh(self.min.x, self.max.x, self.min.y, self.max.y, n, f)
+    }
+}
+
+/// `count` cascades of a light shining along `-toward_light` onto the
+/// scene in `scene`, for `camera` (aspect `aspect`): the camera's depth
+/// range (up to the scene's farthest corner) split
+/// half logarithmically, half uniformly (the practical split scheme), each
+/// slice's corners bounded in light space, and the depth range stretched
+/// over the whole scene so that every caster lies between the planes.
+pub fn cascades(camera: &Camera, aspect: f32, toward_light: Vec3, scene: &crate::Aabb, count: u32) -> Vec<Cascade> {
+    let corner = |i: u32| {
+        let (a, b) = (scene.min, scene.max);
+        Vec3::new(if i & 1 != 0 { b.x } else { a.x }, if i & 2 != 0 { b.y } else { a.y }, if i & 4 != 0 { b.z } else { a.z })
+    };
+    let reach = (0..8).map(|i| corner(i).distance(camera.eye)).fold(0.0f32, f32::max);
+    let (near, far) = (camera.near, camera.far.min(reach).max(camera.near * 2.0));
+    let split = |i: u32| {
+        let f = i as f32 / count.max(1) as f32;
+        0.5 * (near * (far / near).powf(f)) + 0.5 * (near + (far - near) * f)
+    };
+    let dir = toward_light.normalize();
+    let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
+    let light = Mat4::look_at_rh(Vec3::ZERO, -dir, up);
+    let inv_view = camera.view().inverse();
+    let ty = (camera.fov_y_deg.to_radians() * 0.5).tan();
+    let tx = ty * aspect;
+    let depth = (0..8).map(|i| light.transform_point3(corner(i)).z).fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), z| (lo.min(z), hi.max(z)));
+    (0..count)
+        .map(|i| {
+            let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+            for d in [split(i), split(i + 1)] {
+                for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
+                    let p = light.transform_point3(inv_view.transform_point3(Vec3::new(sx * tx * d, sy * ty * d, -d)));
+                    (lo, hi) = (lo.min(p), hi.max(p));
+                }
+            }
+            Cascade { view: light, min: lo.truncate().extend(depth.0 - 1.0), max: hi.truncate().extend(depth.1 + 1.0) }
+        })
+        .collect()
+}
+
 /// One key of a camera path file.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CameraKey {
@@ -200,4 +258,43 @@ pub fn clip_planes(bounds: &super::Aabb, path: &CameraPath) -> (f32, f32) {
     let diag = all.extent().length().max(1e-3);
     let near = (diag * 2e-5).clamp(1e-3, 0.1);
     (near, diag * 2.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every cascade holds its slice of the camera's frustum and the whole
+    /// scene in depth, in both depth conventions: a point of a slice lands
+    /// inside its cascade's clip volume, every scene corner between the
+    /// planes; the cascades run from the camera outwards.
+    #[test]
+    fn cascades_hold_their_slices_and_every_caster() {
+        let scene = crate::Aabb::new(Vec3::new(-100.0, 0.0, -300.0), Vec3::new(100.0, 30.0, 100.0));
+        let camera = Camera { eye: Vec3::new(0.0, 2.0, 50.0), target: Vec3::new(0.0, 2.0, 0.0), up: Vec3::Y, fov_y_deg: 60.0, near: 0.5, far: 400.0 };
+        let c = cascades(&camera, 16.0 / 9.0, Vec3::new(0.4, 0.8, 0.45), &scene, 3);
+        assert_eq!(c.len(), 3);
+        for reversed in [false, true] {
+            let clip = |k: usize, p: Vec3| c[k].proj(reversed) * c[k].view * p.extend(1.0);
+            let inside = |k: usize, p: Vec3| {
+                let q = clip(k, p);
+                q.x.abs() <= 1.0 + 1e-4 && q.y.abs() <= 1.0 + 1e-4 && (-1e-4..=1.0 + 1e-4).contains(&q.z)
+            };
+            // The eye's neighbourhood in the first, a far point on the view axis in the last.
+            assert!(inside(0, Vec3::new(0.0, 2.0, 49.0)));
+            assert!(!inside(0, Vec3::new(0.0, 2.0, -200.0)));
+            assert!(inside(2, Vec3::new(0.0, 2.0, -200.0)));
+            for k in 0..3 {
+                for i in 0..8u32 {
+                    let p =
+                        Vec3::new([scene.min.x, scene.max.x][(i & 1) as usize], [scene.min.y, scene.max.y][(i >> 1 & 1) as usize], [scene.min.z, scene.max.z][(i >> 2) as usize]);
+                    let z = clip(k, p).z;
+                    assert!((0.0..=1.0).contains(&z), "cascade {k}, corner {i} at depth {z}");
+                }
+            }
+            // Nearer the light is nearer in both conventions' sense.
+            let (high, low) = (clip(0, Vec3::new(0.0, 30.0, 45.0)).z, clip(0, Vec3::new(0.0, 0.0, 45.0)).z);
+            assert!(if reversed { high > low } else { high < low }, "{high} {low}");
+        }
+    }
 }

@@ -6,9 +6,14 @@
 //! `--tier portable` runs hroc with an emulated draw count and ID marks
 //! ([`hroc::Capabilities::PORTABLE`], what DX12 and Metal need), and the
 //! host's opaque fragment shader then has no hroc line.
+//!
+//! The frame is an engine's ([`Views::ENGINE`]): a 4× MSAA main view and a
+//! directional light's shadow map of three cascades, each culled as a view
+//! of its own. On GL, whose wgpu backend cannot sample multisampled
+//! textures or a layer other than 0 of an array, one single-sample view.
 
 use hroc::{Capabilities, DepthRange, Method};
-use hroc_forward_host::{open_device_on, Demo, ForwardHost};
+use hroc_forward_host::{open_device_on, Demo, ForwardHost, Views};
 
 fn main() -> std::process::ExitCode {
     match run() {
@@ -48,7 +53,8 @@ fn run() -> Result<(), String> {
     let (device, queue) = open_device_on(backends)?;
     let demo = Demo::new(3000, 16)?;
     let size = (640, 360);
-    let mut host = ForwardHost::new(&device, &queue, &demo.scene, size, method, DepthRange::Reversed, capabilities).map_err(|e| e.to_string())?;
+    let views = if device.adapter_info().backend == wgpu::Backend::Gl { Views::SINGLE } else { Views::ENGINE };
+    let mut host = ForwardHost::with_views(&device, &queue, &demo.scene, size, (method, DepthRange::Reversed, capabilities), views).map_err(|e| e.to_string())?;
     // The picture: the last frame before the cut (the wall, the blended panel
     // in front of it; the one behind it culled).
     let mut shown = None;
@@ -57,7 +63,9 @@ fn run() -> Result<(), String> {
         host.frame(view, proj, k == demo.cut).map_err(|e| e.to_string())?;
         let f = host.output().map_err(|e| e.to_string())?;
         let drawn = f.drawn.iter().filter(|&&d| d).count();
-        println!("frame {k:2}: {method} drew {drawn} of {} objects", f.drawn.len());
+        let cascades: Vec<String> = f.cascade_drawn.iter().map(|c| c.iter().filter(|&&d| d).count().to_string()).collect();
+        let shadows = if cascades.is_empty() { String::new() } else { format!("; the cascades ({}) {}", views.shadow_method, cascades.join(", ")) };
+        println!("frame {k:2}: {method} drew {drawn} of {} objects{shadows}", f.drawn.len());
         if k + 1 == demo.cut {
             shown = Some(f);
         }

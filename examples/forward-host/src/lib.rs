@@ -7,13 +7,18 @@
 //! What hroc adds to the renderer, all in [`ForwardHost::frame`]:
 //! a [`hroc::Culler`] over the objects, a [`hroc::View`], and a draw
 //! callback that records `multi_draw_indexed_indirect_count` with the
-//! opaque or the blended pipeline by [`hroc::Phase`].
+//! opaque or the blended pipeline by [`hroc::Phase`]. With [`Views`], the
+//! main view is multisampled and a directional light casts shadows from a
+//! cascaded shadow map whose cascades are views of the same culler.
 
 use glam::{Mat4, Vec2, Vec3};
 use hroc::{Capabilities, Culler, CullerDesc, DepthRange, FrameInput, Marks, Method, ObjectDesc, ObjectFlags, Phase, View, ViewDesc, ViewTargets};
 use hroc_scene::Scene;
 
 mod readback;
+mod shadows;
+
+pub use shadows::{CASCADE_SIZE, MAX_CASCADES};
 
 /// Interleaved vertex: position, normal, uv (32 bytes).
 #[repr(C)]
@@ -37,11 +42,50 @@ pub struct Instance {
 struct CameraUniform {
     view_proj: [[f32; 4]; 4],
     light_dir: [f32; 4],
+    cascades: [[[f32; 4]; 4]; MAX_CASCADES as usize],
+    cascade_count: [u32; 4],
 }
 
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 const COLOR: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
-const IDS: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+
+/// The ID target's format: `R32Uint`, or, multisampled, `Rg16Uint` (which
+/// every backend can multisample) holding the ID in 16-bit halves.
+fn ids_format(samples: u32) -> wgpu::TextureFormat {
+    if samples > 1 {
+        wgpu::TextureFormat::Rg16Uint
+    } else {
+        wgpu::TextureFormat::R32Uint
+    }
+}
+
+/// The direction towards the light.
+fn toward_light() -> Vec3 {
+    Vec3::new(0.4, 0.8, 0.45).normalize()
+}
+
+/// The views the host renders: its main view's samples per pixel, and its
+/// light's shadow cascades with the method that culls them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Views {
+    /// Samples per pixel of the main view (1: no MSAA).
+    pub msaa: u32,
+    /// Cascades of the light's shadow map, 0 to [`MAX_CASCADES`] (0: no
+    /// shadows). Each is a layer of one depth array, which wgpu's GL
+    /// backend cannot cull (hroc refuses it there, by name).
+    pub cascades: u32,
+    /// What culls the cascades: shadow passes have no ID target, so a
+    /// method that needs none (`hzb`, or `hroc-na` with early-Z marks).
+    pub shadow_method: Method,
+}
+
+impl Views {
+    /// One single-sample view, no shadows.
+    pub const SINGLE: Views = Views { msaa: 1, cascades: 0, shadow_method: Method::Hzb };
+    /// A frame of an engine: a 4× MSAA main view and a shadow map of three
+    /// cascades culled by `hzb`.
+    pub const ENGINE: Views = Views { msaa: 4, cascades: 3, shadow_method: Method::Hzb };
+}
 
 /// Opens a headless device with the features hroc needs.
 pub fn open_device() -> Result<(wgpu::Device, wgpu::Queue), String> {
@@ -126,10 +170,14 @@ pub struct FrameOutput {
     pub visible: Vec<bool>,
     /// Objects the culler handed over (a command with an instance).
     pub drawn: Vec<bool>,
-    /// The depth buffer, row-major.
+    /// The depth buffer, row-major, every sample of a pixel in turn.
     pub depth: Vec<f32>,
-    /// The colour image, RGBA8.
+    /// The colour image, RGBA8 (resolved, with MSAA).
     pub color: Vec<u8>,
+    /// Each shadow cascade's depth, row-major.
+    pub cascade_depth: Vec<Vec<f32>>,
+    /// Objects each shadow cascade's lists drew.
+    pub cascade_drawn: Vec<Vec<bool>>,
 }
 
 /// The forward renderer, with hroc culling it.
@@ -147,6 +195,11 @@ pub struct ForwardHost {
     depth: wgpu::Texture,
     ids: wgpu::Texture,
     color: wgpu::Texture,
+    /// With MSAA, the single-sample colour the frame resolves to.
+    resolve: Option<wgpu::Texture>,
+    shadows: shadows::Shadows,
+    /// A box that holds every object (the cascades span it in depth).
+    bounds: hroc::Aabb,
     n: u32,
     /// The lists the last frame drew: (commands, count, max count).
     lists: Vec<(wgpu::Buffer, wgpu::Buffer, u32)>,
@@ -161,22 +214,25 @@ pub struct ForwardHost {
     pub view: View,
 }
 
-fn texture(device: &wgpu::Device, (w, h): (u32, u32), format: wgpu::TextureFormat, label: &str) -> wgpu::Texture {
+fn texture(device: &wgpu::Device, (w, h): (u32, u32), format: wgpu::TextureFormat, label: &str, samples: u32) -> wgpu::Texture {
+    // Multisampled textures cannot be copied.
+    let copy = if samples > 1 { wgpu::TextureUsages::empty() } else { wgpu::TextureUsages::COPY_SRC };
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some(label),
         size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
         mip_level_count: 1,
-        sample_count: 1,
+        sample_count: samples,
         dimension: wgpu::TextureDimension::D2,
         format,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | copy,
         view_formats: &[],
     })
 }
 
 impl ForwardHost {
     /// Uploads the scene and builds the pipelines; `method` culls it, with
-    /// `capabilities` (`None`: the most the device allows).
+    /// `capabilities` (`None`: the most the device allows): one
+    /// single-sample view, no shadows ([`Views::SINGLE`]).
     pub fn new(
         device: &wgpu::Device,
         queue: &wgpu::Queue,
@@ -186,6 +242,20 @@ impl ForwardHost {
         depth_range: DepthRange,
         capabilities: Option<Capabilities>,
     ) -> hroc::Result<ForwardHost> {
+        Self::with_views(device, queue, scene, size, (method, depth_range, capabilities), Views::SINGLE)
+    }
+
+    /// [`ForwardHost::new`] rendering `views`: the main view culled by
+    /// `method` in `depth_range`, with `capabilities`.
+    pub fn with_views(
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        scene: &HostScene,
+        size: (u32, u32),
+        (method, depth_range, capabilities): (Method, DepthRange, Option<Capabilities>),
+        views: Views,
+    ) -> hroc::Result<ForwardHost> {
+        let samples = views.msaa;
         use wgpu::util::DeviceExt;
         use wgpu::BufferUsages as U;
         let init = |label, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
@@ -193,7 +263,12 @@ impl ForwardHost {
         let vertices = init("vertices", bytemuck::cast_slice(&scene.vertices), U::VERTEX);
         let indices = init("indices", bytemuck::cast_slice(&scene.indices), U::INDEX);
         let instances = init("instances", bytemuck::cast_slice(&scene.instances), U::STORAGE | U::COPY_DST);
-        let camera = device.create_buffer(&wgpu::BufferDescriptor { label: Some("camera"), size: 80, usage: U::UNIFORM | U::COPY_DST, mapped_at_creation: false });
+        let camera = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("camera"),
+            size: std::mem::size_of::<CameraUniform>() as u64,
+            usage: U::UNIFORM | U::COPY_DST,
+            mapped_at_creation: false,
+        });
         let seen = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("seen"),
             size: (n as u64 * 4).max(16),
@@ -203,8 +278,12 @@ impl ForwardHost {
 
         // hroc: the culler over the host's objects, and one view.
         let culler = Culler::new(device, queue, &CullerDesc { capabilities, ..CullerDesc::new(&scene.objects) })?;
-        let (depth, ids, color) = (texture(device, size, DEPTH, "depth"), texture(device, size, IDS, "ids"), texture(device, size, COLOR, "color"));
+        let depth = texture(device, size, DEPTH, "depth", samples);
+        let (ids, color) = (texture(device, size, ids_format(samples), "ids", samples), texture(device, size, COLOR, "color", samples));
+        let resolve = (samples > 1).then(|| texture(device, size, COLOR, "resolved color", 1));
         let view = culler.view(method, &ViewTargets::new(&depth, depth_range).with_ids(&ids))?;
+        // hroc: the light's cascades, each a view of the same culler.
+        let shadows = shadows::Shadows::new(device, &culler, (views.cascades, views.shadow_method), depth_range, std::mem::size_of::<Vertex>() as u64, &instances)?;
 
         let entry = |binding, ty, visibility| wgpu::BindGroupLayoutEntry { binding, visibility, ty, count: None };
         let storage = |read_only| wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only }, has_dynamic_offset: false, min_binding_size: None };
@@ -218,6 +297,12 @@ impl ForwardHost {
                 ),
                 entry(1, storage(true), wgpu::ShaderStages::VERTEX_FRAGMENT),
                 entry(2, storage(false), wgpu::ShaderStages::FRAGMENT),
+                entry(
+                    3,
+                    wgpu::BindingType::Texture { sample_type: wgpu::TextureSampleType::Depth, view_dimension: wgpu::TextureViewDimension::D2Array, multisampled: false },
+                    wgpu::ShaderStages::FRAGMENT,
+                ),
+                entry(4, wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison), wgpu::ShaderStages::FRAGMENT),
             ],
         });
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -227,6 +312,8 @@ impl ForwardHost {
                 wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 1, resource: instances.as_entire_binding() },
                 wgpu::BindGroupEntry { binding: 2, resource: seen.as_entire_binding() },
+                wgpu::BindGroupEntry { binding: 3, resource: wgpu::BindingResource::TextureView(&shadows.array) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::Sampler(&shadows.sampler) },
             ],
         });
         // hroc: with early-Z marks, the marking fragment stage and the marks
@@ -255,7 +342,7 @@ impl ForwardHost {
             let over = wgpu::BlendState::ALPHA_BLENDING;
             let targets = [
                 Some(wgpu::ColorTargetState { format: COLOR, blend: blend.then_some(over), write_mask: wgpu::ColorWrites::ALL }),
-                Some(wgpu::ColorTargetState { format: IDS, blend: None, write_mask: if blend { wgpu::ColorWrites::empty() } else { wgpu::ColorWrites::ALL } }),
+                Some(wgpu::ColorTargetState { format: ids_format(samples), blend: None, write_mask: if blend { wgpu::ColorWrites::empty() } else { wgpu::ColorWrites::ALL } }),
             ];
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(if blend { "blend" } else { "opaque" }),
@@ -269,7 +356,7 @@ impl ForwardHost {
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: Default::default(),
+                multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
                 fragment: Some(wgpu::FragmentState {
                     module: &module,
                     entry_point: Some(match (blend, marks) {
@@ -277,7 +364,7 @@ impl ForwardHost {
                         (false, Marks::EarlyZ) => "fs_opaque_marked",
                         (false, Marks::Ids) => "fs_opaque",
                     }),
-                    compilation_options: Default::default(),
+                    compilation_options: wgpu::PipelineCompilationOptions { constants: &[("SPLIT_IDS", (samples > 1) as u32 as f64)], ..Default::default() },
                     targets: &targets,
                 }),
                 multiview_mask: None,
@@ -298,6 +385,9 @@ impl ForwardHost {
             depth,
             ids,
             color,
+            resolve,
+            shadows,
+            bounds: scene.objects.iter().fold(scene.objects.first().map_or(hroc::Aabb::new(Vec3::ZERO, Vec3::ZERO), |o| o.bounds), |b, o| b.union(o.bounds)),
             n,
             lists: Vec::new(),
             instances,
@@ -314,14 +404,23 @@ impl ForwardHost {
     /// `cut` signals a camera cut. Submits; [`ForwardHost::output`] reads
     /// back what it drew.
     pub fn frame(&mut self, view: Mat4, proj: Mat4, cut: bool) -> hroc::Result<()> {
-        let cam = CameraUniform { view_proj: (proj * view).to_cols_array_2d(), light_dir: Vec3::new(0.4, 0.8, 0.45).normalize().extend(0.0).to_array() };
+        let aspect = self.size.0 as f32 / self.size.1 as f32;
+        let cascades = self.shadows.fit(view, proj, aspect, toward_light(), &self.bounds);
+        let mut cam = CameraUniform { view_proj: (proj * view).to_cols_array_2d(), light_dir: toward_light().extend(0.0).to_array(), ..Default::default() };
+        for (slot, (v, p)) in cam.cascades.iter_mut().zip(&cascades) {
+            *slot = (*p * *v).to_cols_array_2d();
+        }
+        cam.cascade_count[0] = cascades.len() as u32;
         self.queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&cam));
         let (depth_view, ids_view, color_view) =
             (self.depth.create_view(&Default::default()), self.ids.create_view(&Default::default()), self.color.create_view(&Default::default()));
+        let resolve_view = self.resolve.as_ref().map(|t| t.create_view(&Default::default()));
         let mut encoder = self.device.create_command_encoder(&Default::default());
         encoder.clear_buffer(&self.seen, 0, None);
+        // The shadow map first: each cascade culled and drawn, depth only.
+        self.shadows.record(&self.queue, &self.culler, &mut encoder, (&self.vertices, &self.indices), &cascades)?;
         // Clear the targets (hroc does not touch them).
-        drop(begin_pass(&mut encoder, &color_view, &ids_view, &depth_view, Some(self.depth_range)));
+        drop(begin_pass(&mut encoder, (&color_view, None), &ids_view, &depth_view, Some(self.depth_range)));
         let mut lists = Vec::new();
         let input = FrameInput {
             view: ViewDesc { view, proj, depth: self.depth_range, unclipped_depth: false },
@@ -331,7 +430,7 @@ impl ForwardHost {
         };
         // hroc: cull, and draw each list it hands back with our own pipelines.
         self.view.cull(&self.culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
-            let mut pass = begin_pass(enc, &color_view, &ids_view, &depth_view, None);
+            let mut pass = begin_pass(enc, (&color_view, resolve_view.as_ref()), &ids_view, &depth_view, None);
             pass.set_pipeline(if draw.phase == Phase::NonOccluders { &self.blend } else { &self.opaque });
             pass.set_bind_group(0, &self.bind, &[]);
             pass.set_vertex_buffer(0, self.vertices.slice(..));
@@ -358,16 +457,29 @@ impl ForwardHost {
         }
         let seen: Vec<u32> = readback::buffer(device, queue, &self.seen, self.n as u64)?;
         let mut visible: Vec<bool> = (0..self.n as usize).map(|o| self.blended[o] && seen[o] != 0).collect();
-        for id in readback::texture::<u32>(device, queue, &self.ids, wgpu::TextureAspect::All)? {
+        for id in readback::ids(device, queue, &self.ids)? {
             if id > 0 {
                 visible[id as usize - 1] = true;
             }
         }
+        let mut cascade_drawn = Vec::new();
+        for lists in &self.shadows.lists {
+            let mut drawn = vec![false; self.n as usize];
+            for (commands, count, max) in lists {
+                for cmd in readback::list(device, queue, commands, count, *max)? {
+                    drawn[cmd.first_instance as usize] |= cmd.instance_count > 0 && cmd.index_count > 0;
+                }
+            }
+            cascade_drawn.push(drawn);
+        }
+        let color = self.resolve.as_ref().unwrap_or(&self.color);
         Ok(FrameOutput {
             visible,
             drawn,
-            depth: readback::depth(device, queue, &self.depth)?,
-            color: bytemuck::cast_slice::<u32, u8>(&readback::texture::<u32>(device, queue, &self.color, wgpu::TextureAspect::All)?).to_vec(),
+            depth: readback::depth(device, queue, &self.depth, 0)?,
+            color: bytemuck::cast_slice::<u32, u8>(&readback::texture::<u32>(device, queue, color, wgpu::TextureAspect::All)?).to_vec(),
+            cascade_depth: self.shadows.depth(device, queue)?,
+            cascade_drawn,
         })
     }
 
@@ -377,6 +489,7 @@ impl ForwardHost {
     pub fn move_objects(&mut self, moves: &[(u32, Mat4)]) -> hroc::Result<()> {
         let boxes: Vec<(u32, hroc::Aabb)> = moves.iter().map(|&(i, m)| (i, self.local_bounds[i as usize].transformed(&m))).collect();
         self.culler.set_bounds(&boxes)?;
+        self.bounds = boxes.iter().fold(self.bounds, |b, (_, o)| b.union(*o));
         for &(i, m) in moves {
             let inst = Instance { model: m.to_cols_array_2d(), color: self.colors[i as usize] };
             self.queue.write_buffer(&self.instances, i as u64 * std::mem::size_of::<Instance>() as u64, bytemuck::bytes_of(&inst));
@@ -395,10 +508,11 @@ impl ForwardHost {
     }
 }
 
-/// A render pass on the host's targets: clears them for `Some(depth range)`, else loads them.
+/// A render pass on the host's targets: clears them for `Some(depth range)`,
+/// else loads them; resolves colour to `color.1` where given (MSAA).
 fn begin_pass<'e>(
     enc: &'e mut wgpu::CommandEncoder,
-    color: &wgpu::TextureView,
+    color: (&wgpu::TextureView, Option<&wgpu::TextureView>),
     ids: &wgpu::TextureView,
     depth: &wgpu::TextureView,
     clear: Option<DepthRange>,
@@ -407,7 +521,7 @@ fn begin_pass<'e>(
     let clear = clear.is_some();
     let op = |c: wgpu::Color| wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(c) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store };
     let colors = [
-        Some(wgpu::RenderPassColorAttachment { view: color, depth_slice: None, resolve_target: None, ops: op(wgpu::Color { r: 0.55, g: 0.7, b: 0.9, a: 1.0 }) }),
+        Some(wgpu::RenderPassColorAttachment { view: color.0, depth_slice: None, resolve_target: color.1, ops: op(wgpu::Color { r: 0.55, g: 0.7, b: 0.9, a: 1.0 }) }),
         Some(wgpu::RenderPassColorAttachment { view: ids, depth_slice: None, resolve_target: None, ops: op(wgpu::Color::TRANSPARENT) }),
     ];
     enc.begin_render_pass(&wgpu::RenderPassDescriptor {

@@ -58,51 +58,70 @@ pub fn texture<T: Pod>(device: &wgpu::Device, queue: &wgpu::Queue, tex: &wgpu::T
     Ok((0..h as usize).flat_map(|y| bytemuck::pod_collect_to_vec::<u8, T>(&bytes[y * row as usize..][..w as usize * 4])).collect())
 }
 
-/// A depth texture's depth (mip 0, layer 0), row by row, read through a
-/// compute pass: GL cannot copy depth to a buffer.
-pub fn depth(device: &wgpu::Device, queue: &wgpu::Queue, tex: &wgpu::Texture) -> hroc::Result<Vec<f32>> {
-    const WGSL: &str = "@group(0) @binding(0) var depth: texture_2d<f32>;\n\
-        @group(0) @binding(1) var<storage, read_write> out: array<f32>;\n\
-        @compute @workgroup_size(8, 8) fn main(@builtin(global_invocation_id) id: vec3<u32>) {\n\
-            let size = textureDimensions(depth);\n\
-            if id.x < size.x && id.y < size.y { out[id.y * size.x + id.x] = textureLoad(depth, id.xy, 0).r; }\n\
-        }\n";
-    let (w, h) = (tex.width(), tex.height());
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("depth read-back"), source: wgpu::ShaderSource::Wgsl(WGSL.into()) });
+/// A depth texture's depth (mip 0, layer `layer`), row by row, every sample
+/// of a pixel in turn, read through a compute pass: GL cannot copy depth to
+/// a buffer, and no copy reads a multisampled texture.
+pub fn depth(device: &wgpu::Device, queue: &wgpu::Queue, tex: &wgpu::Texture, layer: u32) -> hroc::Result<Vec<f32>> {
+    through_shader(device, queue, tex, layer, false)
+}
+
+/// An object-ID target's IDs (`R32Uint`, or `Rg16Uint` halves), ordered as
+/// [`depth`].
+pub fn ids(device: &wgpu::Device, queue: &wgpu::Queue, tex: &wgpu::Texture) -> hroc::Result<Vec<u32>> {
+    through_shader(device, queue, tex, 0, true)
+}
+
+fn through_shader<T: Pod>(device: &wgpu::Device, queue: &wgpu::Queue, tex: &wgpu::Texture, layer: u32, ids: bool) -> hroc::Result<Vec<T>> {
+    let (w, h, samples) = (tex.width(), tex.height(), tex.sample_count());
+    let kind = if samples > 1 { "texture_multisampled_2d" } else { "texture_2d" };
+    let (scalar, value, sample_type) = match ids {
+        true => ("u32", "v.r | (v.g << 16u)", wgpu::TextureSampleType::Uint),
+        // Depth loads as an unfilterable float texture on every backend.
+        false => ("f32", "v.r", wgpu::TextureSampleType::Float { filterable: false }),
+    };
+    let wgsl = format!(
+        "@group(0) @binding(0) var t: {kind}<{scalar}>;\n\
+         @group(0) @binding(1) var<storage, read_write> out: array<{scalar}>;\n\
+         @compute @workgroup_size(8, 8) fn main(@builtin(global_invocation_id) id: vec3<u32>) {{\n\
+             let size = textureDimensions(t);\n\
+             if id.x < size.x && id.y < size.y {{\n\
+                 for (var s = 0; s < {samples}; s++) {{ let v = textureLoad(t, id.xy, s); out[(id.y * size.x + id.x) * {samples}u + u32(s)] = {value}; }}\n\
+             }}\n\
+         }}\n"
+    );
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("target read-back"), source: wgpu::ShaderSource::Wgsl(wgsl.into()) });
     let entry = |binding, ty| wgpu::BindGroupLayoutEntry { binding, visibility: wgpu::ShaderStages::COMPUTE, ty, count: None };
     let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("depth read-back"),
+        label: Some("target read-back"),
         entries: &[
-            // Depth loads as an unfilterable float texture on every backend.
-            entry(
-                0,
-                wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-            ),
+            entry(0, wgpu::BindingType::Texture { sample_type, view_dimension: wgpu::TextureViewDimension::D2, multisampled: samples > 1 }),
             entry(1, wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Storage { read_only: false }, has_dynamic_offset: false, min_binding_size: None }),
         ],
     });
     let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("depth read-back"),
+        label: Some("target read-back"),
         layout: Some(&device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: None, bind_group_layouts: &[Some(&layout)], immediate_size: 0 })),
         module: &module,
         entry_point: Some("main"),
         compilation_options: Default::default(),
         cache: None,
     });
-    let size = (w * h) as u64 * 4;
+    let values = (w * h * samples) as u64;
     let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("depth read-back"),
-        size,
+        label: Some("target read-back"),
+        size: values * 4,
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
         mapped_at_creation: false,
     });
-    let view = tex.create_view(&wgpu::TextureViewDescriptor { aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
+    let view = tex.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        aspect: if ids { wgpu::TextureAspect::All } else { wgpu::TextureAspect::DepthOnly },
+        base_array_layer: layer,
+        array_layer_count: Some(1),
+        ..Default::default()
+    });
     let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("depth read-back"),
+        label: Some("target read-back"),
         layout: &layout,
         entries: &[
             wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) },
@@ -117,5 +136,5 @@ pub fn depth(device: &wgpu::Device, queue: &wgpu::Queue, tex: &wgpu::Texture) ->
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
     }
     queue.submit([enc.finish()]);
-    buffer(device, queue, &out, (w * h) as u64)
+    buffer(device, queue, &out, values)
 }

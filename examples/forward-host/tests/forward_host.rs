@@ -7,7 +7,7 @@
 //! nothing.
 
 use hroc::{Capabilities, DepthRange, Method};
-use hroc_forward_host::{open_device, open_device_on, Demo, ForwardHost};
+use hroc_forward_host::{open_device, open_device_on, Demo, ForwardHost, Views};
 
 const SIZE: (u32, u32) = (192, 108);
 
@@ -72,6 +72,50 @@ fn culls_conservatively(backends: wgpu::Backends, capabilities: Option<Capabilit
             }
             assert_eq!(culled_behind, demo.cut - 2, "{method} {depth:?}: the panel behind the wall must be culled");
             assert!(drawn_total * 2 < all_total, "{method} {depth:?}: drew {drawn_total} of {all_total}: hardly culls");
+        }
+    }
+}
+
+/// A frame of an engine: a 4× MSAA main view and a directional light's
+/// shadow map of three cascades, each cascade an orthographic,
+/// depth-biased view of the same culler (culled by `hzb`, which needs no ID
+/// target, or by `hroc-na`, whose depth-only pass then marks), at standard
+/// and reversed-infinite depth, across a camera cut. Every view of every
+/// frame is checked against the host drawing everything: the main view has
+/// 0 false negatives and 0 missing samples, and each cascade's depth
+/// equals the unculled cascade's, bit for bit.
+#[test]
+fn engine_frame_culls_every_view_conservatively() {
+    let (device, queue) = open_device_on(wgpu::Backends::VULKAN).expect("a Vulkan adapter (scripts/ensure-vulkan.sh)");
+    let demo = Demo::new(1500, 10).unwrap();
+    let aspect = SIZE.0 as f32 / SIZE.1 as f32;
+    for depth in [DepthRange::Standard, DepthRange::Reversed] {
+        let all = |m| (m, depth, None);
+        let mut truth = ForwardHost::with_views(&device, &queue, &demo.scene, SIZE, all(Method::Noc), Views { shadow_method: Method::Noc, ..Views::ENGINE }).unwrap();
+        let setups = [(Method::HROC, Method::Hzb), (Method::Hzb, Method::Hroc(hroc::Variant::NA)), (Method::Roc, Method::Hzb)];
+        for (method, shadow_method) in setups {
+            let mut host = ForwardHost::with_views(&device, &queue, &demo.scene, SIZE, all(method), Views { shadow_method, ..Views::ENGINE }).unwrap();
+            let (mut cascade_drawn, mut cascade_all) = (0, 0);
+            for k in 0..demo.cameras.len() {
+                let (view, proj) = demo.matrices(k, aspect, depth);
+                let t = run(&mut truth, view, proj, k == demo.cut);
+                let f = run(&mut host, view, proj, k == demo.cut);
+                let label = format!("{method} (cascades: {shadow_method}) {depth:?} frame {k}");
+                let false_negatives: Vec<usize> = (0..t.visible.len()).filter(|&o| t.visible[o] && !f.drawn[o]).collect();
+                assert!(false_negatives.is_empty(), "{label}: visible objects not drawn: {false_negatives:?}");
+                assert_eq!(t.depth.len(), (SIZE.0 * SIZE.1 * 4) as usize, "every sample is read");
+                let missing = t.depth.iter().zip(&f.depth).filter(|(a, b)| if depth == DepthRange::Standard { b > a } else { b < a }).count();
+                assert_eq!(missing, 0, "{label}: missing samples");
+                assert_eq!(t.cascade_depth.len(), 3);
+                for (c, (a, b)) in t.cascade_depth.iter().zip(&f.cascade_depth).enumerate() {
+                    let differing = a.iter().zip(b).filter(|(x, y)| x.to_bits() != y.to_bits()).count();
+                    assert_eq!(differing, 0, "{label}, cascade {c}: depth differs from the unculled cascade's");
+                    assert!(a.iter().any(|&d| d != if depth == DepthRange::Standard { 1.0 } else { 0.0 }), "{label}, cascade {c} holds casters");
+                }
+                cascade_drawn += f.cascade_drawn.iter().flatten().filter(|&&d| d).count();
+                cascade_all += f.cascade_drawn.iter().map(Vec::len).sum::<usize>();
+            }
+            assert!(cascade_drawn < cascade_all, "{method} {depth:?}: the cascades culled nothing");
         }
     }
 }

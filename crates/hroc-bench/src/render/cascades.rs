@@ -10,7 +10,7 @@
 //! caster hidden from the camera can still cast a visible shadow, so
 //! nothing here culls casters against the camera's depth.
 
-use glam::{Mat4, Vec3, Vec4Swizzles};
+use glam::{Mat4, Vec3};
 
 use super::{color_attachment, draw_pipeline, id_format, target_of, DrawList, Renderer, ViewUniform, DEPTH_FORMAT};
 use crate::error::{Error, Result};
@@ -43,43 +43,10 @@ impl Cascade {
 }
 
 /// `count` cascades of a light shining along `-toward_light` onto `scene`,
-/// for `camera` (aspect `aspect`): the camera's depth range split half
-/// logarithmically, half uniformly (the practical split scheme), each
-/// slice's corners bounded in light space, and the depth range stretched
-/// over the whole scene so every caster lies between the planes.
+/// for `camera` (aspect `aspect`), in standard depth
+/// ([`crate::scene::camera::cascades`]).
 pub fn fit(camera: &Camera, aspect: f32, toward_light: Vec3, scene: &Aabb, count: u32) -> Vec<Cascade> {
-    let (near, far) = (camera.near, camera.far.min(camera.near + 2.0 * scene.extent().length()));
-    let split = |i: u32| {
-        let f = i as f32 / count as f32;
-        0.5 * (near * (far / near).powf(f)) + 0.5 * (near + (far - near) * f)
-    };
-    let dir = toward_light.normalize();
-    let up = if dir.y.abs() > 0.99 { Vec3::Z } else { Vec3::Y };
-    let light = Mat4::look_at_rh(Vec3::ZERO, -dir, up);
-    let inv_view = camera.view().inverse();
-    let (ty, tx) = ((camera.fov_y_deg.to_radians() * 0.5).tan(), (camera.fov_y_deg.to_radians() * 0.5).tan() * aspect);
-    let scene_corners: Vec<Vec3> = (0..8).map(|i| corner(scene, i)).map(|p| light.transform_point3(p)).collect();
-    let (zmin, zmax) = scene_corners.iter().fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| (lo.min(p.z), hi.max(p.z)));
-    (0..count)
-        .map(|i| {
-            let (d0, d1) = (split(i), split(i + 1));
-            let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
-            for d in [d0, d1] {
-                for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0), (1.0, 1.0)] {
-                    let p = (inv_view * glam::Vec4::new(sx * tx * d, sy * ty * d, -d, 1.0)).xyz();
-                    let q = light.transform_point3(p);
-                    (lo, hi) = (lo.min(q), hi.max(q));
-                }
-            }
-            // Light space looks down -z: the near plane at -zmax, the far at -zmin.
-            let proj = Mat4::orthographic_rh(lo.x, hi.x, lo.y, hi.y, -zmax - 1.0, -zmin + 1.0);
-            Cascade { view: light, proj }
-        })
-        .collect()
-}
-
-fn corner(b: &Aabb, i: u32) -> Vec3 {
-    Vec3::new(if i & 1 != 0 { b.max.x } else { b.min.x }, if i & 2 != 0 { b.max.y } else { b.min.y }, if i & 4 != 0 { b.max.z } else { b.min.z })
+    crate::scene::camera::cascades(camera, aspect, toward_light, scene, count).iter().map(|c| Cascade { view: c.view, proj: c.proj(false) }).collect()
 }
 
 /// The cascades' targets and pipelines: one depth array of `count`
@@ -204,37 +171,5 @@ impl hroc::DrawHost for CascadeRecorder<'_> {
         d.record(&mut pass, 1);
         drop(pass);
         self.lists.push(DrawList { commands: d.commands.clone(), count: d.count.clone(), max_count: d.max_count });
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// Every cascade holds its slice of the camera's frustum and the whole
-    /// scene in depth: a point of the scene inside the slice's footprint
-    /// lands inside the cascade's clip volume, and the cascades run from
-    /// the camera outwards.
-    #[test]
-    fn cascades_hold_their_slices_and_every_caster() {
-        let scene = Aabb::new(Vec3::new(-100.0, 0.0, -100.0), Vec3::new(100.0, 30.0, 100.0));
-        let camera = Camera { eye: Vec3::new(0.0, 2.0, 50.0), target: Vec3::new(0.0, 2.0, 0.0), up: Vec3::Y, fov_y_deg: 60.0, near: 0.5, far: 400.0 };
-        let cascades = fit(&camera, 16.0 / 9.0, Vec3::new(0.4, 0.8, 0.45), &scene, 3);
-        assert_eq!(cascades.len(), 3);
-        let inside = |c: &Cascade, p: Vec3| {
-            let q = c.proj * c.view * p.extend(1.0);
-            q.x.abs() <= 1.0 + 1e-4 && q.y.abs() <= 1.0 + 1e-4 && (-1e-4..=1.0 + 1e-4).contains(&q.z)
-        };
-        // The eye's neighbourhood in the first, a far point on the view axis in the last.
-        assert!(inside(&cascades[0], Vec3::new(0.0, 2.0, 49.0)));
-        assert!(inside(&cascades[2], Vec3::new(0.0, 2.0, -200.0)));
-        // Every scene corner is between the planes of every cascade.
-        for c in &cascades {
-            for i in 0..8 {
-                let q = c.proj * c.view * corner(&scene, i).extend(1.0);
-                assert!((0.0..=1.0).contains(&q.z), "corner {i} at depth {}", q.z);
-            }
-            assert!(c.view_desc().geometry().is_ok(), "an orthographic view the culler takes");
-        }
     }
 }
