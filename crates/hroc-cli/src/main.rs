@@ -226,6 +226,12 @@ struct BenchArgs {
     /// view of its own and checked against its own unculled picture.
     #[arg(long, default_value_t = 0, value_parser = clap::value_parser!(u32).range(0..=4))]
     shadow_cascades: u32,
+    /// How the camera projects: `perspective`, or `orthographic` (parallel
+    /// rays through a box as large as the perspective frustum at the
+    /// distance of the scene's centre: the path seen as a light's cascade
+    /// sees a scene).
+    #[arg(long, default_value = "perspective")]
+    projection: bench::Projection,
     /// Fractions of the objects that move every frame, 0 to 1, each run in
     /// turn (e.g. `0,0.1,1`), with a motion table after them; the query
     /// methods take static scenes only.
@@ -388,6 +394,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         timestamps: a.breakdown,
         msaa: a.msaa,
         shadow_cascades: a.shadow_cascades,
+        projection: a.projection,
     };
     if let Some(bad) = a.moving.iter().find(|f| !(0.0..=1.0).contains(*f)) {
         return Err(Error::Arg(format!("--moving {bad} is not a fraction from 0 to 1")));

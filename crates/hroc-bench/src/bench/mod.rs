@@ -15,7 +15,7 @@ use crate::cull::Method;
 use crate::error::Result;
 use crate::gpu::Headless;
 use crate::scene::{CameraPath, Scene};
-pub use session::{Check, FrameResult, Session, Truth};
+pub use session::{Check, FrameResult, Projection, Session, Truth};
 
 #[derive(Clone, Debug)]
 pub struct BenchOptions {
@@ -60,6 +60,8 @@ pub struct BenchOptions {
     /// 0 to 4), each a view of its own culled by every method and checked
     /// against its own `noc` picture.
     pub shadow_cascades: u32,
+    /// How the camera projects (`--projection`).
+    pub projection: Projection,
 }
 
 impl BenchOptions {
@@ -87,6 +89,7 @@ impl BenchOptions {
             timestamps: false,
             msaa: 1,
             shadow_cascades: 0,
+            projection: Projection::Perspective,
         }
     }
 }
@@ -187,6 +190,8 @@ pub struct BenchReport {
     pub msaa: u32,
     /// Shadow cascades, each a view culled beside the camera's.
     pub shadow_cascades: u32,
+    /// How the camera projects.
+    pub projection: Projection,
     /// Frames at the start left out of the timing statistics (not of the checks).
     pub warmup_frames: usize,
     pub split: String,
@@ -294,6 +299,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
     let frames = frame_count(o, path.as_ref().unwrap_or(&scene.path))?;
     let mut s = Session::new_msaa(gpu, scene, path, frames, o.resolution, o.split, o.timestamps, o.msaa)?;
     s.set_shadow_cascades(o.shadow_cascades)?;
+    s.set_projection(o.projection);
     s.culler.set_motion(o.motion)?;
     s.set_oriented_boxes(o.oriented_boxes)?;
     if o.dynamic {
@@ -462,6 +468,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
         path: o.camera_path.as_ref().map_or("own".into(), |p| p.display().to_string()),
         msaa: o.msaa,
         shadow_cascades: o.shadow_cascades,
+        projection: o.projection,
         warmup_frames: warm,
         split: o.split.to_string(),
         bvh_nodes: s.bvh().nodes.len(),

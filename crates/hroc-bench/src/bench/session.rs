@@ -31,6 +31,33 @@ pub struct Session<'g> {
     oriented_boxes: bool,
     /// A directional light's shadow cascades ([`Session::set_shadow_cascades`]).
     shadows: Option<Shadows>,
+    /// How the camera projects ([`Session::set_projection`]).
+    projection: Projection,
+}
+
+/// How the bench's camera projects.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Projection {
+    /// The camera's perspective.
+    #[default]
+    Perspective,
+    /// Parallel rays along the camera's view direction, through a box as
+    /// wide and high as the perspective frustum is at the distance of the
+    /// scene's centre, between the same near and far planes: the same
+    /// path, seen as a directional light's cascade sees a scene.
+    Orthographic,
+}
+
+impl std::str::FromStr for Projection {
+    type Err = crate::Error;
+    fn from_str(s: &str) -> Result<Projection> {
+        match s {
+            "perspective" => Ok(Projection::Perspective),
+            "orthographic" => Ok(Projection::Orthographic),
+            _ => Err(crate::Error::Arg(format!("--projection {s}: perspective or orthographic"))),
+        }
+    }
 }
 
 /// The light's cascades and their `noc` views.
@@ -157,7 +184,24 @@ impl<'g> Session<'g> {
         let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, pipeline_statistics, capabilities: gpu.capabilities, ..CullerDesc::new(&descs) })?;
         let renderer = Renderer::new(gpu, &scene, (w, h, samples), culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
-        Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc), oriented_boxes: true, shadows: None })
+        Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc), oriented_boxes: true, shadows: None, projection: Projection::Perspective })
+    }
+
+    /// Projects the camera as `projection` says from the next frame on.
+    pub fn set_projection(&mut self, projection: Projection) {
+        self.projection = projection;
+    }
+
+    /// The camera's projection, as [`Session::set_projection`] chose.
+    pub fn proj(&self, camera: &Camera) -> glam::Mat4 {
+        let aspect = self.renderer.aspect();
+        match self.projection {
+            Projection::Perspective => camera.proj(aspect),
+            Projection::Orthographic => {
+                let h = (camera.fov_y_deg.to_radians() * 0.5).tan() * self.scene.bounds().center().distance(camera.eye).max(camera.near);
+                glam::Mat4::orthographic_rh(-h * aspect, h * aspect, -h, h, camera.near, camera.far)
+            }
+        }
     }
 
     /// Lights the scene with a directional light (the renderer's) whose
@@ -363,9 +407,8 @@ impl<'g> Session<'g> {
     /// the method's frame ([`View::cull_with`]).
     pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, cut: bool, body: Option<hroc::testing::cull::FrameBody>) -> Result<FrameResult> {
         let start = std::time::Instant::now();
-        let aspect = self.renderer.aspect();
         let r = &self.renderer;
-        r.write_view(self.gpu, &camera.view_proj(aspect));
+        r.write_view(self.gpu, &(self.proj(&camera) * camera.view()));
         let mut enc = self.gpu.encoder("frame");
         r.clear(&mut enc);
         let input = FrameInput { view: self.view_desc(&camera), targets: r.view_targets(), cut, time };
@@ -385,8 +428,7 @@ impl<'g> Session<'g> {
 
     /// The view of camera `camera` as the culler sees it.
     pub fn view_desc(&self, camera: &Camera) -> ViewDesc {
-        let aspect = self.renderer.aspect();
-        ViewDesc { view: camera.view(), proj: camera.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }
+        ViewDesc { view: camera.view(), proj: self.proj(camera), depth: hroc::DepthRange::Standard, unclipped_depth: false }
     }
 
     /// The `Frame` uniform the culler writes for camera `k` (CPU references).
@@ -445,8 +487,9 @@ impl<'g> Session<'g> {
     pub fn check(&self, r: &FrameResult, truth: &Truth) -> Result<Check> {
         let depth = self.read_depth()?;
         let t = &self.renderer.targets;
+        // The stray test is the perspective camera's; orthographic views count every differing texel.
         let stray = Stray::new(&r.camera, self.renderer.aspect(), (t.width, t.height), t.samples);
-        self.check_with(r, truth, &depth, Some(&stray))
+        self.check_with(r, truth, &depth, (self.projection == Projection::Perspective).then_some(&stray))
     }
 
     /// [`Session::check`] against `depth`, the frame's, telling stray

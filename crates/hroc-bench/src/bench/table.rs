@@ -104,6 +104,9 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
         r.adapter,
         r.capabilities
     );
+    if r.projection != super::Projection::Perspective {
+        let _ = writeln!(out, "{}an orthographic camera (parallel rays through the perspective frustum's box at the scene centre's distance)", if markdown { "" } else { "# " });
+    }
     if r.msaa > 1 || r.shadow_cascades > 0 {
         let per_view = |x: &MethodRow| x.drawn_per_view.iter().map(|d| format!("{d:.0}")).collect::<Vec<_>>().join(" + ");
         let _ = writeln!(

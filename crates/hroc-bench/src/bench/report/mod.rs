@@ -356,6 +356,7 @@ impl Runner<'_> {
             timestamps: true,
             msaa: 1,
             shadow_cascades: 0,
+            projection: super::Projection::Perspective,
         }
     }
 
