@@ -5,8 +5,8 @@
 //! shader), and its own rasterizer. Every method it serves draws every
 //! object `noc` shows, on the scene's own path, the hard path (cuts, the
 //! eye inside boxes, boxes across the near plane) and the cuts path, and
-//! with objects moving. (Both depth conventions on GL: the forward host's
-//! test.)
+//! with objects moving, and culls a directional light's shadow cascades.
+//! (Both depth conventions on GL: the forward host's test.)
 
 use hroc::{DrawCount, Method};
 use hroc_bench::bench::{self, BenchOptions};
@@ -49,4 +49,30 @@ fn gl_serves_its_methods_with_no_false_negatives() {
     let full = hroc::CullerDesc { capabilities: Some(hroc::Capabilities::FULL), ..hroc::CullerDesc::new(&objects) };
     let text = hroc::Culler::new(&gpu.device, &gpu.queue, &full).err().expect("the full tier refused on GL").to_string();
     assert!(text.contains("MULTI_DRAW_INDIRECT_COUNT") || text.contains("READ_ONLY_DEPTH_STENCIL"), "{text}");
+    // wgpu's GL backend samples neither multisampled textures nor a layer
+    // other than 0 of an array: such views are refused by name, and the
+    // light's cascades (a texture each on GL) cull with 0 false negatives.
+    let o = BenchOptions { frames: 2, resolution: (64, 36), msaa: 4, ..BenchOptions::new("radial-city", Some(200), Method::parse_list("noc,hzb").unwrap()) };
+    let text = bench::run(&gpu, &o).err().expect("MSAA refused on GL").to_string();
+    assert!(text.contains("4 samples") && text.contains("GL"), "{text}");
+    let depth = gpu.device.create_texture(&wgpu::TextureDescriptor {
+        label: None,
+        size: wgpu::Extent3d { width: 64, height: 36, depth_or_array_layers: 2 },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Depth32Float,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+        view_formats: &[],
+    });
+    let text = s.culler.view(Method::Hzb, &hroc::ViewTargets::new(&depth, hroc::DepthRange::Standard).at(1, 0)).err().expect("layer 1 refused on GL").to_string();
+    assert!(text.contains("layer 1") && text.contains("GL"), "{text}");
+    assert!(s.culler.view(Method::Hzb, &hroc::ViewTargets::new(&depth, hroc::DepthRange::Standard)).is_ok());
+    let methods = Method::parse_list("noc,vfc,hzb,roc,hroc").unwrap();
+    let o = BenchOptions { frames: 8, resolution: (160, 90), shadow_cascades: 2, ..BenchOptions::new("radial-city", Some(1500), methods) };
+    let r = bench::run(&gpu, &o).unwrap();
+    for row in &r.rows {
+        assert_eq!(row.drawn_per_view.len(), 3, "the camera and two cascades");
+        assert_eq!((row.false_negatives, row.missing_pixels), (0, 0), "{} on GL with shadow cascades", row.method);
+    }
 }

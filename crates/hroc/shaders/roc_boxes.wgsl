@@ -17,12 +17,10 @@
 // With ID marks (no forced early-Z), the pass binds no depth attachment
 // and each fragment compares itself, as the attachment's
 // LessEqual (GreaterEqual reversed) with its bias toward the camera would,
-// and a little more (as HROC's test, hroc_test.wgsl). It rasterizes one
-// sample per pixel, at its centre, against the farthest of the pixel's
-// samples: over a multisampled target, boxes are padded by half a pixel's
-// diagonal more, so a box that covers any sample of a pixel covers its
-// centre, nearer there than the geometry at that sample
-// (block_pad_px with one-pixel blocks).
+// and a little more (as HROC's test, hroc_test.wgsl). Over a multisampled
+// target the pass rasterizes at its sample count and `box_fs_sample` runs
+// once per covered sample, at the sample, against that sample's depth:
+// exact per sample, as the attachment's test.
 override MANUAL_DEPTH: bool = false;
 
 struct BoxOut {
@@ -33,10 +31,7 @@ struct BoxOut {
 @vertex
 fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> BoxOut {
     let item = list[slot];
-    var b = padded_box(boxes[item], frame.eye.xyz, pixel_angle(frame));
-    if MANUAL_DEPTH && HOST_SAMPLES > 1u {
-        b = padded_box_px(boxes[item], frame.eye.xyz, pixel_angle_xy(frame), block_pad_px(1u));
-    }
+    let b = padded_box(boxes[item], frame.eye.xyz, pixel_angle(frame));
     var out: BoxOut;
     out.item = item;
     if !box_in_frustum(frame.planes, b.min, b.max) || crosses_near(frame.near_plane, 0.5 * frame.near, b) {
@@ -50,6 +45,17 @@ fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> 
 @fragment @early_depth_test(force)
 fn box_fs(in: BoxOut) {
     if MANUAL_DEPTH && std_depth(frame, in.clip.z) > farthest_host_depth(depth, vec2<i32>(in.clip.xy), frame.reversed) + 4e-6 {
+        return;
+    }
+    marks[in.item] = 1u;
+}
+
+// `box_fs` without a depth attachment over a multisampled target: one
+// invocation per covered sample (the sample index makes the stage run per
+// sample), its position and depth the sample's.
+@fragment
+fn box_fs_sample(in: BoxOut, @builtin(sample_index) s: u32) {
+    if std_depth(frame, in.clip.z) > std_depth(frame, textureLoad(depth, vec2<i32>(in.clip.xy), i32(s)).r) + 4e-6 {
         return;
     }
     marks[in.item] = 1u;

@@ -145,7 +145,8 @@ impl<F: FnMut(&mut wgpu::CommandEncoder, &Draw<'_>)> DrawHost for F {
 pub struct ViewTargets<'a> {
     /// The depth texture the host draws into: usage `RENDER_ATTACHMENT |
     /// TEXTURE_BINDING`, a depth format, one sample or several (MSAA; an
-    /// MSAA array needs `Features::MULTISAMPLE_ARRAY`). The view uses one
+    /// MSAA array needs `Features::MULTISAMPLE_ARRAY`; wgpu's GL backend
+    /// samples neither, nor a layer other than 0). The view uses one
     /// layer and one mip of it ([`ViewTargets::layer`], [`ViewTargets::mip`]).
     pub depth: &'a wgpu::Texture,
     /// Which end of `depth` is near.

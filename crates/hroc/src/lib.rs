@@ -44,7 +44,7 @@
 //!   | backend | count | marks | methods | the host provides |
 //!   |---|---|---|---|---|
 //!   | Vulkan | indirect | early-Z | all | `hroc_mark` in occluding fragment shaders; an ID target for OF |
-//!   | GL 4.3+ (desktop) | emulated | early-Z | all but HROC's rounds | as Vulkan |
+//!   | GL 4.3+ (desktop) | emulated | early-Z | all but HROC's rounds | as Vulkan; single-sample targets, layer 0 (wgpu's GL backend samples neither MSAA textures nor other layers) |
 //!   | DX12 (untested) | indirect | IDs | all but HROC's rounds | an ID target for `roc`, `ioc` and HROC; no hroc line in its shaders |
 //!   | Metal (untested) | emulated | IDs | all but HROC's rounds | as DX12 |
 //!   | GLES, WebGL | refused: no `INDIRECT_FIRST_INSTANCE` | | | |
@@ -167,8 +167,14 @@
 //!   ([`MethodOptions::hroc_seed`]).
 //!   A view draws into one layer and one mip of a depth texture
 //!   ([`ViewTargets::at`]: a cascade of an array, a cube face, a mip),
-//!   sized by that mip; handing it another texture, layer or mip rebuilds
-//!   the view, as after a cut.
+//!   sized by that mip, single-sample or multisampled; handing it another
+//!   texture, layer or mip rebuilds the view, as after a cut. A
+//!   directional light's cascades are views of their own, each culled
+//!   against its own depth: never cull casters against the camera's
+//!   depth, since a caster hidden from the camera can still cast a visible
+//!   shadow. Shadow passes have no ID target, so cull them with a method
+//!   that needs none (`hzb`; `hroc-na` or `roc` with early-Z marks, whose
+//!   depth-only pipelines then need a marking fragment stage).
 //! - **Non-occluders.** [`ObjectFlags::NOT_OCCLUDER`] objects (blended
 //!   glass, particles) are culled like any other object but never enter the
 //!   occlusion map: they come back in [`Phase::NonOccluders`], last, to draw

@@ -120,16 +120,17 @@ pub const MANUAL_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 pub struct BoxTarget(Option<wgpu::TextureView>);
 
 impl BoxTarget {
-    /// The target of box tests over `size` pixels with `caps`, by whether
-    /// they sample the depth they test against ([`crate::Capabilities`]).
-    pub fn new(gpu: &Gpu, caps: crate::Capabilities, samples_depth: bool, size: (u32, u32)) -> BoxTarget {
+    /// The target of box tests over `size` pixels of `samples` samples
+    /// with `caps`, by whether they sample the depth they test against
+    /// ([`crate::Capabilities`]).
+    pub fn new(gpu: &Gpu, caps: crate::Capabilities, samples_depth: bool, (size, samples): ((u32, u32), u32)) -> BoxTarget {
         BoxTarget((!caps.attached_box_tests(samples_depth)).then(|| {
             gpu.device
                 .create_texture(&wgpu::TextureDescriptor {
                     label: Some("hroc box test target"),
                     size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
                     mip_level_count: 1,
-                    sample_count: 1,
+                    sample_count: samples,
                     dimension: wgpu::TextureDimension::D2,
                     format: MANUAL_TARGET,
                     usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
@@ -209,8 +210,7 @@ pub fn box_pipeline(
             stencil: Default::default(),
             bias: wgpu::DepthBiasState { constant: bias, slope_scale: 0.0, clamp: 0.0 },
         }),
-        // A manual pass renders into its own single-sample target.
-        multisample: wgpu::MultisampleState { count: if mode == BoxDepth::Manual { 1 } else { depth.2 }, ..Default::default() },
+        multisample: wgpu::MultisampleState { count: depth.2, ..Default::default() },
         fragment: fragment.map(|entry| wgpu::FragmentState {
             module,
             entry_point: Some(entry),

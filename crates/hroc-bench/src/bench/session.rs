@@ -184,7 +184,19 @@ impl<'g> Session<'g> {
         let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, pipeline_statistics, capabilities: gpu.capabilities, ..CullerDesc::new(&descs) })?;
         let renderer = Renderer::new(gpu, &scene, (w, h, samples), culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
-        Ok(Session { gpu, scene, culler, renderer, cameras, times, options: MethodOptions::default(), noc: Some(noc), oriented_boxes: true, shadows: None, projection: Projection::Perspective })
+        Ok(Session {
+            gpu,
+            scene,
+            culler,
+            renderer,
+            cameras,
+            times,
+            options: MethodOptions::default(),
+            noc: Some(noc),
+            oriented_boxes: true,
+            shadows: None,
+            projection: Projection::Perspective,
+        })
     }
 
     /// Projects the camera as `projection` says from the next frame on.

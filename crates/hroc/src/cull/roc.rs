@@ -65,9 +65,11 @@ impl BoxPass {
         let layout = crate::reflect::Layout::RocBoxes.create_for(gpu, samples);
         let pl = crate::reflect::pipeline_layout(gpu, "roc boxes", &layout);
         let module = gpu.shader("roc_boxes.wgsl", &crate::shaders::source_for("roc_boxes.wgsl", samples));
-        let target = BoxTarget::new(gpu, cx.capabilities, false, cx.targets.size);
+        let target = BoxTarget::new(gpu, cx.capabilities, false, (cx.targets.size, samples));
         let depth = (cx.targets.depth_format, cx.targets.depth, samples);
-        let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, ("box_vs", Some("box_fs")), depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth())]);
+        // Loading multisampled depth itself, the test runs per sample.
+        let fragment = if target.mode() == BoxDepth::Manual && samples > 1 { "box_fs_sample" } else { "box_fs" };
+        let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, ("box_vs", Some(fragment)), depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth())]);
         // Attached, the test never loads depth: a stand-in fills the binding,
         // so GL (no read-only depth attachments) can attach the depth.
         let depth = match target.mode() {

@@ -219,7 +219,8 @@ impl Hroc {
         // fragment itself; so too where its rays sample the depth it would
         // attach and attachments cannot be read-only.
         let (w, h) = cx.targets.size;
-        let test_target = BoxTarget::new(gpu, cx.capabilities, blocks.as_ref().is_none_or(|b| b.copy.is_none()), if blocks.is_some() { (w / scale, h / scale) } else { (w, h) });
+        let test_target =
+            BoxTarget::new(gpu, cx.capabilities, blocks.as_ref().is_none_or(|b| b.copy.is_none()), if blocks.is_some() { ((w / scale, h / scale), 1) } else { ((w, h), samples) });
         let constants = [("TEST_SCALE", scale as f64), ("MANUAL_DEPTH", test_target.manual_depth())];
         // With an emulated draw count, the groups are one instanced draw of
         // `group_args` (36 vertices, |G| instances copied in each frame).
