@@ -53,7 +53,8 @@ fn gl_serves_its_methods_with_no_false_negatives() {
     // other than 0 of an array: such views are refused by name, and the
     // light's cascades (a texture each on GL) cull with 0 false negatives.
     let o = BenchOptions { frames: 2, resolution: (64, 36), msaa: 4, ..BenchOptions::new("radial-city", Some(200), Method::parse_list("noc,hzb").unwrap()) };
-    let text = bench::run(&gpu, &o).err().expect("MSAA refused on GL").to_string();
+    let Err(e) = bench::run(&gpu, &o) else { panic!("MSAA refused on GL") };
+    let text = e.to_string();
     assert!(text.contains("4 samples") && text.contains("GL"), "{text}");
     let depth = gpu.device.create_texture(&wgpu::TextureDescriptor {
         label: None,
