@@ -140,6 +140,15 @@ fn main() {
     g.conservative("one-mesh interior", &r, &cmd);
     g.check("one-mesh interior, clusters 256: hroc triangles drawn", row(&r, Method::HROC).triangles_fraction, Limit::AtMost(0.30), &cmd);
 
+    // Engine views: a 4× MSAA camera, and the camera with three shadow
+    // cascades (each view checked against its own noc picture).
+    for (flag, msaa, cascades, drawn) in [("--msaa 4", 4, 0, 133.0), ("--shadow-cascades 3", 1, 3, 5153.0)] {
+        let cmd = format!("hroc bench --scene radial-city --objects 5000 --methods noc,vfc,hzb,roc,ioc,hroc {flag}");
+        let r = run(&gpu, &BenchOptions { msaa, shadow_cascades: cascades, ..options("radial-city", Some(5000), "noc,vfc,hzb,roc,ioc,hroc") });
+        g.conservative(&format!("radial-city 5000, {flag}"), &r, &cmd);
+        g.check(&format!("radial-city 5000, {flag}: hroc drawn/frame ({drawn})"), row(&r, Method::HROC).drawn_mean, Limit::AtMost(drawn * 1.03), &cmd);
+    }
+
     // A 2M-triangle glTF loads in under 2 s.
     let big = out.join("big.glb");
     let sat = hroc_bench::scene::load("satellites", Some(20000), 0).expect("satellites").merged();
