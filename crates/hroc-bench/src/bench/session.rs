@@ -260,12 +260,18 @@ impl<'g> Session<'g> {
         let mut host = CascadeRecorder { renderer: &self.renderer, cascades: &s.cascades, cascade: c, lists: Vec::new() };
         view.cull(&self.culler, &mut enc, &input, &mut host)?;
         let lists = host.lists;
+        self.finish_frame(view, enc, start, lists, self.cameras[0])
+    }
+
+    /// Submits a view's frame recorded in `enc` and waits: the frame's
+    /// result, timed from `start`.
+    fn finish_frame(&self, view: &mut View, enc: wgpu::CommandEncoder, start: std::time::Instant, lists: Vec<DrawList>, camera: Camera) -> Result<FrameResult> {
         self.gpu.queue.submit([enc.finish()]);
         self.gpu.wait()?;
         let wall_ms = start.elapsed().as_secs_f64() * 1e3;
         let stages = view.stage_ms(&self.culler)?.to_vec();
         let invocations = view.stage_invocations(&self.culler)?;
-        Ok(FrameResult { wall_ms, stages, invocations, lists, camera: self.cameras[0] })
+        Ok(FrameResult { wall_ms, stages, invocations, lists, camera })
     }
 
     /// Renders cascade `c` seen as `cascade` with `noc`, and reads back its truth.
@@ -430,12 +436,7 @@ impl<'g> Session<'g> {
             None => view.cull(&self.culler, &mut enc, &input, &mut host)?,
         }
         let lists = host.lists;
-        self.gpu.queue.submit([enc.finish()]);
-        self.gpu.wait()?;
-        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
-        let stages = view.stage_ms(&self.culler)?.to_vec();
-        let invocations = view.stage_invocations(&self.culler)?;
-        Ok(FrameResult { wall_ms, stages, invocations, lists, camera })
+        self.finish_frame(view, enc, start, lists, camera)
     }
 
     /// The view of camera `camera` as the culler sees it.
