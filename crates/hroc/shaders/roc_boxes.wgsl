@@ -30,6 +30,25 @@ struct BoxOut {
 
 @vertex
 fn box_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> BoxOut {
+    return box_out(v, slot);
+}
+
+// The box vertex of `box_fs_sample`.
+struct BoxSampleOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) item: u32,
+    // Clip z and w, interpolated at each sample: the sample's depth is
+    // z / w on every backend, wherever it puts the position builtin.
+    @location(1) @interpolate(perspective, sample) zw: vec2<f32>,
+}
+
+@vertex
+fn box_vs_sample(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u32) -> BoxSampleOut {
+    let o = box_out(v, slot);
+    return BoxSampleOut(o.clip, o.item, o.clip.zw);
+}
+
+fn box_out(v: u32, slot: u32) -> BoxOut {
     let item = list[slot];
     let b = padded_box(boxes[item], frame.eye.xyz, pixel_angle(frame));
     var out: BoxOut;
@@ -51,11 +70,11 @@ fn box_fs(in: BoxOut) {
 }
 
 // `box_fs` without a depth attachment over a multisampled target: one
-// invocation per covered sample (the sample index makes the stage run per
-// sample), its position and depth the sample's.
+// invocation per covered sample (sample interpolation makes the stage run
+// per sample), comparing the box's depth at the sample with the host's.
 @fragment
-fn box_fs_sample(in: BoxOut, @builtin(sample_index) s: u32) {
-    if std_depth(frame, in.clip.z) > std_depth(frame, textureLoad(depth, vec2<i32>(in.clip.xy), i32(s)).r) + 4e-6 {
+fn box_fs_sample(in: BoxSampleOut, @builtin(sample_index) s: u32) {
+    if std_depth(frame, in.zw.x / in.zw.y) > std_depth(frame, textureLoad(depth, vec2<i32>(in.clip.xy), i32(s)).r) + 4e-6 {
         return;
     }
     marks[in.item] = 1u;

@@ -55,6 +55,7 @@ fn save(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     let far = bitcast<u32>(1.0);
     if gid.x < s.x && gid.y < s.y {
         let i = gid.y * s.x + gid.x;
+        // woc takes standard depth only (Culler::view refuses reversed).
         prev_depth[i] = farthest_host_depth(depth, vec2<i32>(gid.xy), 0u);
         if atomicExchange(&level0[i], far) == far {
             atomicAdd(&wg_holes, 1u);

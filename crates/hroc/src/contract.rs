@@ -208,8 +208,10 @@ pub struct Targets {
 }
 
 impl Targets {
-    /// The targets `t` describes, on a device with `features`, of `backend`.
-    pub(super) fn new(t: &ViewTargets, features: wgpu::Features, backend: wgpu::Backend) -> Result<Targets> {
+    /// The targets `t` describes, on a device of `backend`. (A multisampled
+    /// array needs `Features::MULTISAMPLE_ARRAY`: wgpu refuses to create
+    /// one without it.)
+    pub(super) fn new(t: &ViewTargets, backend: wgpu::Backend) -> Result<Targets> {
         use wgpu::TextureUsages as U;
         let d = t.depth;
         let bad = |m: String| Err(Error::InvalidTargets(m));
@@ -233,9 +235,6 @@ impl Targets {
                 "layer {} of the depth target: wgpu's GL backend samples only layer 0 of an array (its views cannot start at another layer); draw this view into a texture of its own",
                 t.layer
             ));
-        }
-        if samples > 1 && d.depth_or_array_layers() > 1 && !features.contains(wgpu::Features::MULTISAMPLE_ARRAY) {
-            return bad(format!("depth target is a multisampled array of {} layers, which needs Features::MULTISAMPLE_ARRAY, missing on this device", d.depth_or_array_layers()));
         }
         if t.layer >= d.depth_or_array_layers() || t.mip >= d.mip_level_count() {
             return bad(format!("layer {} mip {} is outside the depth target ({} layers, {} mips)", t.layer, t.mip, d.depth_or_array_layers(), d.mip_level_count()));

@@ -172,9 +172,10 @@
 //!   directional light's cascades are views of their own, each culled
 //!   against its own depth: never cull casters against the camera's
 //!   depth, since a caster hidden from the camera can still cast a visible
-//!   shadow. Shadow passes have no ID target, so cull them with a method
-//!   that needs none (`hzb`; `hroc-na` or `roc` with early-Z marks, whose
-//!   depth-only pipelines then need a marking fragment stage).
+//!   shadow. A depth-only shadow pass usually has no ID target: cull it
+//!   with a method that needs none (`hzb`; `hroc-na` or `roc` with
+//!   early-Z marks, whose depth-only pipelines then need a marking
+//!   fragment stage).
 //! - **Non-occluders.** [`ObjectFlags::NOT_OCCLUDER`] objects (blended
 //!   glass, particles) are culled like any other object but never enter the
 //!   occlusion map: they come back in [`Phase::NonOccluders`], last, to draw

@@ -139,7 +139,7 @@ impl Layout {
             Layout::HiZBuild => &[("hzb_pyramid.wgsl", &[])],
             Layout::HiZTest => &[("hzb_test.wgsl", &[])],
             Layout::WocWarp => &[("woc_warp.wgsl", &[])],
-            Layout::RocBoxes => &[("roc_boxes.wgsl", &["box_vs", "box_fs", "box_fs_sample"])],
+            Layout::RocBoxes => &[("roc_boxes.wgsl", &["box_vs", "box_fs", "box_vs_sample", "box_fs_sample"])],
             Layout::Roc => &[("roc.wgsl", &[])],
             Layout::Ioc => &[("ioc.wgsl", &[])],
             // Binding 6 (object boxes) serves box_vs's objects tested alone,

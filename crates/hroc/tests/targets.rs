@@ -106,13 +106,40 @@ fn a_view_on_layer_1_or_mip_1_gives_noc_s_picture() {
 #[test]
 fn msaa_targets_give_noc_s_picture() {
     let adapter = common::adapter();
-    let array = adapter.features() & wgpu::Features::MULTISAMPLE_ARRAY;
-    let (device, queue) = common::device(hroc::FULL_FEATURES | array);
+    assert!(adapter.features().contains(wgpu::Features::MULTISAMPLE_ARRAY), "lavapipe has multisampled arrays");
+    let (device, queue) = common::device(hroc::FULL_FEATURES | wgpu::Features::MULTISAMPLE_ARRAY);
     for range in [hroc::DepthRange::Standard, hroc::DepthRange::Reversed] {
         same_picture_as_noc(&device, &queue, Depth { range, samples: 4, ..Depth::default() });
     }
-    if !array.is_empty() {
-        same_picture_as_noc(&device, &queue, Depth { samples: 4, layers: 2, layer: 1, ..Depth::default() });
+    same_picture_as_noc(&device, &queue, Depth { samples: 4, layers: 2, layer: 1, ..Depth::default() });
+}
+
+/// The ID target must match the depth target: `R32Uint` or `Rg16Uint`,
+/// its size and its sample count; anything else is an error that names
+/// what it got.
+#[test]
+fn an_id_target_unlike_the_depth_target_is_an_error() {
+    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (host, objects) = street_on(&device, Depth { samples: 4, ..Depth::default() });
+    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let ids = |format, samples| {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: None,
+            size: wgpu::Extent3d { width: common::street::SIZE, height: common::street::SIZE, depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        })
+    };
+    use wgpu::TextureFormat as F;
+    let targets = host.targets();
+    assert!(culler.view(Method::HROC, &targets.with_ids(&ids(F::Rg16Uint, 4))).is_ok());
+    for (format, samples, named) in [(F::Rg16Uint, 1, "1 sample(s)"), (F::R32Float, 4, "R32Float"), (F::Rgba8Uint, 4, "Rgba8Uint")] {
+        let e = culler.view(Method::HROC, &targets.with_ids(&ids(format, samples))).err().expect("an ID target unlike the depth").to_string();
+        assert!(e.contains(named) && e.contains("4 sample(s)"), "{e}");
     }
 }
 

@@ -50,7 +50,7 @@ impl Shadows {
     /// drawing vertices of `stride` bytes (position first) and `instances`.
     pub(crate) fn new(device: &wgpu::Device, culler: &Culler, (count, method): (u32, Method), depth: DepthRange, stride: u64, instances: &wgpu::Buffer) -> hroc::Result<Shadows> {
         if count > MAX_CASCADES {
-            return Err(hroc::Error::InvalidScene(format!("{count} shadow cascades: the host's shader reads at most {MAX_CASCADES}")));
+            return Err(hroc::Error::InvalidView(format!("{count} shadow cascades: the host's shader reads at most {MAX_CASCADES}")));
         }
         // Two layers at least: wgpu's GL backend makes a one-layer texture a 2D one.
         let map = device.create_texture(&wgpu::TextureDescriptor {
@@ -141,8 +141,9 @@ impl Shadows {
     }
 
     /// Each cascade's view and projection for the camera `view`/`proj` of
-    /// the main view, the light shining along `-toward_light` onto the
-    /// scene in `scene`.
+    /// the main view (a perspective: its field of view is read from
+    /// `proj`), the light shining along `-toward_light` onto the scene in
+    /// `scene`.
     pub(crate) fn fit(&self, view: Mat4, proj: Mat4, aspect: f32, toward_light: Vec3, scene: &hroc::Aabb) -> Vec<(Mat4, Mat4)> {
         let inv = view.inverse();
         let eye = inv.w_axis.truncate();

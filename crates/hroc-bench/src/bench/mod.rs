@@ -115,7 +115,8 @@ pub struct MethodRow {
     /// Mean objects drawn per frame by each view: the camera's, then each
     /// shadow cascade's.
     pub drawn_per_view: Vec<f64>,
-    /// Mean triangles drawn per frame, and their fraction of the scene's.
+    /// Mean triangles drawn per frame, and their fraction of the scene's
+    /// (of every view's scene, with shadow cascades).
     pub triangles_mean: f64,
     pub triangles_fraction: f64,
     /// Mean GPU ms per stage, in stage order (by name in the JSON).
@@ -127,7 +128,8 @@ pub struct MethodRow {
     #[serde(serialize_with = "by_stage_name")]
     pub invocations: BTreeMap<hroc::Stage, InvocationsMean>,
     /// Mean per frame of the method's own statistics (HROC: V, O, G, U, D,
-    /// rays, nodes_per_ray), by name in the JSON. Empty for methods without any.
+    /// rays, nodes_per_ray), by name in the JSON: the camera view's. Empty
+    /// for methods without any.
     #[serde(serialize_with = "by_stat_name")]
     pub stats: BTreeMap<hroc::Stat, f64>,
     /// Wall ms of every frame (warm-up frames included).
@@ -394,7 +396,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
             }
             let mut r = s.run_frame(c, k)?;
             let mut chk = s.check(&r, &truth)?;
-            let mut stats = c.stats(&s.culler)?;
+            let stats = c.stats(&s.culler)?;
             let mut views = vec![chk.drawn];
             for (cs, view) in shadow_views.iter_mut().enumerate() {
                 if view.wants_oracle() {
@@ -403,7 +405,6 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
                 let rc = s.run_cascade(view, cs as u32, &cascades[cs], time)?;
                 let cc = s.check_cascade(cs as u32, &rc, &shadow_truths[cs].1)?;
                 views.push(cc.drawn);
-                stats.extend(view.stats(&s.culler)?);
                 r.add(&rc);
                 chk += cc;
             }
@@ -440,7 +441,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
                 drawn_mean: a.drawn as f64 / frames as f64,
                 drawn_per_view: a.view_drawn.iter().map(|&d| d as f64 / frames as f64).collect(),
                 triangles_mean: a.triangles as f64 / frames as f64,
-                triangles_fraction: a.triangles as f64 / (frames as f64 * scene_triangles.max(1) as f64),
+                triangles_fraction: a.triangles as f64 / (frames as f64 * a.view_drawn.len().max(1) as f64 * scene_triangles.max(1) as f64),
                 stages_ms: a.stages.iter().map(|(k, v)| (*k, v / timed_frames)).collect(),
                 invocations: a.invocations.iter().map(|(k, v)| (*k, InvocationsMean::of(v, timed_frames))).collect(),
                 stats: a.stats.iter().map(|(k, v)| (*k, v / frames as f64)).collect(),

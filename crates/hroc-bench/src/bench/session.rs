@@ -7,7 +7,7 @@ use crate::bvh::{Bvh, Split};
 use crate::cull::{Method, MethodOptions, Stage};
 use crate::error::Result;
 use crate::gpu::Headless;
-use crate::render::cascades::{self, Cascade, CascadeRecorder, Cascades};
+use crate::render::cascades::{self, CascadeRecorder, CascadeView, Cascades};
 use crate::render::{DrawList, Recorder, Renderer};
 use crate::scene::{camera::clip_planes, Camera, CameraPath, Scene};
 use hroc::{Culler, CullerDesc, FrameInput, View, ViewDesc};
@@ -77,16 +77,17 @@ pub struct Truth {
 
 impl Truth {
     /// The truth of an ID image (`ids`) and its depth: the objects that
-    /// own a texel of it, of `objects`.
-    pub fn of(ids: Vec<u32>, depth: Vec<f32>, objects: u32) -> Truth {
+    /// own a texel of it, of `objects`. An ID past them (a wrong decode) is
+    /// an error: it would hide the object it stands for.
+    pub fn of(ids: Vec<u32>, depth: Vec<f32>, objects: u32) -> Result<Truth> {
         let mut seen = vec![false; objects as usize];
         for &id in &ids {
-            if let Some(s) = id.checked_sub(1).and_then(|o| seen.get_mut(o as usize)) {
-                *s = true;
+            if let Some(o) = id.checked_sub(1) {
+                *seen.get_mut(o as usize).ok_or_else(|| crate::Error::Gpu(format!("object ID {id} in noc's picture, of {objects} objects")))? = true;
             }
         }
         let visible = (0..objects).filter(|&o| seen[o as usize]).collect();
-        Truth { visible, depth, ids }
+        Ok(Truth { visible, depth, ids })
     }
 }
 
@@ -97,7 +98,8 @@ pub struct FrameResult {
     /// Shader invocations per stage (empty without pipeline statistics).
     pub invocations: Vec<(Stage, hroc::testing::gpu::Invocations)>,
     pub lists: Vec<DrawList>,
-    pub camera: Camera,
+    /// The camera of a camera view's frame (`None`: a shadow cascade's).
+    pub camera: Option<Camera>,
 }
 
 impl FrameResult {
@@ -166,8 +168,8 @@ impl<'g> Session<'g> {
         timestamps: bool,
         samples: u32,
     ) -> Result<Self> {
-        if !gpu.adapter.get_texture_format_features(crate::render::DEPTH_FORMAT).flags.sample_count_supported(samples) {
-            return Err(crate::Error::Arg(format!("--msaa {samples}: the adapter cannot multisample depth {samples} times")));
+        if !matches!(samples, 1 | 4) {
+            return Err(crate::Error::Arg(format!("--msaa {samples}: wgpu multisamples 4 times on every device (other counts need TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)")));
         }
         if let Some(p) = path {
             scene.path = p;
@@ -237,7 +239,7 @@ impl<'g> Session<'g> {
     }
 
     /// The cascades fitted to camera `k`.
-    pub fn cascades(&self, k: usize) -> Vec<Cascade> {
+    pub fn cascades(&self, k: usize) -> Vec<CascadeView> {
         let k = k.min(self.cameras.len() - 1);
         cascades::fit(&self.cameras[k], self.renderer.aspect(), self.renderer.light_dir, &self.scene.bounds(), self.cascade_count())
     }
@@ -250,7 +252,7 @@ impl<'g> Session<'g> {
 
     /// Runs one frame of cascade `c` seen as `cascade` with `view`, timed
     /// as [`Session::run_frame`].
-    pub fn run_cascade(&mut self, view: &mut View, c: u32, cascade: &Cascade, time: f32) -> Result<FrameResult> {
+    pub fn run_cascade(&mut self, view: &mut View, c: u32, cascade: &CascadeView, time: f32) -> Result<FrameResult> {
         let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
         let start = std::time::Instant::now();
         s.cascades.write_view(self.gpu, c, cascade);
@@ -260,12 +262,12 @@ impl<'g> Session<'g> {
         let mut host = CascadeRecorder { renderer: &self.renderer, cascades: &s.cascades, cascade: c, lists: Vec::new() };
         view.cull(&self.culler, &mut enc, &input, &mut host)?;
         let lists = host.lists;
-        self.finish_frame(view, enc, start, lists, self.cameras[0])
+        self.finish_frame(view, enc, start, lists, None)
     }
 
     /// Submits a view's frame recorded in `enc` and waits: the frame's
     /// result, timed from `start`.
-    fn finish_frame(&self, view: &mut View, enc: wgpu::CommandEncoder, start: std::time::Instant, lists: Vec<DrawList>, camera: Camera) -> Result<FrameResult> {
+    fn finish_frame(&self, view: &mut View, enc: wgpu::CommandEncoder, start: std::time::Instant, lists: Vec<DrawList>, camera: Option<Camera>) -> Result<FrameResult> {
         self.gpu.queue.submit([enc.finish()]);
         self.gpu.wait()?;
         let wall_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -275,7 +277,7 @@ impl<'g> Session<'g> {
     }
 
     /// Renders cascade `c` seen as `cascade` with `noc`, and reads back its truth.
-    pub fn cascade_truth(&mut self, c: u32, cascade: &Cascade, time: f32) -> Result<(FrameResult, Truth)> {
+    pub fn cascade_truth(&mut self, c: u32, cascade: &CascadeView, time: f32) -> Result<(FrameResult, Truth)> {
         let s = self.shadows.as_mut().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
         let mut noc = std::mem::take(&mut s.noc);
         let r = self.run_cascade(&mut noc[c as usize], c, cascade, time);
@@ -285,7 +287,7 @@ impl<'g> Session<'g> {
         let ids = self.gpu.read_ids(&s.cascades.ids[c as usize])?;
         let (texture, layer) = s.cascades.depth_of(c);
         let depth = self.gpu.read_depth_layer(texture, layer)?;
-        Ok((r, Truth::of(ids, depth, self.renderer.object_count)))
+        Ok((r, Truth::of(ids, depth, self.renderer.object_count)?))
     }
 
     /// Checks cascade `c`'s frame just rendered against `truth` (every
@@ -436,7 +438,7 @@ impl<'g> Session<'g> {
             None => view.cull(&self.culler, &mut enc, &input, &mut host)?,
         }
         let lists = host.lists;
-        self.finish_frame(view, enc, start, lists, camera)
+        self.finish_frame(view, enc, start, lists, Some(camera))
     }
 
     /// The view of camera `camera` as the culler sees it.
@@ -471,7 +473,7 @@ impl<'g> Session<'g> {
     /// The truth of whatever the targets hold now.
     pub fn read_truth(&self) -> Result<Truth> {
         let ids = self.gpu.read_ids(&self.renderer.targets.id)?;
-        Ok(Truth::of(ids, self.read_depth()?, self.renderer.object_count))
+        Truth::of(ids, self.read_depth()?, self.renderer.object_count)
     }
 
     pub fn read_depth(&self) -> Result<Vec<f32>> {
@@ -501,8 +503,8 @@ impl<'g> Session<'g> {
         let depth = self.read_depth()?;
         let t = &self.renderer.targets;
         // The stray test is the perspective camera's; orthographic views count every differing texel.
-        let stray = Stray::new(&r.camera, self.renderer.aspect(), (t.width, t.height), t.samples);
-        self.check_with(r, truth, &depth, (self.projection == Projection::Perspective).then_some(&stray))
+        let stray = r.camera.filter(|_| self.projection == Projection::Perspective).map(|c| Stray::new(&c, self.renderer.aspect(), (t.width, t.height), t.samples));
+        self.check_with(r, truth, &depth, stray.as_ref())
     }
 
     /// [`Session::check`] against `depth`, the frame's, telling stray

@@ -111,9 +111,9 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
         let per_view = |x: &MethodRow| x.drawn_per_view.iter().map(|d| format!("{d:.0}")).collect::<Vec<_>>().join(" + ");
         let _ = writeln!(
             out,
-            "{}views: the camera ({}× MSAA){} | drawn/frame per view: {}",
+            "{}views: the camera{}{} | drawn/frame per view: {}",
             if markdown { "" } else { "# " },
-            r.msaa,
+            if r.msaa > 1 { format!(" ({}× MSAA)", r.msaa) } else { String::new() },
             if r.shadow_cascades > 0 {
                 format!(" and {} shadow cascades (orthographic, depth-biased; every view checked against its own noc picture)", r.shadow_cascades)
             } else {

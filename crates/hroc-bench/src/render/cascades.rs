@@ -28,14 +28,14 @@ pub const SHADOW_BIAS: wgpu::DepthBiasState = wgpu::DepthBiasState { constant: 2
 pub const MAX_CASCADES: u32 = 4;
 
 /// One cascade's view of the scene: a right-handed orthographic projection
-/// looking along the light.
+/// looking along the light (the scene crate's `Cascade`, projected).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Cascade {
+pub struct CascadeView {
     pub view: Mat4,
     pub proj: Mat4,
 }
 
-impl Cascade {
+impl CascadeView {
     /// The cascade as the culler sees it (standard depth, clipped).
     pub fn view_desc(&self) -> hroc::ViewDesc {
         hroc::ViewDesc { view: self.view, proj: self.proj, depth: hroc::DepthRange::Standard, unclipped_depth: false }
@@ -45,8 +45,8 @@ impl Cascade {
 /// `count` cascades of a light shining along `-toward_light` onto `scene`,
 /// for `camera` (aspect `aspect`), in standard depth
 /// ([`crate::scene::camera::cascades`]).
-pub fn fit(camera: &Camera, aspect: f32, toward_light: Vec3, scene: &Aabb, count: u32) -> Vec<Cascade> {
-    crate::scene::camera::cascades(camera, aspect, toward_light, scene, count).iter().map(|c| Cascade { view: c.view, proj: c.proj(false) }).collect()
+pub fn fit(camera: &Camera, aspect: f32, toward_light: Vec3, scene: &Aabb, count: u32) -> Vec<CascadeView> {
+    crate::scene::camera::cascades(camera, aspect, toward_light, scene, count).iter().map(|c| CascadeView { view: c.view, proj: c.proj(false) }).collect()
 }
 
 /// The cascades' targets and pipelines: one depth array of `count`
@@ -121,7 +121,7 @@ impl Cascades {
     }
 
     /// Writes cascade `c`'s view-projection.
-    pub fn write_view(&self, gpu: &Headless, c: u32, cascade: &Cascade) {
+    pub fn write_view(&self, gpu: &Headless, c: u32, cascade: &CascadeView) {
         let u = ViewUniform { view_proj: (cascade.proj * cascade.view).to_cols_array_2d(), light_dir: [0.0; 4] };
         gpu.queue.write_buffer(&self.uniforms[c as usize], 0, bytemuck::bytes_of(&u));
     }

@@ -68,8 +68,8 @@ impl BoxPass {
         let target = BoxTarget::new(gpu, cx.capabilities, false, (cx.targets.size, samples));
         let depth = (cx.targets.depth_format, cx.targets.depth, samples);
         // Loading multisampled depth itself, the test runs per sample.
-        let fragment = if target.mode() == BoxDepth::Manual && samples > 1 { "box_fs_sample" } else { "box_fs" };
-        let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, ("box_vs", Some(fragment)), depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth())]);
+        let stages = if target.mode() == BoxDepth::Manual && samples > 1 { ("box_vs_sample", Some("box_fs_sample")) } else { ("box_vs", Some("box_fs")) };
+        let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, stages, depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth())]);
         // Attached, the test never loads depth: a stand-in fills the binding,
         // so GL (no read-only depth attachments) can attach the depth.
         let depth = match target.mode() {

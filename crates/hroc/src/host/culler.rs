@@ -592,7 +592,7 @@ impl Culler {
     /// [`Culler::view`] with method parameters other than the culler's.
     pub fn view_with(&self, method: Method, targets: &ViewTargets, options: &MethodOptions) -> Result<View> {
         self.serves_with(method, options)?;
-        let t = Targets::new(targets, self.gpu.device.features(), self.gpu.device.adapter_info().backend)?;
+        let t = Targets::new(targets, self.gpu.device.adapter_info().backend)?;
         self.check_targets(method, &t)?;
         use wgpu::BufferUsages as U;
         let frame = self.gpu.buffer("hroc frame", std::mem::size_of::<FrameUniform>() as u64, U::UNIFORM | U::COPY_DST);

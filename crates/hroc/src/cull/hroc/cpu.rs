@@ -83,6 +83,7 @@ pub fn oriented_span(o: &OrientedBox, eye: Vec3, dir: Vec3, pad: f32, grow: f32)
 
 /// `block_pad_px` in common.wgsl: the padding, in pixels, of boxes tested
 /// by one ray per block of `scale` × `scale` pixels of `samples` samples.
+/// (The references below model single-sample targets and pass 1.)
 pub fn block_pad_px(scale: u32, samples: u32) -> f32 {
     let spread = if samples > 1 { scale } else { scale - 1 };
     spread as f32 * std::f32::consts::FRAC_1_SQRT_2 + scale as f32 * PIXEL_PAD
