@@ -80,3 +80,25 @@ fn orthographic_views_draw_every_visible_object() {
         }
     }
 }
+
+/// A shadow cascade keeps the light's view matrix while its box follows
+/// the camera in the projection: a view treats a jump of its box as a cut
+/// (as a camera's jump), and a box that slides a little as coherent.
+#[test]
+fn a_cascade_whose_box_jumps_is_a_cut() {
+    use glam::Mat4;
+    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (host, objects) = street(&device);
+    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let light = Mat4::look_at_rh(Vec3::ZERO, Vec3::new(-0.3, -1.0, -0.4), Vec3::Z);
+    let cascade =
+        |x: f32| ViewDesc { view: light, proj: Mat4::orthographic_rh(x - 8.0, x + 8.0, -8.0, 8.0, -40.0, 40.0), depth: hroc::DepthRange::Standard, unclipped_depth: false };
+    let mut view = culler.view(Method::HROC, &host.targets()).unwrap();
+    let mut cuts = Vec::new();
+    for x in [0.0, 0.3, 0.6, 14.0, 14.3] {
+        host.frame(&device, &queue, &culler, &mut view, cascade(x), false);
+        let stats = view.stats(&culler).unwrap();
+        cuts.push(stats.iter().find(|(s, _)| *s == hroc::Stat::Cut).map(|s| s.1).unwrap());
+    }
+    assert_eq!(cuts, [0.0, 0.0, 0.0, 1.0, 0.0], "a jump of 14 units (past a tenth of the street's diagonal) is a cut; slides of 0.3 are not");
+}

@@ -124,7 +124,7 @@ impl View {
         culler.flush_oriented();
         let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32, self.targets.depth);
         self.uploads.write(encoder, &self.frame, 0, bytemuck::bytes_of(&uniform));
-        let cut = self.detect_cut(culler, &input.view) || input.cut || std::mem::take(&mut self.interrupted);
+        let cut = self.detect_cut(culler, &g) || input.cut || std::mem::take(&mut self.interrupted);
         if cut {
             self.imp.reset(encoder);
         }
@@ -232,9 +232,11 @@ impl View {
     /// True when the view turned or moved past the options' cut thresholds
     /// ([`MethodOptions::cut_turn_deg`], [`MethodOptions::cut_move`]) since
     /// the last frame: last frame's visibility says little about this one.
-    pub(super) fn detect_cut(&mut self, culler: &Culler, view: &ViewDesc) -> bool {
-        let inv = view.view.inverse();
-        let pose = (inv.w_axis.truncate(), -inv.z_axis.truncate().normalize_or_zero());
+    /// The view's pose is its central ray: the eye of a perspective, and
+    /// of an orthographic view (a shadow cascade, whose box follows the
+    /// camera while the light's direction stays put) the ray's origin.
+    pub(super) fn detect_cut(&mut self, culler: &Culler, g: &crate::frustum::ViewGeometry) -> bool {
+        let pose = (g.ray_origins.w_axis.truncate(), g.ray_dirs.z_axis.truncate().normalize_or_zero());
         let Some((eye, dir)) = self.last_pose.replace(pose) else { return false };
         let turn = dir.dot(pose.1).clamp(-1.0, 1.0).acos().to_degrees();
         let diagonal = if culler.bvh.nodes.is_empty() { f32::INFINITY } else { culler.bvh.aabb(0).extent().length() };
