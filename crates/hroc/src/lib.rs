@@ -161,10 +161,11 @@
 //!   perspective views only).
 //!   Each [`View`] keeps its own temporal state; all views share the
 //!   culler's BVH and object buffers. Set [`FrameInput::cut`] on a camera
-//!   cut; a view also treats a frame as a cut when the view turned or moved
-//!   past [`MethodOptions::cut_turn_deg`] or [`MethodOptions::cut_move`],
-//!   and HROC then seeds its occluders from a coarse ray grid
-//!   ([`MethodOptions::hroc_seed`]).
+//!   cut; a view also treats a frame as a cut when its central ray turned
+//!   or moved past [`MethodOptions::cut_turn_deg`] or
+//!   [`MethodOptions::cut_move`] (an orthographic cascade's moves with its
+//!   box, which follows the camera), and HROC then seeds its occluders
+//!   from a coarse ray grid ([`MethodOptions::hroc_seed`]).
 //!   A view draws into one layer and one mip of a depth texture
 //!   ([`ViewTargets::at`]: a cascade of an array, a cube face, a mip),
 //!   sized by that mip, single-sample or multisampled; handing it another

@@ -62,7 +62,8 @@ pub struct MethodOptions {
     /// not say so): 45° is an eighth of a turn, past which most of last
     /// frame's visible set is off screen. `f32::INFINITY` turns it off.
     pub cut_turn_deg: f32,
-    /// ... or whose eye moved more than this fraction of the scene's
+    /// ... or whose eye (an orthographic view's central ray origin, which
+    /// moves with its box) moved more than this fraction of the scene's
     /// diagonal (the BVH root's box): a tenth of a city is a new street.
     pub cut_move: f32,
 }
