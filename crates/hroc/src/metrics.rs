@@ -137,6 +137,10 @@ named_enum!(
         Cut => "cut",
         /// 1 when HROC seeded V with its ray grid this frame.
         Seeded => "seeded",
+        /// `auto`: the method that culled the frame, as its index in `Method::ALL`.
+        Chosen => "chosen",
+        /// `auto`: 1 when the frame probed a method other than the choice.
+        Probe => "probe",
         /// Mid-frame submits.
         Submits => "submits",
         /// Mid-frame waits for the GPU.

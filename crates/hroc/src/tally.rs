@@ -1,10 +1,13 @@
 //! Objects and triangles drawn per frame, counted on the GPU from every
 //! list a view hands its host (`tally.wgsl`, one dispatch per list), and
-//! read back without waiting: the totals are copied to a staging ring,
-//! mapped once the frame's encoder is submitted and done, and tagged with
-//! the frame they describe ([`crate::View::frame_stats`]).
+//! the frame's GPU time (timestamps at the frame's first and last pass,
+//! where the device has `TIMESTAMP_QUERY`), read back without waiting: the
+//! totals are copied to a staging ring, mapped once the frame's encoder is
+//! submitted and done, and tagged with the frame they describe
+//! ([`crate::View::frame_stats`]).
 
 use crate::contract::DrawList;
+use crate::cull::Method;
 use crate::gpu::{Gpu, Readback, Uploads};
 use crate::list_pass::ListPass;
 use crate::reflect::Layout;
@@ -14,7 +17,7 @@ const RING: usize = 3;
 
 /// Statistics every method shares, of one frame of one view, read back
 /// without waiting ([`crate::View::frame_stats`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameStats {
     /// Which frame: the number of [`crate::View::cull`] calls on the view
     /// before it (0 for its first).
@@ -38,25 +41,59 @@ pub struct FrameStats {
     /// Passes over the object-ID target that marked what a list drew
     /// ([`crate::Marks::Ids`]).
     pub id_passes: u64,
+    /// The method that culled the frame: the view's own, or the one
+    /// [`Method::Auto`] chose. (`None` only in `FrameStats::default()`.)
+    pub method: Option<Method>,
+    /// GPU milliseconds from the frame's first pass to its last, the host's
+    /// draws included; `None` where the device has no `TIMESTAMP_QUERY`.
+    pub gpu_ms: Option<f32>,
 }
 
-/// Per-view counter of what its lists draw.
+/// Bytes of a staging buffer: objects and triangles (u32 each), then the
+/// frame's first and last timestamps (u64 each).
+const STAGED: u64 = 24;
+
+/// Per-view counter of what its lists draw, and of its frames' GPU time.
 pub(crate) struct DrawTally {
     pass: ListPass,
     /// `[objects, triangles]` of the frame being recorded.
     totals: wgpu::Buffer,
+    /// The frame's first and last timestamps, and where they resolve.
+    clock: Option<FrameClock>,
     ring: Vec<(wgpu::Buffer, Readback<FrameStats>)>,
     latest: Option<FrameStats>,
+}
+
+/// Two timestamps a frame, written by empty compute passes (pass
+/// timestamps need only `TIMESTAMP_QUERY`, which Metal, DX12, Vulkan and
+/// GL with `ARB_timer_query` have).
+struct FrameClock {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    period_ns: f64,
+}
+
+impl FrameClock {
+    fn stamp(&self, enc: &mut wgpu::CommandEncoder, index: u32) {
+        let writes = wgpu::ComputePassTimestampWrites { query_set: &self.set, beginning_of_pass_write_index: Some(index), end_of_pass_write_index: None };
+        enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc frame clock"), timestamp_writes: Some(writes) });
+    }
 }
 
 impl DrawTally {
     pub(crate) fn new(gpu: &Gpu) -> Self {
         use wgpu::BufferUsages as U;
         let totals = gpu.buffer("hroc tally", 8, U::STORAGE | U::COPY_SRC | U::COPY_DST);
+        let clock = gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY).then(|| FrameClock {
+            set: gpu.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("hroc frame clock"), ty: wgpu::QueryType::Timestamp, count: 2 }),
+            resolve: gpu.buffer("hroc frame clock", 16, U::QUERY_RESOLVE | U::COPY_SRC),
+            period_ns: gpu.queue.get_timestamp_period() as f64,
+        });
         DrawTally {
             pass: ListPass::new(gpu, Layout::Tally, "tally.wgsl", "tally", Some(totals.clone())),
             totals,
-            ring: (0..RING).map(|_| (gpu.buffer("hroc tally staging", 8, U::MAP_READ | U::COPY_DST), Readback::Free)).collect(),
+            clock,
+            ring: (0..RING).map(|_| (gpu.buffer("hroc tally staging", STAGED, U::MAP_READ | U::COPY_DST), Readback::Free)).collect(),
             latest: None,
         }
     }
@@ -66,6 +103,9 @@ impl DrawTally {
     pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder) {
         self.harvest(gpu);
         enc.clear_buffer(&self.totals, 0, None);
+        if let Some(c) = &self.clock {
+            c.stamp(enc, 0);
+        }
     }
 
     /// Counts what `list` draws, after the host recorded its draw.
@@ -77,8 +117,15 @@ impl DrawTally {
     /// and CPU-side counts), to a free staging buffer mapped when `enc` is
     /// submitted (skipped when all are in flight).
     pub(crate) fn end(&mut self, enc: &mut wgpu::CommandEncoder, stats: FrameStats) {
+        if let Some(c) = &self.clock {
+            c.stamp(enc, 1);
+            enc.resolve_query_set(&c.set, 0..2, &c.resolve, 0);
+        }
         if let Some((buf, slot)) = self.ring.iter_mut().find(|(_, s)| s.is_free()) {
             enc.copy_buffer_to_buffer(&self.totals, 0, buf, 0, Some(8));
+            if let Some(c) = &self.clock {
+                enc.copy_buffer_to_buffer(&c.resolve, 0, buf, 8, Some(16));
+            }
             *slot = Readback::request(enc, buf, stats);
         }
     }
@@ -94,8 +141,17 @@ impl DrawTally {
     /// Takes the totals that arrived, polling the device without waiting.
     fn harvest(&mut self, gpu: &Gpu) {
         let _ = gpu.device.poll(wgpu::PollType::Poll);
+        let period_ns = self.clock.as_ref().map(|c| c.period_ns);
         for (buf, slot) in self.ring.iter_mut() {
-            let words = |stats: FrameStats, v: &[u8]| FrameStats { objects: bytemuck::pod_read_unaligned(&v[0..4]), triangles: bytemuck::pod_read_unaligned(&v[4..8]), ..stats };
+            let words = |stats: FrameStats, v: &[u8]| {
+                let tick = |at: usize| bytemuck::pod_read_unaligned::<u64>(&v[at..at + 8]);
+                FrameStats {
+                    objects: bytemuck::pod_read_unaligned(&v[0..4]),
+                    triangles: bytemuck::pod_read_unaligned(&v[4..8]),
+                    gpu_ms: period_ns.map(|p| (tick(16).saturating_sub(tick(8)) as f64 * p / 1e6) as f32),
+                    ..stats
+                }
+            };
             if let Some(arrived) = slot.take(buf, words) {
                 if self.latest.is_none_or(|l| l.frame < arrived.frame) {
                     self.latest = Some(arrived);

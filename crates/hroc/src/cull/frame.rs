@@ -51,6 +51,14 @@ pub struct Frame<'a> {
     /// A debug group named after the current stage is open on the encoder,
     /// so a GPU profiler groups the passes as the paper's steps.
     pub(crate) group_open: bool,
+    /// The frame's number in its view (0 for the first).
+    pub(crate) number: u64,
+    /// The culler's BVH on the CPU, and its generation (bumped by every rebuild).
+    pub(crate) tree: (&'a Bvh, u64),
+    /// The method that culls this frame (what [`Method::Auto`] chose).
+    pub(crate) culled_by: Method,
+    /// CPU milliseconds since the view's previous frame began.
+    pub(crate) period_ms: Option<f64>,
 }
 
 /// Work of one frame that does not depend on how busy the machine is:
@@ -293,6 +301,8 @@ pub struct MethodContext<'a> {
     pub capabilities: crate::Capabilities,
     /// The ID-marks pass, with [`crate::Marks::Ids`].
     pub(crate) id_marks: Option<&'a IdMarks>,
+    /// `auto`'s candidates (empty for every other method).
+    pub(crate) auto: &'a [Method],
 }
 
 impl MethodContext<'_> {

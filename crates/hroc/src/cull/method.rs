@@ -78,6 +78,9 @@ pub enum Method {
     /// Hierarchical Raster Occlusion Culling with the given accelerations;
     /// `hroc` is `sf+of`.
     Hroc(Variant),
+    /// Adaptive: each frame the cheapest of `noc`, `vfc`, `hzb` and HROC,
+    /// by their measured and modelled costs (`cull::auto`).
+    Auto,
 }
 
 impl Method {
@@ -86,8 +89,8 @@ impl Method {
     /// three times a frame (HROC §6).
     pub const HROC: Method = Method::Hroc(Variant::SF_OF);
 
-    /// Every method once, in table order (`hroc` last, after its variants).
-    pub const ALL: [Method; 17] = [
+    /// Every method once, in table order (`hroc` after its variants, then `auto`).
+    pub const ALL: [Method; 18] = [
         Method::Noc,
         Method::Vfc,
         Method::Ref,
@@ -105,6 +108,7 @@ impl Method {
         Method::Hroc(Variant::CR_OF),
         Method::Hroc(Variant::SF),
         Method::HROC,
+        Method::Auto,
     ];
 
     /// The methods of `hroc bench` with no `--methods`: no culling, frustum
@@ -133,6 +137,7 @@ impl Method {
             Method::Hroc(Variant { counters: Counters::ReadBack, of: true }) => "hroc-cr+of",
             Method::Hroc(Variant { counters: Counters::StallFree, of: false }) => "hroc-sf",
             Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "hroc",
+            Method::Auto => "auto",
         }
     }
 
@@ -162,6 +167,7 @@ impl Method {
             Method::Hroc(Variant { counters: Counters::ReadBack, of: true }) => "HROC with counter read-back and occluder filtering",
             Method::Hroc(Variant { counters: Counters::StallFree, of: false }) => "HROC with stall-free counters (earlier frames' counts, GPU overflow draw)",
             Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "HROC, the default variant: stall-free counters and occluder filtering (also hroc-sf+of)",
+            Method::Auto => "adaptive: each frame the cheapest of noc, vfc, hzb and hroc, by measured and modelled cost",
         }
     }
 
@@ -200,7 +206,7 @@ impl Method {
             Method::Oq | Method::Soq | Method::Chc => &[Layout::QueryBoxes],
             Method::Roc | Method::RocAll => &[Layout::RocBoxes, Layout::Roc, Layout::Compact],
             Method::Ioc => &[Layout::Ioc, Layout::RocBoxes, Layout::Compact],
-            Method::Hzb => &[Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
+            Method::Hzb | Method::Auto => &[Layout::Vfc, Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
             Method::Woc => &[Layout::WocWarp, Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
             Method::Hroc(_) => &[
                 Layout::HrocSeed,
@@ -282,6 +288,7 @@ impl Method {
             Method::Hzb => Box::new(hzb::Hzb::new(cx)),
             Method::Woc => Box::new(woc::Woc::new(cx)),
             Method::Hroc(v) => Box::new(hroc::Hroc::new(v, cx)?),
+            Method::Auto => Box::new(auto::Auto::new(cx, cx.auto)?),
         })
     }
 }

@@ -7,6 +7,7 @@
 //! between them. [`crate::View::cull`] builds the frame from what the host
 //! hands in, so the benchmark and any engine drive a method the same way.
 
+pub mod auto;
 pub mod hroc;
 pub mod hzb;
 pub mod ioc;

@@ -76,6 +76,14 @@ impl Culler {
         Ok(())
     }
 
+    /// `auto`'s candidates for a view of targets `t`: `noc`, `vfc`, `hzb`
+    /// and HROC (`hroc` with an ID target, else `hroc-sf`), those the
+    /// culler serves and the targets allow.
+    pub(super) fn auto_candidates(&self, t: &Targets, options: &MethodOptions) -> Vec<Method> {
+        let hroc = if t.ids.is_some() { Method::HROC } else { Method::Hroc(crate::cull::Variant::SF) };
+        [Method::Noc, Method::Vfc, Method::Hzb, hroc].into_iter().filter(|&m| self.serves_with(m, options).is_ok() && self.check_targets(m, t).is_ok()).collect()
+    }
+
     /// The methods of [`Method::ALL`] this culler serves ([`Culler::serves`]).
     pub fn methods(&self) -> Vec<Method> {
         Method::ALL.into_iter().filter(|&m| self.serves(m).is_ok()).collect()

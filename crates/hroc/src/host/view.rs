@@ -57,6 +57,8 @@ pub struct View {
     pub(super) tail_pass: Option<ListPass>,
     /// The last frame failed part-way: the next starts over as after a cut.
     pub(super) interrupted: bool,
+    /// When the last frame began, on the CPU clock.
+    pub(super) last_start: Option<std::time::Instant>,
 }
 
 impl View {
@@ -166,6 +168,10 @@ impl View {
             current: Stage::Draw,
             split: self.split.as_mut(),
             sink: &self.sink,
+            number: self.frames,
+            tree: (&culler.bvh, culler.generation),
+            culled_by: self.method,
+            period_ms: period_ms(&mut self.last_start),
         };
         if let Some(always) = culler.objects.always.as_ref() {
             f.stage(Stage::FlaggedObjects);
@@ -208,6 +214,7 @@ impl View {
             bytes_read: w.bytes_read,
             command_slots: w.command_slots,
             id_passes: w.id_passes,
+            method: Some(f.culled_by),
             ..Default::default()
         };
         f.tally.end(f.encoder, stats);
@@ -310,4 +317,10 @@ impl View {
     pub fn method_state_mut<T: 'static>(&mut self) -> Option<&mut T> {
         (&mut *self.imp as &mut dyn std::any::Any).downcast_mut::<T>()
     }
+}
+
+/// Milliseconds since `*last` (none for a view's first frame); sets it to now.
+fn period_ms(last: &mut Option<std::time::Instant>) -> Option<f64> {
+    let now = std::time::Instant::now();
+    last.replace(now).map(|t| now.duration_since(t).as_secs_f64() * 1e3)
 }

@@ -1,0 +1,403 @@
+//! Which candidate `auto` runs each frame: a cost model per candidate,
+//! calibrated by the frames it measures, with probes and hysteresis.
+//!
+//! The model: a frame of candidate `m` costs `a_m + k · T_m` ms, where
+//! `T_m` is the triangles it draws and `k` the device's cost of a drawn
+//! triangle, shared by every candidate. `a_m` holds the candidate's own
+//! passes and whatever else its frames cost. What a candidate would draw
+//! now is known without running it: `noc` draws every triangle, `vfc` those
+//! in the frustum (counted on the CPU), and an occlusion method the share
+//! of the frustum's triangles it drew when it last ran. `k` is fitted
+//! within candidates (least squares with an intercept per candidate, over
+//! recent frames), so a change of view moves every prediction. Frames are
+//! measured by GPU timestamps read back without a stall (or, without them,
+//! the CPU clock's frame period).
+//!
+//! The choice:
+//! - **Calibration.** Every candidate runs once before any is chosen,
+//!   unless even an optimistic prediction of it (no pass costs) is past
+//!   [`Params::plausible`] times the best: at 20k objects `noc` never runs.
+//! - **Hysteresis.** A switch needs the best prediction below
+//!   `1 - margin` times the current one in `confirm` decisions in a row,
+//!   and `dwell` frames since the last switch.
+//! - **Probes.** Every `probe_every` frames at most one probe: the
+//!   candidate measured longest ago (past `stale` frames), if plausible,
+//!   runs for one frame, or two where it keeps state between frames (its
+//!   first is a cut, left out of its estimate). A probe of every candidate
+//!   at least every `forced` frames keeps an unlucky estimate from sticking.
+//!
+//! A switch is a cut for the method taking over (`fresh`): its state is
+//! from another time.
+
+/// Frames within which a frame's measurement arrives (the read-back ring
+/// holds three); one lost is not waited for longer.
+const ARRIVAL: u64 = 8;
+
+/// What a candidate draws, for predicting frames it does not run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Load {
+    /// Every object (`noc`).
+    All,
+    /// The objects in the frustum (`vfc`).
+    Frustum,
+    /// A share of the frustum's objects, learnt when it runs (`hzb`, `hroc`).
+    Occluded,
+}
+
+/// The chooser's constants.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// A switch needs the best prediction below `1 - margin` times the current's.
+    pub margin: f64,
+    /// ... in this many decisions in a row.
+    pub confirm: u32,
+    /// Frames after a switch before the next.
+    pub dwell: u64,
+    /// Frames between probes.
+    pub probe_every: u64,
+    /// A candidate is probed once its last measurement is this old.
+    pub stale: u64,
+    /// ... and its prediction within this factor of the best.
+    pub plausible: f64,
+    /// Any candidate not measured for this many frames is probed.
+    pub forced: u64,
+    /// Weight of an observation's predecessors in a candidate's fit (per observation).
+    pub decay: f64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params { margin: 0.08, confirm: 3, dwell: 8, probe_every: 30, stale: 60, plausible: 1.5, forced: 600, decay: 0.8 }
+    }
+}
+
+/// One measured frame of a candidate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Observation {
+    /// Which candidate ran.
+    pub candidate: usize,
+    /// The frame's number.
+    pub frame: u64,
+    /// Its cost, ms.
+    pub cost_ms: f64,
+    /// Triangles it drew.
+    pub triangles: f64,
+    /// Triangles in the frustum that frame.
+    pub frustum_triangles: f64,
+}
+
+/// What to run this frame.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Decision {
+    /// The candidate.
+    pub candidate: usize,
+    /// It takes over this frame: cull it as after a cut.
+    pub fresh: bool,
+    /// A probe, not the choice.
+    pub probe: bool,
+}
+
+/// Decayed sums of one candidate's observations (for `a_m` and `k`).
+#[derive(Clone, Copy, Debug, Default)]
+struct Fit {
+    n: f64,
+    t: f64,
+    c: f64,
+    tt: f64,
+    tc: f64,
+    /// Share of the frustum's triangles drawn (decayed mean).
+    share: f64,
+}
+
+impl Fit {
+    fn add(&mut self, o: &Observation, decay: f64) {
+        let d = if self.n == 0.0 { 0.0 } else { decay };
+        let share = if o.frustum_triangles > 0.0 { (o.triangles / o.frustum_triangles).min(1.0) } else { 1.0 };
+        self.share = (self.share * d * self.n + share) / (d * self.n + 1.0);
+        self.n = self.n * d + 1.0;
+        self.t = self.t * d + o.triangles;
+        self.c = self.c * d + o.cost_ms;
+        self.tt = self.tt * d + o.triangles * o.triangles;
+        self.tc = self.tc * d + o.triangles * o.cost_ms;
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+struct Probe {
+    candidate: usize,
+    left: u32,
+    back_to: usize,
+}
+
+/// The per-view chooser.
+#[derive(Clone, Debug)]
+pub struct Chooser {
+    loads: Vec<Load>,
+    /// Candidates that keep state between frames (probed for two frames).
+    temporal: Vec<bool>,
+    fits: Vec<Fit>,
+    /// The frame each candidate last ran, and last was measured.
+    ran: Vec<Option<u64>>,
+    measured: Vec<Option<u64>>,
+    current: Option<usize>,
+    switched_at: u64,
+    better: u32,
+    probe: Option<Probe>,
+    last_probe: u64,
+    params: Params,
+    /// Frames each candidate ran, probes included.
+    pub frames_run: Vec<u64>,
+    /// Frames spent probing.
+    pub probe_frames: u64,
+}
+
+impl Chooser {
+    /// A chooser over candidates with these loads; `temporal[i]` when the
+    /// candidate keeps state between frames.
+    pub fn new(loads: Vec<Load>, temporal: Vec<bool>, params: Params) -> Chooser {
+        let n = loads.len();
+        assert!(n > 0 && temporal.len() == n, "one load and one temporal flag per candidate");
+        Chooser {
+            loads,
+            temporal,
+            fits: vec![Fit::default(); n],
+            ran: vec![None; n],
+            measured: vec![None; n],
+            current: None,
+            switched_at: 0,
+            better: 0,
+            probe: None,
+            last_probe: 0,
+            params,
+            frames_run: vec![0; n],
+            probe_frames: 0,
+        }
+    }
+
+    /// Takes a measured frame. Frames a candidate culled fresh after
+    /// another ran (a switch) are left out by the caller.
+    pub fn observe(&mut self, o: &Observation) {
+        if o.cost_ms.is_finite() && o.cost_ms >= 0.0 {
+            self.fits[o.candidate].add(o, self.params.decay);
+            self.measured[o.candidate] = Some(self.measured[o.candidate].map_or(o.frame, |m| m.max(o.frame)));
+        }
+    }
+
+    /// ms per drawn triangle: the within-candidate least-squares slope,
+    /// clamped to `[0, least mean cost per mean triangle]`.
+    pub fn triangle_ms(&self) -> f64 {
+        let (mut num, mut den, mut scale) = (0.0, 0.0, 0.0);
+        let mut bound = f64::INFINITY;
+        for f in self.fits.iter().filter(|f| f.n > 0.0) {
+            scale += f.tt;
+            if f.t > 0.0 {
+                bound = bound.min(f.c / f.t);
+            }
+            if f.n > 1.0 {
+                num += f.tc - f.t * f.c / f.n;
+                den += f.tt - f.t * f.t / f.n;
+            }
+        }
+        let bound = if bound.is_finite() { bound } else { 0.0 };
+        // Triangles that hardly vary within any candidate fit no slope.
+        let fitted = if den > 1e-4 * scale { num / den } else { bound };
+        fitted.clamp(0.0, bound)
+    }
+
+    /// Triangles candidate `i` would draw now.
+    fn load(&self, i: usize, frustum: f64, all: f64) -> f64 {
+        match self.loads[i] {
+            Load::All => all,
+            Load::Frustum => frustum,
+            Load::Occluded => self.fits[i].share * frustum,
+        }
+    }
+
+    /// Predicted ms of candidate `i` now; an optimistic one (no pass cost,
+    /// an occlusion method drawing nothing) before it was measured.
+    pub fn predict(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
+        let k = self.triangle_ms();
+        let f = &self.fits[i];
+        if f.n == 0.0 {
+            let draws = if self.loads[i] == Load::Occluded { 0.0 } else { self.load(i, frustum, all) };
+            return (k * draws, false);
+        }
+        let a = ((f.c - k * f.t) / f.n).max(0.0);
+        (a + k * self.load(i, frustum, all), true)
+    }
+
+    /// The candidate to run at `frame`, with `frustum` of `all` triangles
+    /// in the view.
+    pub fn decide(&mut self, frame: u64, frustum: f64, all: f64) -> Decision {
+        let d = self.decide_inner(frame, frustum, all);
+        self.frames_run[d.candidate] += 1;
+        self.probe_frames += d.probe as u64;
+        self.ran[d.candidate] = Some(frame);
+        d
+    }
+
+    fn decide_inner(&mut self, frame: u64, frustum: f64, all: f64) -> Decision {
+        let p = self.params;
+        let n = self.loads.len();
+        // A probe under way runs to its end, then hands back.
+        if let Some(pr) = self.probe.as_mut() {
+            if pr.left > 0 {
+                pr.left -= 1;
+                return Decision { candidate: pr.candidate, fresh: false, probe: true };
+            }
+            let back = pr.back_to;
+            self.probe = None;
+            self.current = Some(back);
+            return Decision { candidate: back, fresh: true, probe: false };
+        }
+        let predictions: Vec<(f64, bool)> = (0..n).map(|i| self.predict(i, frustum, all)).collect();
+        let measured_best = (0..n).filter(|&i| predictions[i].1).map(|i| predictions[i].0).fold(f64::INFINITY, f64::min);
+        let plausible = |i: usize| !measured_best.is_finite() || predictions[i].0 <= p.plausible * measured_best;
+        // Calibration: every plausible candidate runs once.
+        let Some(current) = self.current else {
+            let first = (0..n).find(|&i| self.loads[i] == Load::Frustum).unwrap_or(0);
+            self.current = Some(first);
+            self.switched_at = frame;
+            return Decision { candidate: first, fresh: true, probe: false };
+        };
+        // Nothing is judged before the first measurement arrives.
+        if !measured_best.is_finite() {
+            return Decision { candidate: current, fresh: false, probe: false };
+        }
+        let untried = (0..n).find(|&i| self.ran[i].is_none() && plausible(i));
+        if let Some(i) = untried {
+            return self.start_probe(frame, i, current);
+        }
+        // Waiting for the calibration's measurements to arrive.
+        let arriving = |i: usize| self.ran[i].is_some_and(|r| frame < r + ARRIVAL) && self.measured[i].is_none();
+        if (0..n).any(arriving) {
+            return Decision { candidate: current, fresh: false, probe: false };
+        }
+        // Probes of stale estimates.
+        if frame >= self.last_probe + p.probe_every {
+            let age = |i: usize| frame.saturating_sub(self.measured[i].or(self.ran[i]).unwrap_or(0));
+            let stale = (0..n).filter(|&i| i != current && ((age(i) >= p.stale && plausible(i)) || age(i) >= p.forced)).max_by_key(|&i| age(i));
+            if let Some(i) = stale {
+                return self.start_probe(frame, i, current);
+            }
+        }
+        // The choice, with hysteresis.
+        let best = (0..n).filter(|&i| predictions[i].1).min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)).unwrap_or(current);
+        if best != current && predictions[best].0 < (1.0 - p.margin) * predictions[current].0 {
+            self.better += 1;
+        } else {
+            self.better = 0;
+        }
+        if self.better >= p.confirm && frame >= self.switched_at + p.dwell {
+            self.better = 0;
+            self.current = Some(best);
+            self.switched_at = frame;
+            return Decision { candidate: best, fresh: true, probe: false };
+        }
+        Decision { candidate: current, fresh: false, probe: false }
+    }
+
+    fn start_probe(&mut self, frame: u64, i: usize, back_to: usize) -> Decision {
+        self.last_probe = frame;
+        self.probe = Some(Probe { candidate: i, left: self.temporal[i] as u32, back_to });
+        Decision { candidate: i, fresh: true, probe: true }
+    }
+
+    /// The candidate chosen (not probed) now.
+    pub fn current(&self) -> Option<usize> {
+        self.current
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// noc, vfc, hzb, hroc.
+    fn chooser() -> Chooser {
+        Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], vec![false, false, true, true], Params::default())
+    }
+
+    /// Runs `frames` frames of a world where candidate i costs `cost(i,
+    /// frame)` and draws `draws(i)` triangles, measurements arriving
+    /// `late` frames after; returns the candidate of every frame.
+    fn run(c: &mut Chooser, frames: u64, late: u64, cost: impl Fn(usize, u64) -> f64, draws: impl Fn(usize) -> f64, frustum: f64, all: f64) -> Vec<usize> {
+        let mut ran: Vec<Decision> = Vec::new();
+        for f in 0..frames {
+            if f >= late {
+                let d = ran[(f - late) as usize];
+                let g = f - late;
+                // A switch's first frame is left out, as Auto does.
+                let after_other = g > 0 && ran[(g - 1) as usize].candidate != d.candidate;
+                if !(d.fresh && after_other && c.temporal[d.candidate]) {
+                    c.observe(&Observation { candidate: d.candidate, frame: g, cost_ms: cost(d.candidate, g), triangles: draws(d.candidate), frustum_triangles: frustum });
+                }
+            }
+            ran.push(c.decide(f, frustum, all));
+        }
+        ran.iter().map(|d| d.candidate).collect()
+    }
+
+    #[test]
+    fn it_settles_on_the_cheapest_and_probes_rarely() {
+        let mut c = chooser();
+        // hroc (3) cheapest, hzb close behind, vfc and noc far.
+        let cost = |i: usize, _| [40.0, 30.0, 12.0, 10.0][i];
+        let draws = |i: usize| [1e6, 5e5, 5e4, 3e4][i];
+        let ran = run(&mut c, 600, 2, cost, draws, 5e5, 1e6);
+        let tail = &ran[100..];
+        let on_best = tail.iter().filter(|&&i| i == 3).count() as f64 / tail.len() as f64;
+        assert!(on_best > 0.93, "{on_best}");
+        assert!(c.probe_frames * 20 <= 600, "{} probe frames", c.probe_frames);
+    }
+
+    #[test]
+    fn noc_is_never_tried_where_an_optimistic_guess_is_far_off() {
+        let mut c = chooser();
+        let cost = |i: usize, _| [400.0, 30.0, 12.0, 10.0][i];
+        let draws = |i: usize| [1e7, 5e5, 5e4, 3e4][i];
+        run(&mut c, 400, 2, cost, draws, 5e5, 1e7);
+        assert_eq!(c.frames_run[0], 0);
+    }
+
+    #[test]
+    fn it_follows_a_change_and_does_not_oscillate_between_equals() {
+        let mut c = chooser();
+        // vfc cheapest for 300 frames, then hroc; hzb and noc never.
+        let cost = |i: usize, f: u64| match (i, f < 300) {
+            (1, true) => 10.0,
+            (3, true) => 14.0,
+            (1, false) => 20.0,
+            (3, false) => 9.0,
+            (0, _) => 25.0,
+            _ => 30.0,
+        };
+        let draws = |i: usize| [1e5, 8e4, 2e4, 1e4][i];
+        let ran = run(&mut c, 700, 3, cost, draws, 8e4, 1e5);
+        let share = |r: &[usize], m: usize| r.iter().filter(|&&i| i == m).count() as f64 / r.len() as f64;
+        assert!(share(&ran[50..300], 1) > 0.9, "{}", share(&ran[50..300], 1));
+        assert!(share(&ran[450..], 3) > 0.9, "{}", share(&ran[450..], 3));
+        // Two equal candidates with noise: few switches.
+        let mut c = chooser();
+        let noisy = |i: usize, f: u64| [50.0, 10.0, 50.0, 10.0][i] * (1.0 + 0.05 * ((f * 7919 % 13) as f64 / 13.0 - 0.5));
+        let ran = run(&mut c, 600, 2, noisy, |i| [1e5, 5e4, 5e4, 5e4][i], 5e4, 1e5);
+        let switches = ran.windows(2).filter(|w| w[0] != w[1]).count();
+        // Probes cost two switches each; beyond them, at most a few.
+        assert!(switches as u64 <= 2 * (c.probe_frames + 4), "{switches} switches, {} probe frames", c.probe_frames);
+    }
+
+    #[test]
+    fn the_triangle_cost_is_fitted_within_candidates() {
+        let mut c = chooser();
+        // cost = 2 + 1e-4 * T for vfc, 5 + 1e-4 * T for hroc.
+        for f in 0..20u64 {
+            let t = 1e4 * (1 + f % 5) as f64;
+            c.observe(&Observation { candidate: 1, frame: f, cost_ms: 2.0 + 1e-4 * t, triangles: t, frustum_triangles: t });
+            c.observe(&Observation { candidate: 3, frame: f, cost_ms: 5.0 + 1e-4 * t * 0.2, triangles: t * 0.2, frustum_triangles: t });
+        }
+        assert!((c.triangle_ms() - 1e-4).abs() < 1e-6, "{}", c.triangle_ms());
+        // vfc with twice the frustum: 2 + 1e-4 * 2e5 = 22 ms.
+        let (p, measured) = c.predict(1, 2e5, 4e5);
+        assert!(measured && (p - 22.0).abs() < 0.1, "{p}");
+    }
+}

@@ -1,0 +1,181 @@
+//! `auto`: per view and per frame, the cheapest of drawing everything
+//! (`noc`), frustum culling (`vfc`), two-phase Hi-Z (`hzb`) and HROC, by
+//! what each costs on this device, scene and path. A frame:
+//! 1. measurements: the frames whose GPU time and triangles came back
+//!    (timestamps read without a stall, [`crate::FrameStats`]) feed each
+//!    candidate's cost model (`chooser.rs`); without `TIMESTAMP_QUERY`,
+//!    the CPU clock's frame period stands in for the GPU time;
+//! 2. load: the triangles in the frustum, counted on the CPU over the BVH
+//!    (`load.rs`), which predicts what `noc` and `vfc` would cost now and
+//!    scales the occlusion methods' draws;
+//! 3. choice: the chooser's candidate, with hysteresis and a probe of a
+//!    stale estimate at most one frame in thirty;
+//! 4. the candidate's frame. A candidate taking over culls as after a cut;
+//!    the one handing over keeps its state and its read-backs in flight
+//!    (the stall-free counters take them when it runs again).
+//!
+//! Every candidate is conservative, and each frame is one candidate's
+//! whole frame, so `auto` is as conservative as they are.
+
+mod chooser;
+mod load;
+
+pub use chooser::{Chooser, Decision, Load, Observation, Params};
+
+use std::collections::VecDeque;
+
+use super::{CullMethod, Frame, Method, Stat};
+use crate::error::Result;
+use crate::gpu::Gpu;
+use load::FrustumLoad;
+
+/// A frame run, awaiting its measurement.
+#[derive(Clone, Copy, Debug)]
+struct Pending {
+    frame: u64,
+    candidate: usize,
+    cpu_ms: f64,
+    frustum_triangles: f64,
+    /// Left out of the candidate's estimate: its first frame after another
+    /// candidate ran (a cut it would not otherwise have had).
+    left_out: bool,
+}
+
+/// The `auto` method: its candidates' states and the chooser.
+pub struct Auto {
+    candidates: Vec<(Method, Box<dyn CullMethod>)>,
+    chooser: Chooser,
+    load: FrustumLoad,
+    pending: VecDeque<Pending>,
+    /// The last frame's decision.
+    last: Option<Decision>,
+    /// The device times frames with timestamps (else the CPU period stands in).
+    timed: bool,
+}
+
+impl Auto {
+    /// `auto` over `candidates` (created from `cx`); fails if one cannot be created.
+    pub fn new(cx: &super::MethodContext, candidates: &[Method]) -> Result<Auto> {
+        let methods = candidates.iter().map(|&m| Ok((m, m.create(cx)?))).collect::<Result<Vec<_>>>()?;
+        let loads = candidates
+            .iter()
+            .map(|m| match m {
+                Method::Noc => Load::All,
+                Method::Vfc => Load::Frustum,
+                _ => Load::Occluded,
+            })
+            .collect();
+        let temporal = candidates.iter().map(|m| !matches!(m, Method::Noc | Method::Vfc)).collect();
+        Ok(Auto {
+            candidates: methods,
+            chooser: Chooser::new(loads, temporal, Params::default()),
+            load: FrustumLoad::default(),
+            pending: VecDeque::new(),
+            last: None,
+            timed: cx.gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY),
+        })
+    }
+
+    /// The candidates, in the order of [`Stat::Chosen`]'s values.
+    pub fn candidates(&self) -> Vec<Method> {
+        self.candidates.iter().map(|c| c.0).collect()
+    }
+
+    /// The chooser (its fits and counts), for tests and the benchmark.
+    pub fn chooser(&self) -> &Chooser {
+        &self.chooser
+    }
+
+    /// Step 1: takes the measurements that came back.
+    fn measure(&mut self, f: &mut Frame) {
+        let arrived = f.tally.latest(f.gpu);
+        let period = f.period_ms;
+        let (chooser, timed) = (&mut self.chooser, self.timed);
+        let mut observe = |p: &Pending, cost_ms: f64, triangles: f64| {
+            if !p.left_out {
+                chooser.observe(&Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles });
+            }
+        };
+        match (timed, arrived) {
+            (true, Some(s)) => {
+                while let Some(p) = self.pending.front().copied().filter(|p| p.frame <= s.frame) {
+                    self.pending.pop_front();
+                    if p.frame == s.frame {
+                        observe(&p, s.gpu_ms.unwrap_or(0.0) as f64 + p.cpu_ms, s.triangles as f64);
+                    }
+                }
+            }
+            (false, Some(s)) => {
+                // The period since the last frame began is the last frame's
+                // cost; its triangles come later, so take the newest count.
+                if let (Some(p), Some(ms)) = (self.pending.back().copied(), period) {
+                    observe(&p, ms, s.triangles as f64);
+                }
+                self.pending.clear();
+            }
+            _ => {}
+        }
+        // Nothing older than the ring can still arrive.
+        while self.pending.len() > 8 {
+            self.pending.pop_front();
+        }
+    }
+}
+
+impl CullMethod for Auto {
+    fn method(&self) -> Method {
+        Method::Auto
+    }
+
+    fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
+        if let Some(d) = self.last {
+            self.candidates[d.candidate].1.reset(enc);
+        }
+    }
+
+    fn frame(&mut self, f: &mut Frame) -> Result<()> {
+        // 1. Measurements.
+        self.measure(f);
+        // 2. Load.
+        let (tree, generation) = f.tree;
+        self.load.refresh(tree, generation, &f.objects.cpu_commands);
+        let frustum = self.load.count(tree, &f.geometry.planes);
+        // 3. Choice.
+        let d = self.chooser.decide(f.number, frustum, self.load.all);
+        let handed_over = self.last.is_some_and(|l| l.candidate != d.candidate);
+        let (method, imp) = &mut self.candidates[d.candidate];
+        if d.fresh && handed_over {
+            imp.reset(f.encoder());
+        }
+        // 4. The candidate's frame.
+        f.culled_by = *method;
+        let start = std::time::Instant::now();
+        imp.frame(f)?;
+        let temporal = !matches!(method, Method::Noc | Method::Vfc);
+        self.pending.push_back(Pending {
+            frame: f.number,
+            candidate: d.candidate,
+            cpu_ms: start.elapsed().as_secs_f64() * 1e3,
+            frustum_triangles: frustum,
+            left_out: d.fresh && handed_over && temporal,
+        });
+        self.last = Some(d);
+        Ok(())
+    }
+
+    fn stats(&mut self, gpu: &Gpu) -> Result<Vec<(Stat, f64)>> {
+        let Some(d) = self.last else { return Ok(Vec::new()) };
+        let (method, imp) = &mut self.candidates[d.candidate];
+        let mut s = imp.stats(gpu)?;
+        let chosen = Method::ALL.iter().position(|m| m == method).unwrap_or(0);
+        s.extend([(Stat::Chosen, chosen as f64), (Stat::Probe, d.probe as u32 as f64)]);
+        Ok(s)
+    }
+
+    fn tested_nodes(&self, gpu: &Gpu) -> Result<Option<Vec<u32>>> {
+        match self.last {
+            Some(d) => self.candidates[d.candidate].1.tested_nodes(gpu),
+            None => Ok(None),
+        }
+    }
+}
