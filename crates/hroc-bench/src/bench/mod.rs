@@ -134,6 +134,26 @@ pub struct MethodRow {
     pub stats: BTreeMap<hroc::Stat, f64>,
     /// Wall ms of every frame (warm-up frames included).
     pub frame_ms: Vec<f64>,
+    /// `auto`: the method that culled each frame of the camera view
+    /// (empty for the other methods).
+    #[serde(serialize_with = "method_names")]
+    pub frame_methods: Vec<Method>,
+}
+
+impl MethodRow {
+    /// `auto`: each method it ran and the share of frames it ran, most first.
+    pub fn choices(&self) -> Vec<(Method, f64)> {
+        let mut out: Vec<(Method, f64)> = Vec::new();
+        for m in &self.frame_methods {
+            match out.iter_mut().find(|(x, _)| x == m) {
+                Some(e) => e.1 += 1.0,
+                None => out.push((*m, 1.0)),
+            }
+        }
+        out.iter_mut().for_each(|e| e.1 /= self.frame_methods.len() as f64);
+        out.sort_by(|a, b| b.1.total_cmp(&a.1));
+        out
+    }
 }
 
 /// Mean shader invocations per frame of one stage.
@@ -241,6 +261,8 @@ struct Acc {
     stray: u64,
     /// Objects drawn by each view, summed over frames.
     view_drawn: Vec<u64>,
+    /// `auto`: the method of every frame.
+    chosen: Vec<Method>,
 }
 
 /// Like the paper (§5.1), the first frames pay for lazy initialisation and
@@ -330,7 +352,10 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
             *sum += d as u64;
         }
         for (st, v) in stats {
-            *a.stats.entry(st).or_default() += v;
+            match st {
+                hroc::Stat::Chosen => a.chosen.push(Method::ALL.get(v as usize).copied().unwrap_or(Method::Auto)),
+                _ => *a.stats.entry(st).or_default() += v,
+            }
         }
         a.wall.push(r.wall_ms);
         if k >= warm {
@@ -446,6 +471,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
                 invocations: a.invocations.iter().map(|(k, v)| (*k, InvocationsMean::of(v, timed_frames))).collect(),
                 stats: a.stats.iter().map(|(k, v)| (*k, v / frames as f64)).collect(),
                 frame_ms: a.wall.clone(),
+                frame_methods: a.chosen.clone(),
             }
         })
         .collect();
@@ -511,6 +537,10 @@ pub fn parse_methods(spec: &str) -> Result<Vec<Method>> {
 }
 
 /// A method by its name in the JSON rows.
+fn method_names<S: serde::Serializer>(m: &[Method], s: S) -> std::result::Result<S::Ok, S::Error> {
+    s.collect_seq(m.iter().map(|m| m.name()))
+}
+
 fn method_name<S: serde::Serializer>(m: &Method, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.serialize_str(m.name())
 }

@@ -166,6 +166,11 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
         }
     }
     out.push_str(&grid(&head, &rows, markdown));
+    for x in r.rows.iter().filter(|x| !x.frame_methods.is_empty()) {
+        let shares: Vec<String> = x.choices().iter().map(|(m, s)| format!("{m} {:.0} %", 100.0 * s)).collect();
+        let probes = x.stats.get(&hroc::Stat::Probe).copied().unwrap_or(0.0) * r.frames as f64;
+        let _ = writeln!(out, "\n{} ran: {} of {} frames ({probes:.0} probe frames)", x.method, shares.join(", "), x.frame_methods.len());
+    }
     let stray: Vec<String> = r.rows.iter().filter(|x| x.stray_pixels > 0).map(|x| format!("{} {}", x.method, x.stray_pixels)).collect();
     if !stray.is_empty() {
         let _ = writeln!(out, "\nnoc fragments in front of their own object's box (rasterizer strays, not culling misses), not reproduced: {}", stray.join(", "));

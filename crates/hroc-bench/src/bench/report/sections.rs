@@ -183,9 +183,21 @@ fn per_frame_plots(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
             .collect();
         let title = format!("{}: ms per frame", s.spec);
         let fig = plot::line_plot(&LinePlot { title: &title, x_label: "frame", y_label: "ms", series: &series, log_x: false, log_y: false }, PLOT)?;
-        let stem = format!("frames-{}", stem(&s.spec));
-        fig.save(plots, &stem)?;
-        imgs.push((format!("plots/{stem}.svg"), format!("{} ({} objects)", s.spec, s.stats.objects)));
+        let frames_stem = format!("frames-{}", stem(&s.spec));
+        fig.save(plots, &frames_stem)?;
+        imgs.push((format!("plots/{frames_stem}.svg"), format!("{} ({} objects)", s.spec, s.stats.objects)));
+        // What auto ran each frame: the methods as levels, cheapest draw at the top.
+        for r in s.main.rows.iter().filter(|r| !r.frame_methods.is_empty()) {
+            let levels = [Method::Noc, Method::Vfc, Method::Hzb];
+            let level = |m: &Method| levels.iter().position(|l| l == m).unwrap_or(levels.len()) as f64;
+            let points: Vec<(f64, f64)> = r.frame_methods.iter().enumerate().map(|(k, m)| (k as f64, level(m))).collect();
+            let series = [Series { name: format!("{} (0 noc, 1 vfc, 2 hzb, 3 hroc)", r.method), points }];
+            let title = format!("{}: the method {} ran", s.spec, r.method);
+            let fig = plot::line_plot(&LinePlot { title: &title, x_label: "frame", y_label: "method", series: &series, log_x: false, log_y: false }, PLOT)?;
+            let choice_stem = format!("choice-{}", stem(&s.spec));
+            fig.save(plots, &choice_stem)?;
+            imgs.push((format!("plots/{choice_stem}.svg"), format!("{}: what {} ran", s.spec, r.method)));
+        }
     }
     doc.images(imgs);
     Ok(())

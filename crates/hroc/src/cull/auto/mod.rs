@@ -36,9 +36,20 @@ struct Pending {
     candidate: usize,
     cpu_ms: f64,
     frustum_triangles: f64,
-    /// Left out of the candidate's estimate: its first frame after another
-    /// candidate ran (a cut it would not otherwise have had).
+    /// Left out of the candidate's estimate: a warm-up frame after it took over.
     left_out: bool,
+}
+
+/// Frames `m` takes after taking over from another method to reach its
+/// steady cost: HROC's first is the cut's (V seeded by rays); `hzb`'s
+/// first draws what its stale visible set and an empty pyramid pass, its
+/// second finds the visible set from the depth the first left.
+fn warm_up(m: Method) -> u32 {
+    match m {
+        Method::Noc | Method::Vfc => 0,
+        Method::Hzb => 2,
+        _ => 1,
+    }
 }
 
 /// The `auto` method: its candidates' states and the chooser.
@@ -65,10 +76,10 @@ impl Auto {
                 _ => Load::Occluded,
             })
             .collect();
-        let temporal = candidates.iter().map(|m| !matches!(m, Method::Noc | Method::Vfc)).collect();
+        let warm = candidates.iter().map(|&m| warm_up(m)).collect();
         Ok(Auto {
             candidates: methods,
-            chooser: Chooser::new(loads, temporal, Params::default()),
+            chooser: Chooser::new(loads, warm, Params::default()),
             load: FrustumLoad::default(),
             pending: VecDeque::new(),
             last: None,
@@ -92,6 +103,9 @@ impl Auto {
         let period = f.period_ms;
         let (chooser, timed) = (&mut self.chooser, self.timed);
         let mut observe = |p: &Pending, cost_ms: f64, triangles: f64| {
+            if std::env::var("HROC_AUTO_DEBUG").is_ok() {
+                eprintln!("frame {} cand {} cost {cost_ms:.2} tris {triangles} frustum {} left_out {}", p.frame, p.candidate, p.frustum_triangles, p.left_out);
+            }
             if !p.left_out {
                 chooser.observe(&Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles });
             }
@@ -151,13 +165,12 @@ impl CullMethod for Auto {
         f.culled_by = *method;
         let start = std::time::Instant::now();
         imp.frame(f)?;
-        let temporal = !matches!(method, Method::Noc | Method::Vfc);
         self.pending.push_back(Pending {
             frame: f.number,
             candidate: d.candidate,
             cpu_ms: start.elapsed().as_secs_f64() * 1e3,
             frustum_triangles: frustum,
-            left_out: d.fresh && handed_over && temporal,
+            left_out: !d.measured,
         });
         self.last = Some(d);
         Ok(())
