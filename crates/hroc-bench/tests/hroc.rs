@@ -261,7 +261,7 @@ fn conservative_on_cut_paths_with_every_seed() {
         let path = paths::cut_path(&scene, 3);
         let mut s = Session::new(gpu(), scene, Some(path), 21, RES, Split::Sah).unwrap();
         let mut drawn = Vec::new();
-        for seed in [hroc::Seed::Cuts, hroc::Seed::Always, hroc::Seed::Never] {
+        for seed in [hroc::Seed::Cuts, hroc::Seed::Always, hroc::Seed::Never, hroc::Seed::CutsOnly] {
             s.options = hroc::MethodOptions { hroc_seed: seed, ..Default::default() };
             let ratio = assert_variants_conservative(&mut s, &format!("{key} seed {seed:?}"));
             // Drawn over visible: every visible object is drawn.

@@ -139,7 +139,8 @@ struct MethodArgs {
     /// default: the middle of the BVH, depth/2-1:depth/2+1).
     #[arg(long, value_parser = cull::ioc::parse_range)]
     ioc_range: Option<(u32, u32)>,
-    /// hroc: when a coarse ray grid seeds the occluders: cuts, always, never.
+    /// hroc: when a coarse ray grid seeds the occluders: cuts (and where
+    /// the occluders' depth leaves holes), cuts-only, always, never.
     #[arg(long, default_value = "cuts")]
     hroc_seed: cull::Seed,
     /// hroc: pixels per side of the occlusion test's blocks, 1 to 8 (one

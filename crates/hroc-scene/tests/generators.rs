@@ -6,7 +6,7 @@ use hroc::frustum::{aabb_in_frustum, frustum_planes};
 use hroc_scene::{generators, load, Aabb, Scene};
 use std::time::Instant;
 
-const EXPECTED: [&str; 10] = ["rooms", "downtown", "figures", "fantasy", "factory", "radial-city", "radial-city-fast", "satellites", "library", "teapots"];
+const EXPECTED: [&str; 11] = ["rooms", "downtown", "figures", "fantasy", "factory", "radial-city", "radial-city-fast", "satellites", "library", "teapots", "houses"];
 
 fn gen(key: &str, n: usize, seed: u64) -> Scene {
     let g = generators::find(key).unwrap_or_else(|| panic!("no generator '{key}'"));

@@ -115,6 +115,9 @@ pub struct MethodRow {
     /// Mean objects drawn per frame by each view: the camera's, then each
     /// shadow cascade's.
     pub drawn_per_view: Vec<f64>,
+    /// Most objects the camera view drew in one timed frame (after the
+    /// warm-up): a frame whose visible set collapsed.
+    pub drawn_max: u64,
     /// Mean triangles drawn per frame, and their fraction of the scene's
     /// (of every view's scene, with shadow cascades).
     pub triangles_mean: f64,
@@ -154,6 +157,16 @@ impl MethodRow {
         out.sort_by(|a, b| b.1.total_cmp(&a.1));
         out
     }
+
+    /// Invocations per frame of the stages that do not draw scene
+    /// geometry: the work of culling itself.
+    pub fn culling_invocations(&self) -> InvocationsMean {
+        self.invocations.iter().filter(|(stage, _)| !stage.draws_scene()).fold(InvocationsMean::default(), |a, (_, i)| InvocationsMean {
+            vertex: a.vertex + i.vertex,
+            fragment: a.fragment + i.fragment,
+            compute: a.compute + i.compute,
+        })
+    }
 }
 
 /// Mean shader invocations per frame of one stage.
@@ -167,18 +180,6 @@ pub struct InvocationsMean {
 impl InvocationsMean {
     fn of(sum: &hroc::testing::gpu::Invocations, frames: f64) -> Self {
         InvocationsMean { vertex: sum.vertex as f64 / frames, fragment: sum.fragment as f64 / frames, compute: sum.compute as f64 / frames }
-    }
-}
-
-impl MethodRow {
-    /// Invocations per frame of the stages that do not draw scene
-    /// geometry: the work of culling itself.
-    pub fn culling_invocations(&self) -> InvocationsMean {
-        self.invocations.iter().filter(|(stage, _)| !stage.draws_scene()).fold(InvocationsMean::default(), |a, (_, i)| InvocationsMean {
-            vertex: a.vertex + i.vertex,
-            fragment: a.fragment + i.fragment,
-            compute: a.compute + i.compute,
-        })
     }
 }
 
@@ -263,6 +264,7 @@ struct Acc {
     view_drawn: Vec<u64>,
     /// `auto`: the method of every frame.
     chosen: Vec<Method>,
+    drawn_max: u64,
 }
 
 /// Like the paper (§5.1), the first frames pay for lazy initialisation and
@@ -350,6 +352,9 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
         a.view_drawn.resize(views.len(), 0);
         for (sum, &d) in a.view_drawn.iter_mut().zip(views) {
             *sum += d as u64;
+        }
+        if k >= warm {
+            a.drawn_max = a.drawn_max.max(views.first().copied().unwrap_or(0) as u64);
         }
         for (st, v) in stats {
             match st {
@@ -465,6 +470,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
                 stray_pixels: a.stray,
                 drawn_mean: a.drawn as f64 / frames as f64,
                 drawn_per_view: a.view_drawn.iter().map(|&d| d as f64 / frames as f64).collect(),
+                drawn_max: a.drawn_max,
                 triangles_mean: a.triangles as f64 / frames as f64,
                 triangles_fraction: a.triangles as f64 / (frames as f64 * a.view_drawn.len().max(1) as f64 * scene_triangles.max(1) as f64),
                 stages_ms: a.stages.iter().map(|(k, v)| (*k, v / timed_frames)).collect(),

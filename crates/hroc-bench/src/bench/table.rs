@@ -138,7 +138,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
             r.host_update_ms_mean
         );
     }
-    let head = ["method", "ms/frame", "p95 ms", "GPU ms", "C/N", "C/R", "false neg", "missing px", "drawn/frame", "triangles/frame"];
+    let head = ["method", "ms/frame", "p95 ms", "GPU ms", "C/N", "C/R", "false neg", "missing px", "drawn/frame", "most drawn", "triangles/frame"];
     let noc = r.rows.iter().find(|x| x.method == Method::Noc).map(|x| x.ms_mean);
     let mut rows: Vec<Vec<String>> = r
         .rows
@@ -154,6 +154,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
                 x.false_negatives.to_string(),
                 x.missing_pixels.to_string(),
                 format!("{:.0}", x.drawn_mean),
+                x.drawn_max.to_string(),
                 format!("{:.0} ({:.1} %)", x.triangles_mean, 100.0 * x.triangles_fraction),
             ]
         })

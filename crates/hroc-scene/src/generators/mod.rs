@@ -13,6 +13,7 @@ mod downtown;
 mod factory;
 mod fantasy;
 mod figures;
+mod houses;
 mod library;
 mod radial_city;
 pub use crate::rng;
@@ -40,7 +41,7 @@ pub struct Generator {
     pub paper_objects: usize,
 }
 
-static GENERATORS: [Generator; 10] = [
+static GENERATORS: [Generator; 11] = [
     Generator { key: "rooms", description: "grid of rooms joined by doorways, furnished (IOC poster RM)", default_objects: 2_753, paper_objects: 2_753 },
     Generator {
         key: "downtown",
@@ -66,6 +67,12 @@ static GENERATORS: [Generator; 10] = [
     },
     Generator { key: "library", description: "rows of shelves without backs; the books are the occluders (statistical OQ paper)", default_objects: 15_000, paper_objects: 40_000 },
     Generator { key: "teapots", description: "randomly placed teapots in a volume (statistical OQ paper)", default_objects: 5_000, paper_objects: 5_000 },
+    Generator {
+        key: "houses",
+        description: "grid of hollow furnished buildings; the path enters two and leaves them (visible sets that collapse)",
+        default_objects: 11_000,
+        paper_objects: 11_000,
+    },
 ];
 
 /// The generator for a scene key (`rooms`, `radial-city-fast`, ...).
@@ -100,6 +107,7 @@ pub fn generate(g: &Generator, objects: usize, seed: u64) -> Result<Scene> {
         "satellites" => satellites::build(&mut b),
         "library" => library::build(&mut b),
         "teapots" => teapots::build(&mut b),
+        "houses" => houses::build(&mut b),
         other => return Err(Error::UnknownScene(other.to_string(), keys().join(", "))),
     };
     if b.scene.objects.len() != n {

@@ -73,12 +73,18 @@ pub struct MethodOptions {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Seed {
     /// On the first frame and after every camera cut, signalled or detected
-    /// (the default): last frame's V is stale then.
+    /// (the default): last frame's V is stale then. On every other frame
+    /// the cells of the grid that V's depth left at the far plane cast
+    /// their rays, and what they meet first is drawn with V: a V too weak
+    /// to cull (the eye just left a building) does not collapse the frame.
     Cuts,
+    /// On the first frame and after every camera cut only (no refill of
+    /// holes: what the default was measured against).
+    CutsOnly,
     /// Every frame, added to last frame's V.
     Always,
     /// Never: after a cut V is empty and the root is the one group (the
-    /// paper's first frame).
+    /// paper's first frame), and no frame refills V.
     Never,
 }
 
@@ -87,9 +93,10 @@ impl FromStr for Seed {
     fn from_str(s: &str) -> Result<Seed> {
         match s {
             "cuts" => Ok(Seed::Cuts),
+            "cuts-only" => Ok(Seed::CutsOnly),
             "always" => Ok(Seed::Always),
             "never" => Ok(Seed::Never),
-            _ => Err(Error::Arg(format!("unknown seed '{s}': expected cuts, always or never"))),
+            _ => Err(Error::Arg(format!("unknown seed '{s}': expected cuts, cuts-only, always or never"))),
         }
     }
 }

@@ -14,12 +14,18 @@
 //! the CPU clock's frame period).
 //!
 //! The choice:
-//! - **Calibration.** Every candidate runs once before any is chosen,
-//!   unless even an optimistic prediction of it (no pass costs) is past
-//!   [`Params::plausible`] times the best: at 20k objects `noc` never runs.
+//! - **Calibration.** Every candidate runs before any is chosen, the last
+//!   given first (the one that culls most), unless a prediction of it is
+//!   past [`Params::plausible`] times the best: at 20k objects `noc` and
+//!   `vfc` never run. A frame of any candidate that drew the whole
+//!   frustum, or every object, is an upper bound of what `vfc`, or `noc`,
+//!   costs: the caller observes it for them too (`hzb` taking over draws
+//!   the frustum).
 //! - **Hysteresis.** A switch needs the best prediction below
 //!   `1 - margin` times the current one in `confirm` decisions in a row,
-//!   and `dwell` frames since the last switch.
+//!   `dwell` frames since the last switch, and a saving over the next
+//!   `probe_every` frames above what the switch costs (the warm-up frames
+//!   of the candidate taking over, measured over its steady cost).
 //! - **Probes.** After the calibration, at most one frame in
 //!   `probe_every` probes: the candidate measured longest ago (past
 //!   `stale` frames), if plausible, runs for its warm-up frames and one
@@ -27,7 +33,8 @@
 //!   state between frames takes frames after taking over to reach its
 //!   steady cost (`hroc` one: the cut's seeded frame; `hzb` two: an empty
 //!   visible set draws the frustum, whose depth then finds the visible
-//!   set); those are left out of its estimate. A probe of every candidate
+//!   set); those are left out of its estimate, and so is a candidate's
+//!   first frame ever (lazy set-up in drivers). A probe of every candidate
 //!   at least every `forced` frames keeps an unlucky estimate from sticking.
 //!
 //! A switch is a cut for the method taking over (`fresh`): its state is
@@ -88,6 +95,9 @@ pub struct Observation {
     pub triangles: f64,
     /// Triangles in the frustum that frame.
     pub frustum_triangles: f64,
+    /// A warm-up frame after the candidate took over: it prices a switch,
+    /// not the candidate's steady cost.
+    pub warm_up: bool,
 }
 
 /// What to run this frame.
@@ -102,6 +112,8 @@ pub struct Decision {
     /// The frame counts in the candidate's estimate: false in its warm-up
     /// frames after taking over.
     pub measured: bool,
+    /// The candidate's first frame ever (lazy set-up in drivers).
+    pub first: bool,
 }
 
 /// Decayed sums of one candidate's observations (for `a_m` and `k`).
@@ -162,6 +174,8 @@ pub struct Chooser {
     pub frames_run: Vec<u64>,
     /// Frames spent probing.
     pub probe_frames: u64,
+    /// What a warm-up frame of each candidate costs over its steady frame, ms.
+    switch_ms: Vec<Option<f64>>,
     /// ... of which in the calibration.
     calibration_frames: u64,
 }
@@ -187,17 +201,34 @@ impl Chooser {
             params,
             frames_run: vec![0; n],
             probe_frames: 0,
+            switch_ms: vec![None; n],
             calibration_frames: 0,
         }
     }
 
     /// Takes a measured frame. Frames a candidate culled fresh after
     /// another ran (a switch) are left out by the caller.
+    ///
+    /// A steady frame's cost counts up to twice the candidate's prediction
+    /// (a camera jump's spike moves the estimate, but not as far as one
+    /// frame would pull a mean); a warm-up frame's excess over the
+    /// prediction is what a switch to the candidate costs.
     pub fn observe(&mut self, o: &Observation) {
-        if o.cost_ms.is_finite() && o.cost_ms >= 0.0 {
-            self.fits[o.candidate].add(o, self.params.decay);
-            self.measured[o.candidate] = Some(self.measured[o.candidate].map_or(o.frame, |m| m.max(o.frame)));
+        if !o.cost_ms.is_finite() || o.cost_ms < 0.0 {
+            return;
         }
+        let i = o.candidate;
+        let (predicted, measured) = self.predict(i, o.frustum_triangles, f64::INFINITY);
+        if o.warm_up {
+            if measured {
+                let excess = (o.cost_ms - predicted).max(0.0);
+                self.switch_ms[i] = Some(self.switch_ms[i].map_or(excess, |e| 0.5 * (e + excess)));
+            }
+            return;
+        }
+        let cost_ms = if measured && self.loads[i] != Load::All { o.cost_ms.min(2.0 * predicted) } else { o.cost_ms };
+        self.fits[i].add(&Observation { cost_ms, ..*o }, self.params.decay);
+        self.measured[i] = Some(self.measured[i].map_or(o.frame, |m| m.max(o.frame)));
     }
 
     /// ms per drawn triangle: the within-candidate least-squares slope,
@@ -221,6 +252,12 @@ impl Chooser {
         fitted.clamp(0.0, bound)
     }
 
+    /// The highest ms per drawn triangle any candidate's frames could
+    /// have: the least of their mean cost over mean triangles.
+    fn highest_triangle_ms(&self) -> f64 {
+        self.fits.iter().filter(|f| f.n > 0.0 && f.t > 0.0).map(|f| f.c / f.t).fold(f64::INFINITY, f64::min).min(f64::MAX)
+    }
+
     /// Triangles candidate `i` would draw now.
     fn load(&self, i: usize, frustum: f64, all: f64) -> f64 {
         match self.loads[i] {
@@ -230,14 +267,23 @@ impl Chooser {
         }
     }
 
-    /// Predicted ms of candidate `i` now; an optimistic one (no pass cost,
-    /// an occlusion method drawing nothing) before it was measured.
+    /// Predicted ms of candidate `i` now, and whether it was measured.
+    /// Before it was: 0 (untried, so tried), except for drawing every
+    /// object, which costs what drawing the frustum does plus the rest at
+    /// the highest cost per triangle measured (a guess on the high side:
+    /// at 20k objects, `noc` is never tried).
     pub fn predict(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
         let k = self.triangle_ms();
         let f = &self.fits[i];
         if f.n == 0.0 {
-            let draws = if self.loads[i] == Load::Occluded { 0.0 } else { self.load(i, frustum, all) };
-            return (k * draws, false);
+            let frustum_cost = match self.loads[i] {
+                Load::All => self.with_load(Load::Frustum).map(|v| self.predict(v, frustum, all)).filter(|p| p.1),
+                _ => None,
+            };
+            return match frustum_cost {
+                Some((vfc, _)) => (vfc + self.highest_triangle_ms() * (all - frustum).max(0.0), false),
+                None => (0.0, false),
+            };
         }
         let a = ((f.c - k * f.t) / f.n).max(0.0);
         (a + k * self.load(i, frustum, all), true)
@@ -248,9 +294,11 @@ impl Chooser {
     pub fn decide(&mut self, frame: u64, frustum: f64, all: f64) -> Decision {
         let mut d = self.decide_inner(frame, frustum, all);
         if d.fresh {
-            self.warming = self.warm[d.candidate];
+            // A candidate's first frames ever also pay for lazy set-up.
+            self.warming = self.warm[d.candidate].max(self.ran[d.candidate].is_none() as u32);
         }
         d.measured = self.warming == 0;
+        d.first = self.ran[d.candidate].is_none();
         self.warming = self.warming.saturating_sub(1);
         self.frames_run[d.candidate] += 1;
         self.probe_frames += d.probe as u64;
@@ -265,39 +313,36 @@ impl Chooser {
         let predictions: Vec<(f64, bool)> = (0..n).map(|i| self.predict(i, frustum, all)).collect();
         let measured_best = (0..n).filter(|&i| predictions[i].1).map(|i| predictions[i].0).fold(f64::INFINITY, f64::min);
         let plausible = |i: usize| !measured_best.is_finite() || predictions[i].0 <= p.plausible * measured_best;
-        // Calibration: every plausible candidate runs, one after another.
-        let untried = (0..n).find(|&i| self.ran[i].is_none() && plausible(i));
-        // A probe under way runs to its end, then hands back (or on to the
-        // next candidate of the calibration).
+        // Calibration: every plausible candidate runs, one after another,
+        // each judged once the measurements before it arrived.
+        let arriving = |i: usize| self.ran[i].is_some_and(|r| frame < r + ARRIVAL) && self.measured[i].is_none();
+        let waiting = (0..n).any(arriving) || !measured_best.is_finite();
+        let untried = (0..n).rev().find(|&i| self.ran[i].is_none() && plausible(i)).filter(|_| !waiting);
+        // A probe under way runs to its end (and on while its measurement
+        // is on its way), then hands on to the calibration's next, or back.
         if let Some(pr) = self.probe.as_mut() {
-            if pr.left > 0 {
-                pr.left -= 1;
-                return Decision { candidate: pr.candidate, fresh: false, probe: true, measured: true };
+            if pr.left > 0 || arriving(pr.candidate) {
+                pr.left = pr.left.saturating_sub(1);
+                return Decision { candidate: pr.candidate, fresh: false, probe: true, measured: true, first: false };
             }
             let back = pr.back_to;
             self.probe = None;
             self.current = Some(back);
-            if let Some(i) = untried.filter(|_| measured_best.is_finite()) {
+            if let Some(i) = untried {
                 return self.start_probe(frame, i, back);
             }
-            return Decision { candidate: back, fresh: true, probe: false, measured: true };
+            return Decision { candidate: back, fresh: true, probe: false, measured: true, first: false };
         }
         let Some(current) = self.current else {
-            let first = (0..n).find(|&i| self.loads[i] == Load::Frustum).unwrap_or(0);
+            let first = n - 1;
             self.current = Some(first);
-            return Decision { candidate: first, fresh: true, probe: false, measured: true };
+            return Decision { candidate: first, fresh: true, probe: false, measured: true, first: false };
         };
-        // Nothing is judged before the first measurement arrives.
-        if !measured_best.is_finite() {
-            return Decision { candidate: current, fresh: false, probe: false, measured: true };
-        }
         if let Some(i) = untried {
             return self.start_probe(frame, i, current);
         }
-        // Waiting for the calibration's measurements to arrive.
-        let arriving = |i: usize| self.ran[i].is_some_and(|r| frame < r + ARRIVAL) && self.measured[i].is_none();
-        if (0..n).any(arriving) {
-            return Decision { candidate: current, fresh: false, probe: false, measured: true };
+        if waiting {
+            return Decision { candidate: current, fresh: false, probe: false, measured: true, first: false };
         }
         // Probes of stale estimates.
         if frame >= self.last_probe + p.probe_every {
@@ -314,9 +359,13 @@ impl Chooser {
         let Some(switched_at) = self.switched_at else {
             self.switched_at = Some(frame);
             self.current = Some(best);
-            return Decision { candidate: best, fresh: best != current, probe: false, measured: true };
+            return Decision { candidate: best, fresh: best != current, probe: false, measured: true, first: false };
         };
-        if best != current && predictions[best].0 < (1.0 - p.margin) * predictions[current].0 {
+        // A switch pays the warm-up of the candidate taking over: worth it
+        // when the saving over the next `probe_every` frames covers it.
+        let switch_ms = self.warm[best] as f64 * self.switch_ms[best].unwrap_or(0.0);
+        let saving = predictions[current].0 - predictions[best].0;
+        if best != current && saving > p.margin * predictions[current].0 && saving * p.probe_every as f64 > switch_ms {
             self.better += 1;
         } else {
             self.better = 0;
@@ -325,15 +374,20 @@ impl Chooser {
             self.better = 0;
             self.current = Some(best);
             self.switched_at = Some(frame);
-            return Decision { candidate: best, fresh: true, probe: false, measured: true };
+            return Decision { candidate: best, fresh: true, probe: false, measured: true, first: false };
         }
-        Decision { candidate: current, fresh: false, probe: false, measured: true }
+        Decision { candidate: current, fresh: false, probe: false, measured: true, first: false }
     }
 
     fn start_probe(&mut self, frame: u64, i: usize, back_to: usize) -> Decision {
         self.last_probe = frame;
-        self.probe = Some(Probe { candidate: i, left: self.warm[i], back_to });
-        Decision { candidate: i, fresh: true, probe: true, measured: true }
+        self.probe = Some(Probe { candidate: i, left: self.warm[i].max(self.ran[i].is_none() as u32), back_to });
+        Decision { candidate: i, fresh: true, probe: true, measured: true, first: false }
+    }
+
+    /// The candidate with `load`, if any.
+    pub fn with_load(&self, load: Load) -> Option<usize> {
+        self.loads.iter().position(|&l| l == load)
     }
 
     /// The candidate chosen (not probed) now.
@@ -360,9 +414,14 @@ mod tests {
             if f >= late {
                 let d = ran[(f - late) as usize];
                 let g = f - late;
-                if d.measured {
-                    c.observe(&Observation { candidate: d.candidate, frame: g, cost_ms: cost(d.candidate, g), triangles: draws(d.candidate), frustum_triangles: frustum });
-                }
+                c.observe(&Observation {
+                    candidate: d.candidate,
+                    frame: g,
+                    cost_ms: cost(d.candidate, g),
+                    triangles: draws(d.candidate),
+                    frustum_triangles: frustum,
+                    warm_up: !d.measured,
+                });
             }
             ran.push(c.decide(f, frustum, all));
         }
@@ -379,8 +438,8 @@ mod tests {
         let tail = &ran[100..];
         let on_best = tail.iter().filter(|&&i| i == 3).count() as f64 / tail.len() as f64;
         assert!(on_best > 0.93, "{on_best}");
-        // One frame in thirty, the calibration's five aside.
-        assert!((c.probe_frames - 5) * 30 <= 600, "{} probe frames", c.probe_frames);
+        // One frame in thirty, the calibration's aside.
+        assert!((c.probe_frames - 7) * 30 <= 600, "{} probe frames", c.probe_frames);
     }
 
     #[test]
@@ -424,8 +483,8 @@ mod tests {
         // cost = 2 + 1e-4 * T for vfc, 5 + 1e-4 * T for hroc.
         for f in 0..20u64 {
             let t = 1e4 * (1 + f % 5) as f64;
-            c.observe(&Observation { candidate: 1, frame: f, cost_ms: 2.0 + 1e-4 * t, triangles: t, frustum_triangles: t });
-            c.observe(&Observation { candidate: 3, frame: f, cost_ms: 5.0 + 1e-4 * t * 0.2, triangles: t * 0.2, frustum_triangles: t });
+            c.observe(&Observation { candidate: 1, frame: f, cost_ms: 2.0 + 1e-4 * t, triangles: t, frustum_triangles: t, warm_up: false });
+            c.observe(&Observation { candidate: 3, frame: f, cost_ms: 5.0 + 1e-4 * t * 0.2, triangles: t * 0.2, frustum_triangles: t, warm_up: false });
         }
         assert!((c.triangle_ms() - 1e-4).abs() < 1e-6, "{}", c.triangle_ms());
         // vfc with twice the frustum: 2 + 1e-4 * 2e5 = 22 ms.

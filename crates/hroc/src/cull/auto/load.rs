@@ -104,13 +104,19 @@ mod tests {
     #[test]
     fn it_counts_what_frustum_culling_keeps() {
         // A 20 x 20 grid of unit boxes on the ground, objects of 1..=400 triangles.
-        let boxes: Vec<Aabb> = (0..400).map(|i| Aabb::new(Vec3::new((i % 20) as f32 * 2.0, 0.0, (i / 20) as f32 * 2.0), Vec3::new((i % 20) as f32 * 2.0 + 1.0, 1.0, (i / 20) as f32 * 2.0 + 1.0))).collect();
+        let boxes: Vec<Aabb> = (0..400)
+            .map(|i| Aabb::new(Vec3::new((i % 20) as f32 * 2.0, 0.0, (i / 20) as f32 * 2.0), Vec3::new((i % 20) as f32 * 2.0 + 1.0, 1.0, (i / 20) as f32 * 2.0 + 1.0)))
+            .collect();
         let commands: Vec<DrawCommand> = (0..400).map(|i| DrawCommand { index_count: 3 * (i + 1), instance_count: 1, ..Default::default() }).collect();
         let tree = Bvh::build(&boxes, crate::bvh::Split::Sah);
         let mut load = FrustumLoad::default();
         load.refresh(&tree, 0, &commands);
         assert_eq!(load.all, (1..=400).sum::<u32>() as f64);
-        for (eye, at) in [(Vec3::new(-5.0, 3.0, -5.0), Vec3::new(20.0, 0.0, 20.0)), (Vec3::new(20.0, 10.0, 20.0), Vec3::new(20.0, 0.0, 0.0)), (Vec3::new(0.0, 5.0, 60.0), Vec3::new(0.0, 5.0, 100.0))] {
+        for (eye, at) in [
+            (Vec3::new(-5.0, 3.0, -5.0), Vec3::new(20.0, 0.0, 20.0)),
+            (Vec3::new(20.0, 10.0, 20.0), Vec3::new(20.0, 0.0, 0.0)),
+            (Vec3::new(0.0, 5.0, 60.0), Vec3::new(0.0, 5.0, 100.0)),
+        ] {
             let vp = glam::Mat4::perspective_rh(1.0, 1.5, 0.1, 100.0) * glam::Mat4::look_at_rh(eye, at, Vec3::Y);
             let planes = frustum_planes(&vp);
             let exact: f64 = boxes.iter().zip(&commands).filter(|(b, _)| aabb_in_frustum(&planes, b.min, b.max)).map(|(_, c)| (c.index_count / 3) as f64).sum();

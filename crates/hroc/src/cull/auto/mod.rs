@@ -38,17 +38,19 @@ struct Pending {
     frustum_triangles: f64,
     /// Left out of the candidate's estimate: a warm-up frame after it took over.
     left_out: bool,
+    /// The candidate's first frame ever.
+    first: bool,
 }
 
 /// Frames `m` takes after taking over from another method to reach its
-/// steady cost: HROC's first is the cut's (V seeded by rays); `hzb`'s
-/// first draws what its stale visible set and an empty pyramid pass, its
-/// second finds the visible set from the depth the first left.
+/// steady cost: HROC's first is the cut's (V seeded by rays), and its
+/// second draws what the seed's depth left untested; `hzb`'s first draws
+/// what its stale visible set and an empty pyramid pass, its second finds
+/// the visible set from the depth the first left.
 fn warm_up(m: Method) -> u32 {
     match m {
         Method::Noc | Method::Vfc => 0,
-        Method::Hzb => 2,
-        _ => 1,
+        _ => 2,
     }
 }
 
@@ -101,13 +103,32 @@ impl Auto {
     fn measure(&mut self, f: &mut Frame) {
         let arrived = f.tally.latest(f.gpu);
         let period = f.period_ms;
-        let (chooser, timed) = (&mut self.chooser, self.timed);
+        let (chooser, timed, all) = (&mut self.chooser, self.timed, self.load.all);
+        let (vfc, noc) = (chooser.with_load(Load::Frustum), chooser.with_load(Load::All));
         let mut observe = |p: &Pending, cost_ms: f64, triangles: f64| {
-            if std::env::var("HROC_AUTO_DEBUG").is_ok() {
-                eprintln!("frame {} cand {} cost {cost_ms:.2} tris {triangles} frustum {} left_out {}", p.frame, p.candidate, p.frustum_triangles, p.left_out);
+            let o = Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles, warm_up: p.left_out };
+            if std::env::var_os("HROC_AUTO_TRACE").is_some() {
+                eprintln!(
+                    "auto frame {} ran {} cost {cost_ms:.2} ms triangles {triangles} of {} in the frustum{}",
+                    p.frame,
+                    p.candidate,
+                    p.frustum_triangles,
+                    if p.left_out { " (warm-up)" } else { "" }
+                );
             }
-            if !p.left_out {
-                chooser.observe(&Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles });
+            // A first frame ever pays for lazy set-up besides.
+            if p.first {
+                return;
+            }
+            chooser.observe(&o);
+            // A frame that drew the whole frustum (or every object) bounds
+            // what vfc (or noc) costs from above.
+            {
+                for (bound, drew) in [(vfc, triangles >= 0.95 * p.frustum_triangles), (noc, triangles >= 0.95 * all)] {
+                    if let Some(b) = bound.filter(|&b| drew && b != p.candidate) {
+                        chooser.observe(&Observation { candidate: b, warm_up: false, ..o });
+                    }
+                }
             }
         };
         match (timed, arrived) {
@@ -171,6 +192,7 @@ impl CullMethod for Auto {
             cpu_ms: start.elapsed().as_secs_f64() * 1e3,
             frustum_triangles: frustum,
             left_out: !d.measured,
+            first: d.first,
         });
         self.last = Some(d);
         Ok(())

@@ -6,6 +6,9 @@
 //!    order) with forced early-Z; fragments mark the effective occluders O
 //!    (with ID marks, [`crate::Marks::Ids`], O is what owns a pixel of the
 //!    ID target after the draw: fewer objects, so more are tested);
+//!    where V's depth leaves cells of the seed's grid at the far plane,
+//!    their rays' first hits are drawn too (`refill_holes`: no collapse
+//!    when V occludes little, as when the eye leaves a building);
 //!    With [`MethodOptions::hroc_occluder_rounds`](super::MethodOptions),
 //!    in one front-to-back round (as step 4's below): V's objects hidden
 //!    behind V's nearest are left for the test as occludees;
@@ -98,6 +101,11 @@ pub struct Hroc {
     /// One ID pixel read in every `filter_stride²` ([`MethodOptions::hroc_filter_stride`](super::MethodOptions)).
     filter_stride: u32,
     seed: Step,
+    /// Step 1's refill of V where its depth left holes, and the end of
+    /// the frame's record of the cells its depth covers.
+    refill: Step,
+    cover: Step,
+    refill_list: DrawList,
     boxes: wgpu::RenderPipeline,
     /// With an emulated draw count: the group boxes' instanced draw.
     group_args: Option<wgpu::Buffer>,
@@ -173,7 +181,22 @@ impl Hroc {
         // Steps 0, 2 and 5 number their bindings alike (hroc_groups.wgsl).
         let bufs = [cx.frame, &nodes_buf, &leaf_of_object, &occluders, &state, &groups, &group_count, &occludees, &drawn, &visible];
         let mut resources: Vec<(u32, wgpu::BindingResource)> = bufs.iter().enumerate().map(|(i, b)| (i as u32, b.as_entire_binding())).collect();
-        resources.extend([(10, wgpu::BindingResource::TextureView(ids)), (11, cx.bounds.as_entire_binding())]);
+        let cells = SEED_GRID.0 * SEED_GRID.1;
+        let covered = gpu.buffer("hroc covered cells", cells as u64 * 4, U::STORAGE | U::COPY_DST);
+        let refill_list = DrawList {
+            commands: gpu.buffer("hroc refill list", cells as u64 * std::mem::size_of::<crate::layout::DrawCommand>() as u64, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC),
+            count: gpu.buffer("hroc refill count", 4, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC),
+            max_count: cells,
+        };
+        resources.extend([
+            (10, wgpu::BindingResource::TextureView(ids)),
+            (11, cx.bounds.as_entire_binding()),
+            (12, wgpu::BindingResource::TextureView(&cx.targets.depth_sampled)),
+            (13, cx.commands.as_entire_binding()),
+            (14, refill_list.commands.as_entire_binding()),
+            (15, refill_list.count.as_entire_binding()),
+            (16, covered.as_entire_binding()),
+        ]);
         let step = |layout: Layout, pass: &str, entry: &str, constants: &[(&str, f64)]| {
             let bind_layout = layout.create_for(gpu, samples);
             let module = gpu.shader(pass, &shader_source_for(pass, samples));
@@ -181,7 +204,10 @@ impl Hroc {
             Step { pipeline, bind: layout.bind(gpu, &bind_layout, &resources) }
         };
         let test_scale = [("TEST_SCALE", scale as f64)];
-        let seed = step(Layout::HrocSeed, "hroc_seed.wgsl", "seed", &[("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)]);
+        let grid = [("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)];
+        let seed = step(Layout::HrocSeed, "hroc_seed.wgsl", "seed", &grid);
+        let refill = step(Layout::HrocSeed, "hroc_seed.wgsl", "refill_holes", &grid);
+        let cover = step(Layout::HrocSeed, "hroc_seed.wgsl", "cover", &grid);
         let extract = step(Layout::HrocGroups, "hroc_groups.wgsl", "extract", &test_scale);
         let collect = step(Layout::HrocGroups, "hroc_groups.wgsl", "collect", &test_scale);
         let merge = step(Layout::HrocNext, "hroc_next.wgsl", "merge", &[]);
@@ -263,6 +289,9 @@ impl Hroc {
             filter,
             filter_stride,
             seed,
+            refill,
+            cover,
+            refill_list,
             visible,
             occluders,
             occludees,
@@ -355,7 +384,7 @@ impl CullMethod for Hroc {
         let (ox, oy) = dispatch_size(n, 256);
         // 0. After a cut V is stale or empty: seed it from a ray grid.
         self.seeded = match self.seed_mode {
-            Seed::Cuts => std::mem::take(&mut self.seed_next),
+            Seed::Cuts | Seed::CutsOnly => std::mem::take(&mut self.seed_next),
             Seed::Always => true,
             Seed::Never => false,
         };
@@ -378,6 +407,15 @@ impl CullMethod for Hroc {
         } else {
             self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
             self.draw_list(f, Phase::Occluders, Counted::V, &self.v_list, Some(&self.marks_o));
+        }
+        // No collapse: where V left the map empty, the ray grid's first hits
+        // are drawn too (not after a seed, which cast the same rays).
+        if !self.seeded && self.seed_mode == Seed::Cuts {
+            f.stage(Stage::Seed);
+            f.encoder().clear_buffer(&self.refill_list.count, 0, None);
+            self.dispatch(f, "hroc refill holes", &self.refill, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
+            f.stage(Stage::OcclusionMap);
+            f.draw(Phase::Occluders, &self.refill_list, None);
         }
         // 2. Occludee groups.
         f.stage(Stage::GroupExtraction);
@@ -437,8 +475,11 @@ impl CullMethod for Hroc {
             self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
             self.draw_list(f, Phase::Occludees, Counted::U, &self.u_list, self.d_marks());
         }
-        // 5. Next frame's occluders.
+        // 5. Next frame's occluders (and the cells the depth covers, for the refill).
         f.stage(Stage::Filtering);
+        if self.seed_mode == Seed::Cuts {
+            self.dispatch(f, "hroc covered cells", &self.cover, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
+        }
         if self.variant.of {
             let (w, h) = f.size();
             f.encoder().clear_buffer(&self.visible, 0, None);
