@@ -16,7 +16,7 @@ use hroc_bench::gpu::{Backend, Headless};
 fn gl_serves_its_methods_with_no_false_negatives() {
     let gpu = Headless::open(Backend::Gl).expect("OpenGL through EGL (scripts/ensure-gl.sh)");
     assert_eq!(gpu.info.backend, wgpu::Backend::Gl);
-    let methods = Method::parse_list("noc,vfc,hzb,roc,hroc,hroc-na,chc++").unwrap();
+    let methods = Method::parse_list("noc,vfc,hzb,roc,hroc,hroc-na,chc++,auto").unwrap();
     for path in [None, Some("hard"), Some("cuts")] {
         let o = BenchOptions { frames: 12, resolution: (160, 90), camera_path: path.map(Into::into), ..BenchOptions::new("radial-city", Some(1500), methods.clone()) };
         let r = bench::run(&gpu, &o).unwrap();

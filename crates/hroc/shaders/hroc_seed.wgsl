@@ -1,16 +1,16 @@
 // HROC's occluder seed from a coarse grid of rays: V after a camera cut
 // (step 0, `seed`), and where V's depth left holes (step 1, `refill`).
-// Bindings as in hroc_groups.wgsl, and 12-15 of the refill's own.
+// Bindings as in hroc_groups.wgsl, and 12-17 of the refill's own.
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;
-@group(0) @binding(3) var<storage, read_write> occluders: array<u32>;        // O
 @group(0) @binding(9) var<storage, read_write> visible: array<atomic<u32>>;   // V
 @group(0) @binding(12) var depth: HostDepth;
 @group(0) @binding(13) var<storage, read> commands: array<DrawCommand>;
 @group(0) @binding(14) var<storage, read_write> refill: array<DrawCommand>;
 @group(0) @binding(15) var<storage, read_write> refill_count: atomic<u32>;
 @group(0) @binding(16) var<storage, read_write> covered: array<u32>;  // per cell: last frame drew there
+@group(0) @binding(17) var<storage, read_write> occluders: array<u32>;  // O (read-only at 3 in hroc_groups.wgsl)
 
 // Occluder seed (HROC §6 names incoherent frames as a limit: after a cut,
 // last frame's V occludes nothing here). One ray per cell of a coarse

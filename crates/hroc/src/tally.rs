@@ -7,7 +7,6 @@
 //! ([`crate::View::frame_stats`]).
 
 use crate::contract::DrawList;
-use crate::cull::Method;
 use crate::gpu::{Gpu, Readback, Uploads};
 use crate::list_pass::ListPass;
 use crate::reflect::Layout;
@@ -41,9 +40,6 @@ pub struct FrameStats {
     /// Passes over the object-ID target that marked what a list drew
     /// ([`crate::Marks::Ids`]).
     pub id_passes: u64,
-    /// The method that culled the frame: the view's own, or the one
-    /// [`Method::Auto`] chose. (`None` only in `FrameStats::default()`.)
-    pub method: Option<Method>,
     /// GPU milliseconds from the frame's first pass to its last, the host's
     /// draws included; `None` where the device has no `TIMESTAMP_QUERY`.
     pub gpu_ms: Option<f32>,

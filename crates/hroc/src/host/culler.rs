@@ -598,11 +598,8 @@ impl Culler {
         let frame = self.gpu.buffer("hroc frame", std::mem::size_of::<FrameUniform>() as u64, U::UNIFORM | U::COPY_DST);
         let sink_buf = self.gpu.buffer("hroc marks sink", self.objects.count as u64 * 4, U::STORAGE);
         let sink = self.gpu.bind_buffers(&self.marks_layout, &[&sink_buf]);
-        let auto = if method == Method::Auto { self.auto_candidates(&t, options) } else { Vec::new() };
-        let mut cx = self.context(&frame, &t);
-        cx.options = options;
-        cx.auto = &auto;
-        let imp = method.create(&cx)?;
+        let auto = self.auto_candidates(method, &t, options);
+        let imp = method.create(&MethodContext { options, auto: &auto, ..self.context(&frame, &t) })?;
         let timer = self.timestamps.then(|| GpuTimer::new(&self.gpu, 64));
         let counter = self.pipeline_statistics.then(|| InvocationCounter::new(&self.gpu, 64));
         Ok(View {
@@ -627,6 +624,7 @@ impl Culler {
             tail_pass: (self.caps.draw_count == DrawCount::Emulated).then(|| ListPass::new(&self.gpu, Layout::Tail, "tail.wgsl", "tail", None)),
             interrupted: false,
             last_start: None,
+            culled_by: method,
             frames: 0,
         })
     }

@@ -76,10 +76,13 @@ impl Culler {
         Ok(())
     }
 
-    /// `auto`'s candidates for a view of targets `t`: `noc`, `vfc`, `hzb`
-    /// and HROC (`hroc` with an ID target, else `hroc-sf`), those the
-    /// culler serves and the targets allow.
-    pub(super) fn auto_candidates(&self, t: &Targets, options: &MethodOptions) -> Vec<Method> {
+    /// `auto`'s candidates for a view of targets `t` (none for another
+    /// `method`): `noc`, `vfc`, `hzb` and HROC (`hroc` with an ID target,
+    /// else `hroc-sf`), those the culler serves and the targets allow.
+    pub(super) fn auto_candidates(&self, method: Method, t: &Targets, options: &MethodOptions) -> Vec<Method> {
+        if method != Method::Auto {
+            return Vec::new();
+        }
         let hroc = if t.ids.is_some() { Method::HROC } else { Method::Hroc(crate::cull::Variant::SF) };
         [Method::Noc, Method::Vfc, Method::Hzb, hroc].into_iter().filter(|&m| self.serves_with(m, options).is_ok() && self.check_targets(m, t).is_ok()).collect()
     }

@@ -59,12 +59,20 @@ pub struct View {
     pub(super) interrupted: bool,
     /// When the last frame began, on the CPU clock.
     pub(super) last_start: Option<std::time::Instant>,
+    /// The method that culled the last frame.
+    pub(super) culled_by: Method,
 }
 
 impl View {
     /// The method.
     pub fn method(&self) -> Method {
         self.method
+    }
+
+    /// The method that culled the last frame: the view's own, or the one
+    /// [`Method::Auto`] chose for it.
+    pub fn culled_by(&self) -> Method {
+        self.culled_by
     }
 
     /// Culls one frame: records the view's uniform and the method's passes
@@ -214,9 +222,9 @@ impl View {
             bytes_read: w.bytes_read,
             command_slots: w.command_slots,
             id_passes: w.id_passes,
-            method: Some(f.culled_by),
             ..Default::default()
         };
+        self.culled_by = f.culled_by;
         f.tally.end(f.encoder, stats);
         f.uploads.close(f.encoder);
         if self.method.submits_mid_frame() {

@@ -390,6 +390,11 @@ impl Chooser {
         self.loads.iter().position(|&l| l == load)
     }
 
+    /// Replaces the constants (tests make it switch often).
+    pub fn set_params(&mut self, params: Params) {
+        self.params = params;
+    }
+
     /// The candidate chosen (not probed) now.
     pub fn current(&self) -> Option<usize> {
         self.current

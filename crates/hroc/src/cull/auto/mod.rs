@@ -99,6 +99,11 @@ impl Auto {
         &self.chooser
     }
 
+    /// The chooser, to change its constants (tests make it switch often).
+    pub fn chooser_mut(&mut self) -> &mut Chooser {
+        &mut self.chooser
+    }
+
     /// Step 1: takes the measurements that came back.
     fn measure(&mut self, f: &mut Frame) {
         let arrived = f.tally.latest(f.gpu);

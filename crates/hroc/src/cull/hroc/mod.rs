@@ -196,6 +196,7 @@ impl Hroc {
             (14, refill_list.commands.as_entire_binding()),
             (15, refill_list.count.as_entire_binding()),
             (16, covered.as_entire_binding()),
+            (17, occluders.as_entire_binding()),
         ]);
         let step = |layout: Layout, pass: &str, entry: &str, constants: &[(&str, f64)]| {
             let bind_layout = layout.create_for(gpu, samples);

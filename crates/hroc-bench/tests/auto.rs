@@ -1,0 +1,134 @@
+//! `auto` on lavapipe: every frame is one candidate's whole frame, so it
+//! is as conservative as they are, across switches too. Made to switch
+//! every few frames, it has 0 false negatives and 0 missing pixels against
+//! `noc` on every frame of the own, hard (the eye inside boxes, boxes
+//! across the near plane) and cut paths of three scenes, with objects
+//! moving, added and removed, and runs every candidate. Leaving a
+//! building, HROC's refill keeps its worst frame below `hzb`'s.
+
+use glam::{Mat4, Vec3};
+use hroc::testing::cull::auto::{Auto, Params};
+use hroc::Method;
+use hroc_bench::bench::{self, BenchOptions, Session};
+use hroc_bench::bvh::Split;
+use hroc_bench::gpu::Headless;
+use hroc_bench::scene::paths;
+use std::collections::BTreeSet;
+use std::sync::OnceLock;
+
+const RES: (u32, u32) = (160, 96);
+
+fn gpu() -> &'static Headless {
+    static GPU: OnceLock<Headless> = OnceLock::new();
+    GPU.get_or_init(|| Headless::new().expect("a Vulkan adapter (scripts/ensure-vulkan.sh)"))
+}
+
+/// A switch every two or three frames: probes of every candidate, each
+/// plausible, each stale after two frames.
+fn restless() -> Params {
+    Params { margin: 0.0, confirm: 1, dwell: 0, probe_every: 2, stale: 2, plausible: f64::INFINITY, forced: 4, decay: 0.85 }
+}
+
+#[test]
+fn auto_switching_often_stays_conservative_on_every_path() {
+    let mut ran = BTreeSet::new();
+    for key in ["radial-city", "factory", "satellites"] {
+        let scene = hroc_bench::scene::load(key, Some(1200), 3).unwrap();
+        let hard = paths::hard_path(&scene);
+        let cuts = paths::cut_path(&scene, 3);
+        for (label, path) in [("own", None), ("hard", Some(hard)), ("cuts", Some(cuts))] {
+            let mut s = Session::new(gpu(), scene.clone(), path, 16, RES, Split::Sah).unwrap();
+            let mut v = s.create(Method::Auto).unwrap();
+            v.method_state_mut::<Auto>().unwrap().chooser_mut().set_params(restless());
+            for k in 0..s.cameras.len() {
+                let (_, truth) = s.truth(k).unwrap();
+                let r = s.run_frame(&mut v, k).unwrap();
+                let c = s.check(&r, &truth).unwrap();
+                assert_eq!((c.false_negatives, c.missing_pixels), (0, 0), "{key} {label} frame {k}: auto ran {}", v.culled_by());
+                ran.insert(v.culled_by().name());
+            }
+        }
+    }
+    assert_eq!(ran.into_iter().collect::<Vec<_>>(), ["hroc", "hzb", "noc", "vfc"], "auto ran every candidate");
+}
+
+#[test]
+fn auto_follows_moving_added_and_removed_objects() {
+    let scene = hroc_bench::scene::load("radial-city", Some(1500), 4).unwrap();
+    let base: Vec<Mat4> = scene.objects.iter().map(|o| o.transform).collect();
+    let mut s = Session::new(gpu(), scene, None, 20, RES, Split::Sah).unwrap();
+    let mut v = s.create(Method::Auto).unwrap();
+    v.method_state_mut::<Auto>().unwrap().chooser_mut().set_params(restless());
+    let n = base.len();
+    for k in 0..20 {
+        // Every tenth object slides across the view; every fifth frame a
+        // few leave the scene, and come back in front of the camera.
+        let mut moves: Vec<(u32, Mat4)> =
+            (0..n).step_by(10).map(|i| (i as u32, Mat4::from_translation(Vec3::new(10.0 * (k as f32 * 0.5 + i as f32).sin(), 0.0, 0.0)) * base[i])).collect();
+        let gone: Vec<u32> = (7..n as u32).step_by(n / 5).take(4).collect();
+        if k % 5 == 2 {
+            s.remove_objects(&gone).unwrap();
+        }
+        if k % 5 == 4 {
+            let cam = s.cameras[k];
+            let ahead = cam.eye + (cam.target - cam.eye).normalize() * 10.0;
+            let adds: Vec<(u32, Mat4)> = gone.iter().enumerate().map(|(j, &i)| (i, Mat4::from_translation(ahead + Vec3::X * (j as f32 * 2.0 - 3.0)))).collect();
+            s.add_objects(&adds).unwrap();
+        }
+        moves.retain(|(i, _)| !gone.contains(i) || k % 5 == 4 || k % 5 < 2);
+        s.move_objects(&moves).unwrap();
+        let (_, truth) = s.truth(k).unwrap();
+        let r = s.run_frame(&mut v, k).unwrap();
+        let c = s.check(&r, &truth).unwrap();
+        assert_eq!((c.false_negatives, c.missing_pixels), (0, 0), "frame {k}: auto ran {}", v.culled_by());
+    }
+}
+
+/// The bench's `auto` row: shares of what it ran, 0 false negatives with
+/// the default constants (its calibration switches among every plausible
+/// candidate), with shadow cascades (a chooser per view) and 4× MSAA.
+#[test]
+fn auto_in_the_bench_with_views() {
+    let methods = Method::parse_list("noc,vfc,hzb,hroc,auto").unwrap();
+    for (cascades, msaa) in [(0, 1), (2, 1), (0, 4)] {
+        let o = BenchOptions {
+            frames: 24,
+            resolution: (160, 90),
+            shadow_cascades: cascades,
+            msaa,
+            camera_path: Some("hard".into()),
+            ..BenchOptions::new("factory", Some(1500), methods.clone())
+        };
+        let r = bench::run(gpu(), &o).unwrap();
+        for row in &r.rows {
+            assert_eq!((row.false_negatives, row.missing_pixels), (0, 0), "{} with {cascades} cascades, {msaa}x MSAA", row.method);
+        }
+        let auto = r.rows.iter().find(|row| row.method == Method::Auto).unwrap();
+        assert_eq!(auto.frame_methods.len(), r.frames);
+        let share: f64 = auto.choices().iter().map(|c| c.1).sum();
+        assert!((share - 1.0).abs() < 1e-9 && auto.choices().len() >= 2, "{:?}", auto.choices());
+    }
+}
+
+/// The houses path enters two buildings and leaves them: with the refill
+/// of V's holes, HROC's worst frame draws no more than hzb's worst, and
+/// fewer than HROC seeding on cuts only.
+#[test]
+fn leaving_a_building_does_not_collapse_hroc() {
+    let methods = Method::parse_list("hzb,hroc").unwrap();
+    let run = |seed: hroc::Seed| {
+        let o = BenchOptions {
+            fps: Some(24.0),
+            method_options: hroc::MethodOptions { hroc_seed: seed, ..Default::default() },
+            ..BenchOptions::new("houses", Some(3000), methods.clone())
+        };
+        bench::run(gpu(), &o).unwrap()
+    };
+    let (refill, cuts_only) = (run(hroc::Seed::Cuts), run(hroc::Seed::CutsOnly));
+    let most = |r: &bench::BenchReport, m: Method| r.rows.iter().find(|row| row.method == m).unwrap().drawn_max;
+    for r in [&refill, &cuts_only] {
+        assert!(r.rows.iter().all(|row| (row.false_negatives, row.missing_pixels) == (0, 0)));
+    }
+    assert!(most(&refill, Method::HROC) <= most(&refill, Method::Hzb), "hroc's worst frame {} against hzb's {}", most(&refill, Method::HROC), most(&refill, Method::Hzb));
+    assert!(most(&refill, Method::HROC) < most(&cuts_only, Method::HROC), "refill {} against cuts only {}", most(&refill, Method::HROC), most(&cuts_only, Method::HROC));
+}
