@@ -44,6 +44,8 @@ pub struct Status {
     /// GPU ms per stage of the last frame.
     pub stages: Vec<(&'static str, f64)>,
     pub drawn: usize,
+    /// The method that culled the last frame (`auto`'s choice).
+    pub culled_by: &'static str,
     /// The method's statistics of the last frame (|V| |O| |G| |U| |D|...).
     pub stats: Vec<(&'static str, f64)>,
     /// Boxes the method tested (groups view); `None` for methods that test none.
@@ -115,6 +117,9 @@ pub fn panel(ctx: &egui::Context, s: &Status) -> Vec<Action> {
         ui.label(format!("{:.1} fps, frame {:.2} ms wall", s.fps, s.wall_ms));
         let n = s.objects.max(1) as f64;
         ui.label(format!("drawn {} of {}, C/N {:.3}", s.drawn, s.objects, (s.objects - s.drawn.min(s.objects)) as f64 / n));
+        if Method::ALL[s.method] == Method::Auto {
+            ui.label(format!("auto ran {}", s.culled_by));
+        }
         if let Some(b) = s.boxes {
             ui.label(format!("tested boxes {b}"));
         }
