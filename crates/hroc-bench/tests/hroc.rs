@@ -89,7 +89,9 @@ fn frame_with_occlusion_map(s: &mut Session, h: &mut hroc::View, k: usize) -> Ve
     let gpu = s.gpu;
     let mut enc = gpu.encoder("occlusion map");
     s.renderer.clear(&mut enc);
-    s.renderer.draw(&mut enc, h.method_state::<Hroc>().unwrap().occluder_list(), None);
+    let st = h.method_state::<Hroc>().unwrap();
+    s.renderer.draw(&mut enc, st.occluder_list(), None);
+    s.renderer.draw(&mut enc, st.refill_list(), None);
     gpu.queue.submit([enc.finish()]);
     s.read_depth().unwrap()
 }
@@ -211,6 +213,7 @@ fn gpu_late_test_matches_cpu_reference() {
             let mut enc = s.gpu.encoder("late test depth");
             s.renderer.clear(&mut enc);
             s.renderer.draw(&mut enc, st.occluder_list(), None);
+            s.renderer.draw(&mut enc, st.refill_list(), None);
             s.renderer.draw(&mut enc, st.front_list(0).unwrap(), None);
             s.gpu.queue.submit([enc.finish()]);
             let depth = s.read_depth().unwrap();
@@ -300,6 +303,52 @@ fn gpu_seed_matches_cpu_reference() {
         }
         assert!(seeded > 0, "{key}: the seed found nothing");
     }
+}
+
+/// The refill of V's holes against its CPU reference: on every frame not
+/// seeded, the objects it drew are the first hits of the grid's cells that
+/// V's depth left at the far plane and last frame's depth did not, less V.
+#[test]
+fn gpu_refill_matches_cpu_reference() {
+    let mut refilled = 0;
+    for (key, n) in [("radial-city", 1500), ("houses", 1500), ("satellites", 1200)] {
+        let scene = hroc_bench::scene::load(key, Some(n), 2).unwrap();
+        let path = paths::hard_path(&scene);
+        let mut s = Session::new(gpu(), scene, Some(path), 16, RES, Split::Sah).unwrap();
+        let mut h = s.create("hroc-na".parse().unwrap()).unwrap();
+        let aspect = s.renderer.aspect();
+        let mut last = vec![1.0f32; (RES.0 * RES.1) as usize];
+        for k in 0..s.cameras.len() {
+            s.run_frame(&mut h, k).unwrap();
+            let seeded = h.stats(&s.culler).unwrap().iter().any(|x| x.0 == hroc::Stat::Seeded && x.1 > 0.0);
+            let final_depth = s.read_depth().unwrap();
+            let st = h.method_state::<Hroc>().unwrap();
+            let read = |l: &hroc::testing::cull::DrawList| -> Vec<u32> { s.gpu.read_list(&l.commands, &l.count, l.max_count).unwrap().iter().map(|c| c.first_instance).collect() };
+            let (v, mut gpu_refill) = (read(st.occluder_list()), read(st.refill_list()));
+            gpu_refill.sort_unstable();
+            let mut enc = s.gpu.encoder("V's depth");
+            s.renderer.clear(&mut enc);
+            s.renderer.draw(&mut enc, st.occluder_list(), None);
+            s.gpu.queue.submit([enc.finish()]);
+            let v_depth = s.read_depth().unwrap();
+            if !seeded {
+                let mut in_v = vec![false; s.renderer.object_count as usize];
+                v.iter().for_each(|&o| in_v[o as usize] = true);
+                let cam = s.cameras[k];
+                let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
+                let cpu_refill = cpu::refill(s.bvh(), &g.ray_dirs, &g.ray_origins, hroc::testing::cull::hroc::SEED_GRID, RES, &v_depth, &last, &in_v);
+                // Ties between boxes entered at the same distance may round either way.
+                let differ =
+                    gpu_refill.iter().filter(|o| cpu_refill.binary_search(o).is_err()).count() + cpu_refill.iter().filter(|o| gpu_refill.binary_search(o).is_err()).count();
+                assert!(differ * 20 <= cpu_refill.len().max(1), "{key} frame {k}: GPU refill {gpu_refill:?}, CPU {cpu_refill:?}");
+                refilled += gpu_refill.len();
+            } else {
+                assert!(gpu_refill.is_empty(), "{key} frame {k}: a seeded frame refilled");
+            }
+            last = final_depth;
+        }
+    }
+    assert!(refilled > 0, "no frame refilled V");
 }
 
 /// Cut detection: a frame that turns past `cut_turn_deg` or moves past

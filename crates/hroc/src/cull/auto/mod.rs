@@ -112,15 +112,6 @@ impl Auto {
         let (vfc, noc) = (chooser.with_load(Load::Frustum), chooser.with_load(Load::All));
         let mut observe = |p: &Pending, cost_ms: f64, triangles: f64| {
             let o = Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles, warm_up: p.left_out };
-            if std::env::var_os("HROC_AUTO_TRACE").is_some() {
-                eprintln!(
-                    "auto frame {} ran {} cost {cost_ms:.2} ms triangles {triangles} of {} in the frustum{}",
-                    p.frame,
-                    p.candidate,
-                    p.frustum_triangles,
-                    if p.left_out { " (warm-up)" } else { "" }
-                );
-            }
             // A first frame ever pays for lazy set-up besides.
             if p.first {
                 return;

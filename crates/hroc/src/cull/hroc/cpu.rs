@@ -209,10 +209,41 @@ pub fn ray_marked(
 /// `seed` in hroc_seed.wgsl: for each cell centre of a `cols` × `rows`
 /// screen grid, the object whose (unpadded) box the cell's ray enters
 /// first at or past the near plane (t = 1). Sorted, without repeats.
-pub fn seed(bvh: &Bvh, ray_dirs: &Mat4, ray_origins: &Mat4, (cols, rows): (u32, u32)) -> Vec<u32> {
+pub fn seed(bvh: &Bvh, ray_dirs: &Mat4, ray_origins: &Mat4, grid: (u32, u32)) -> Vec<u32> {
+    let mut hits: Vec<u32> = first_hits(bvh, ray_dirs, ray_origins, grid).into_iter().flatten().collect();
+    hits.sort_unstable();
+    hits.dedup();
+    hits
+}
+
+/// `refill_holes` in hroc_seed.wgsl: the first hits of the cells whose
+/// centre pixel (of a `size` target) is at the far plane in `depth` (V's
+/// standard depth, one sample) and was not in `last` (last frame's final
+/// depth), leaving out V's objects (`in_v`). Sorted, without repeats.
+#[allow(clippy::too_many_arguments)]
+pub fn refill(bvh: &Bvh, ray_dirs: &Mat4, ray_origins: &Mat4, grid: (u32, u32), size: (u32, u32), depth: &[f32], last: &[f32], in_v: &[bool]) -> Vec<u32> {
+    let (cols, rows) = grid;
+    let pixel = |cell: u32| {
+        let x = ((((cell % cols) as f32 + 0.5) / cols as f32 * size.0 as f32) as u32).min(size.0 - 1);
+        let y = ((((cell / cols) as f32 + 0.5) / rows as f32 * size.1 as f32) as u32).min(size.1 - 1);
+        (y * size.0 + x) as usize
+    };
+    let mut hits: Vec<u32> = first_hits(bvh, ray_dirs, ray_origins, grid)
+        .into_iter()
+        .enumerate()
+        .filter(|&(cell, _)| last[pixel(cell as u32)] < 1.0 && depth[pixel(cell as u32)] >= 1.0)
+        .filter_map(|(_, hit)| hit.filter(|&o| !in_v[o as usize]))
+        .collect();
+    hits.sort_unstable();
+    hits.dedup();
+    hits
+}
+
+/// The object each cell's ray enters first, cell by cell.
+fn first_hits(bvh: &Bvh, ray_dirs: &Mat4, ray_origins: &Mat4, (cols, rows): (u32, u32)) -> Vec<Option<u32>> {
     let mut hits = Vec::new();
     if bvh.nodes.is_empty() {
-        return hits;
+        return vec![None; (cols * rows) as usize];
     }
     for cell in 0..cols * rows {
         let ndc = Vec2::new(((cell % cols) as f32 + 0.5) / cols as f32 * 2.0 - 1.0, 1.0 - ((cell / cols) as f32 + 0.5) / rows as f32 * 2.0);
@@ -234,9 +265,7 @@ pub fn seed(bvh: &Bvh, ray_dirs: &Mat4, ray_origins: &Mat4, (cols, rows): (u32, 
                 _ => {}
             }
         }
-        hits.extend(hit);
+        hits.push(hit);
     }
-    hits.sort_unstable();
-    hits.dedup();
     hits
 }

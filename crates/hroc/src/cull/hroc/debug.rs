@@ -90,6 +90,12 @@ impl Hroc {
         &self.v_list
     }
 
+    /// This frame's refill of V's holes (empty on seeded frames): the
+    /// occlusion map is V's list and this one drawn.
+    pub fn refill_list(&self) -> &DrawList {
+        &self.refill_list
+    }
+
     /// The front list of occludee round `k` (all rounds but the last), if any.
     pub fn front_list(&self, k: u32) -> Option<&DrawList> {
         self.rounds.as_ref()?.fronts.get(k as usize).map(|(l, _)| l)

@@ -411,9 +411,9 @@ impl CullMethod for Hroc {
         }
         // No collapse: where V left the map empty, the ray grid's first hits
         // are drawn too (not after a seed, which cast the same rays).
+        f.encoder().clear_buffer(&self.refill_list.count, 0, None);
         if !self.seeded && self.seed_mode == Seed::Cuts {
             f.stage(Stage::Seed);
-            f.encoder().clear_buffer(&self.refill_list.count, 0, None);
             self.dispatch(f, "hroc refill holes", &self.refill, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
             f.stage(Stage::OcclusionMap);
             f.draw(Phase::Occluders, &self.refill_list, None);
