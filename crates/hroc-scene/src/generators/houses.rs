@@ -30,16 +30,16 @@ fn centre(g: usize, i: usize, j: usize) -> Vec3 {
 }
 
 pub(super) fn build(b: &mut Builder) -> CameraPath {
-    let g = ((b.n as f32 / PER_HOUSE as f32).sqrt().ceil() as usize).max(2);
+    let g = ((b.n as f32 / PER_HOUSE as f32).sqrt().ceil() as usize).max(3);
     let pitch = LOT + STREET;
     let unit = b.mesh("unit block", block(1.0, 1.0, 1.0));
 
-    // The path: along the street south of row j0, into the door of two
-    // houses (doors face south, -z... the street at z = c.z - pitch / 2),
-    // round each room and out again.
-    let j0 = g / 2;
+    // The path: along the street south of row j0 (doors face -z, onto the
+    // street at z = c.z - pitch / 2), into the doors of two houses, round
+    // each room and out again.
+    let j0 = 1 + b.rng.below(g - 2);
     let street_z = centre(g, 0, j0).z - pitch * 0.5;
-    let visits = [g / 4, (3 * g) / 4];
+    let visits = [b.rng.below(g / 2), g / 2 + b.rng.below(g - g / 2)];
     let mut pts = vec![Vec3::new(centre(g, 0, j0).x - pitch * 0.5, EYE, street_z)];
     for &i in &visits {
         let c = centre(g, i, j0);

@@ -69,10 +69,12 @@ pub struct ReportArgs {
     #[arg(long)]
     pub heat_frame: Option<usize>,
     /// Object counts of the scale sweep over the first generated scene, or `none`.
-    #[arg(long, default_value = "1000,4000,16000,64000,256000,1000000")]
+    #[arg(long, default_value = "100,1000,4000,16000,64000,256000,1000000")]
     pub sweep: String,
-    #[arg(long, default_value_t = peers(&[Method::Vfc]))]
+    /// The sweep's methods: the peers, and `auto` on top.
+    #[arg(long, default_value_t = MethodList(peers(&[Method::Vfc]).0.into_iter().chain([Method::Auto]).collect()))]
     pub sweep_methods: MethodList,
+    /// Frames of each sweep run (`auto` calibrates in its first ten or so).
     #[arg(long, default_value_t = 12)]
     pub sweep_frames: usize,
     /// Resolution of the high-resolution run on the first scene (the
@@ -496,13 +498,13 @@ mod tests {
         let p = Plan::new(&args(&[])).unwrap();
         assert_eq!(p.scenes, ["radial-city", "factory", "satellites"]);
         assert_eq!(p.heat_frame, 30);
-        assert_eq!(p.sweep, [1000, 4000, 16000, 64000, 256000, 1_000_000]);
+        assert_eq!(p.sweep, [100, 1000, 4000, 16000, 64000, 256000, 1_000_000]);
         assert_eq!(p.hires, Some((4096, 2160)));
         assert_eq!(p.splits, [Split::Sah, Split::Mid, Split::Eq]);
         let names = |m: &[Method]| m.iter().map(|m| m.name()).collect::<Vec<_>>();
         assert_eq!(names(&Plan::new(&args(&["--methods", "hroc"])).unwrap().methods), ["noc", "hroc"]);
         assert_eq!(names(&p.methods), ["noc", "vfc", "ref", "roc", "hzb", "ioc", "hroc-na", "hroc-cr", "hroc-of", "hroc-cr+of"]);
-        assert_eq!(names(&p.sweep_methods), ["noc", "vfc", "roc", "hzb", "hroc"]);
+        assert_eq!(names(&p.sweep_methods), ["noc", "vfc", "roc", "hzb", "hroc", "auto"]);
         assert_eq!(names(&p.hires_methods), ["noc", "ref", "roc", "hzb", "hroc"]);
         assert_eq!(p.motion, [0.0, 0.1, 1.0]);
         assert_eq!(names(&p.motion_methods), ["noc", "vfc", "roc", "hzb", "hroc"]);
