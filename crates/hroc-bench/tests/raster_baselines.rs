@@ -292,3 +292,24 @@ fn ioc(v: &hroc::View) -> &Ioc {
 fn hzb(v: &hroc::View) -> &Hzb {
     v.method_state().expect("an hzb view")
 }
+
+/// Depth at the precision limit: on radial-city's hard path sampled at 5
+/// frames per path second, frame 2 looks at the city from 3 km, where a
+/// kiosk's front stands one ulp of standard depth in front of the ground.
+/// The Hi-Z test compares its box's depth, computed in the shader, with
+/// the slack HROC's rays have (`DEPTH_SLACK`); without it, hzb culled the
+/// kiosk (1 false negative, 1 missing pixel, on lavapipe and an H200).
+#[test]
+fn hzb_keeps_a_far_object_one_ulp_in_front() {
+    let o = BenchOptions { fps: Some(5.0), camera_path: Some("hard".into()), ..BenchOptions::new("radial-city", Some(5000), vec![hroc::Method::Hzb]) };
+    let (scene, path) = bench::load_inputs(&o).unwrap();
+    let frames = bench::frame_count(&o, path.as_ref().unwrap()).unwrap();
+    let mut s = Session::new(gpu(), scene, path, frames, (640, 360), Split::Sah).unwrap();
+    let mut v = s.create(hroc::Method::Hzb).unwrap();
+    for k in 0..=2 {
+        let (_, truth) = s.truth(k).unwrap();
+        let r = s.run_frame(&mut v, k).unwrap();
+        let c = s.check(&r, &truth).unwrap();
+        assert_eq!((c.false_negatives, c.missing_pixels), (0, 0), "frame {k}");
+    }
+}

@@ -39,6 +39,15 @@ fn std_depth(f: Frame, d: f32) -> f32 {
     return select(d, 1.0 - d, f.reversed != 0u);
 }
 
+// What a depth computed in a shader (a box corner's, a ray's, projected
+// through the view-projection in f32) may lie behind the rasterizer's depth
+// of the same point: several ulps of standard depth near 1, where a far
+// object can stand one ulp in front of the ground behind it (measured:
+// hzb culled a kiosk 3 km away on radial-city's hard path without it).
+// Compared with it added to the occlusion map's depth, a test stays
+// conservative at the precision limit.
+const DEPTH_SLACK: f32 = 4e-7;
+
 // The farthest of the host depth's samples at pixel p, in standard form
 // (`reversed`: the texture holds reversed depth). Whatever reduces or
 // compares against the host's depth keeps a pixel's farthest sample: what

@@ -115,7 +115,7 @@ fn block_ray(clip: vec2<f32>) -> BlockRay {
     r.inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
     r.c0 = frame.view_proj * vec4<f32>(r.origin, 1.0);
     r.c1 = frame.view_proj * vec4<f32>(dir, 0.0);
-    r.limit = std_depth(frame, textureLoad(occlusion_map, vec2<i32>(clip), 0).r) + 4e-7;
+    r.limit = std_depth(frame, textureLoad(occlusion_map, vec2<i32>(clip), 0).r) + DEPTH_SLACK;
     return r;
 }
 

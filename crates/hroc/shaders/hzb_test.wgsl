@@ -4,7 +4,7 @@
 // touches are mapped to the finest level where they span at most 2x2
 // texels (never a finer one), and all those texels are read. The object
 // may be visible when the box's nearest depth is not behind their farthest
-// depth. Boxes reaching the near plane are visible without a test (their
+// depth (with DEPTH_SLACK: both are rounded). Boxes reaching the near plane are visible without a test (their
 // projection is unbounded).
 // TWO_PHASE (hzb, late pass): draw what passed and was not in V (drawn in
 // the early pass); the result for every object is next frame's V.
@@ -72,7 +72,7 @@ fn hiz_visible(b: Box) -> bool {
             far = max(far, hiz[m.offset + y * m.width + x]);
         }
     }
-    return lo.z <= far;
+    return lo.z <= far + DEPTH_SLACK;
 }
 
 @compute @workgroup_size(256)

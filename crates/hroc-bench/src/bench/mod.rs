@@ -107,6 +107,9 @@ pub struct MethodRow {
     pub c_over_n: f64,
     pub c_over_r: f64,
     pub false_negatives: u64,
+    /// The frames with a false negative or a missing pixel, each with its
+    /// counts (frame, false negatives, missing pixels): where to look.
+    pub missed_frames: Vec<(usize, u32, u32)>,
     pub missing_pixels: u64,
     /// `noc`'s stray fragments the method did not reproduce (`Check::stray_pixels`).
     pub stray_pixels: u64,
@@ -264,6 +267,7 @@ struct Acc {
     view_drawn: Vec<u64>,
     /// `auto`: the method of every frame.
     chosen: Vec<Method>,
+    missed: Vec<(usize, u32, u32)>,
     drawn_max: u64,
 }
 
@@ -379,6 +383,9 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
         a.drawn += c.drawn as u64;
         a.triangles += c.triangles;
         a.fneg += c.false_negatives as u64;
+        if c.false_negatives + c.missing_pixels > 0 {
+            a.missed.push((k, c.false_negatives as u32, c.missing_pixels as u32));
+        }
         a.missing += c.missing_pixels as u64;
         a.stray += c.stray_pixels as u64;
     };
@@ -478,6 +485,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
                 stats: a.stats.iter().map(|(k, v)| (*k, v / frames as f64)).collect(),
                 frame_ms: a.wall.clone(),
                 frame_methods: a.chosen.clone(),
+                missed_frames: a.missed.clone(),
             }
         })
         .collect();
