@@ -78,7 +78,7 @@ pub struct Params {
 
 impl Default for Params {
     fn default() -> Self {
-        Params { margin: 0.08, confirm: 3, dwell: 8, probe_every: 30, stale: 90, plausible: 1.5, forced: 600, decay: 0.85 }
+        Params { margin: 0.08, confirm: 3, dwell: 8, probe_every: 30, stale: 90, plausible: 1.3, forced: 600, decay: 0.85 }
     }
 }
 
@@ -259,11 +259,12 @@ impl Chooser {
     }
 
     /// Triangles candidate `i` would draw now.
+    /// The frustum's count is an estimate: `vfc` draws the share of it
+    /// its frames drew, as an occlusion method does.
     fn load(&self, i: usize, frustum: f64, all: f64) -> f64 {
         match self.loads[i] {
             Load::All => all,
-            Load::Frustum => frustum,
-            Load::Occluded => self.fits[i].share * frustum,
+            Load::Frustum | Load::Occluded => self.fits[i].share * frustum,
         }
     }
 
