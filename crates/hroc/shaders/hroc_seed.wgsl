@@ -1,5 +1,6 @@
 // HROC's occluder seed from a coarse grid of rays: V after a camera cut
-// (step 0, `seed`), and where V's depth left holes (step 1, `refill`).
+// (step 0, `seed`), where V's depth left holes (step 1, `refill_holes`),
+// and the cells the frame's final depth covers (`cover`).
 // Bindings as in hroc_groups.wgsl, and 12-17 of the refill's own.
 
 @group(0) @binding(0) var<uniform> frame: Frame;

@@ -109,10 +109,11 @@ pub const REQUIRED_FEATURES: wgpu::Features = wgpu::Features::INDIRECT_FIRST_INS
 pub const FULL_FEATURES: wgpu::Features = REQUIRED_FEATURES.union(wgpu::Features::MULTI_DRAW_INDIRECT_COUNT).union(wgpu::Features::SHADER_EARLY_DEPTH_TEST);
 
 /// The features to request from `adapter` for a culler: [`FULL_FEATURES`]
-/// where the adapter has them, else the most it has; always
+/// where the adapter has them, else the most it has, and `TIMESTAMP_QUERY`
+/// where it has it (`auto` times its frames with it); always
 /// [`REQUIRED_FEATURES`] (the device request fails without them).
 pub fn features(adapter: &wgpu::Adapter) -> wgpu::Features {
-    (adapter.features() & FULL_FEATURES) | REQUIRED_FEATURES
+    (adapter.features() & (FULL_FEATURES | wgpu::Features::TIMESTAMP_QUERY)) | REQUIRED_FEATURES
 }
 
 /// The limits to request from `adapter` for a culler: wgpu's defaults,

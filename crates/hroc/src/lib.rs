@@ -207,6 +207,19 @@
 //! the frame ([`View::set_oracle`]); `woc` takes standard depth only and is
 //! not conservative.
 //!
+//! [`Method::Auto`] is the culler to leave on: each frame of each view, the
+//! cheapest of `noc`, `vfc`, `hzb` and HROC (`hroc` with an ID target, else
+//! `hroc-sf`) on this device, scene and path, chosen by a cost model that
+//! two GPU timestamps a frame calibrate, read back without a stall
+//! ([`FrameStats::gpu_ns`]; without `TIMESTAMP_QUERY`, which [`features`]
+//! requests where the adapter has it, the CPU clock's frame period between
+//! the view's frames stands in: a GPU-bound host's frame time). Each frame
+//! is one candidate's whole frame, and a candidate taking over culls as
+//! after a cut, so `auto` is as conservative as they are and takes what
+//! they take (motion, flags, MSAA, layers, every tier). [`View::culled_by`]
+//! says which ran. Its first frames calibrate (about ten: every plausible
+//! candidate runs); it then probes at most one frame in thirty.
+//!
 //! ## Public API
 //! Everything a host touches, at the crate root (`tests/api_list.rs`
 //! checks this list against what the crate exports):

@@ -35,7 +35,8 @@ named_enum!(
         FrustumCull => "frustum cull",
         /// `vfc`'s list compaction.
         Compact => "compact",
-        /// HROC's ray-grid seed of V after a camera cut.
+        /// HROC's ray grid: the seed of V after a camera cut, and on other
+        /// frames the refill of V's holes.
         Seed => "occluder seed",
         /// Drawing last frame's visible set (HROC §3.1): the host's draws of
         /// [`Phase::Occluders`](crate::Phase::Occluders).

@@ -51,7 +51,8 @@ pub enum Layout {
     Ioc,
     /// The query methods' box pass.
     QueryBoxes,
-    /// HROC's step 0 after a cut: the ray-grid seed of V.
+    /// HROC's ray grid: the seed of V after a cut (step 0), the refill of
+    /// V's holes (step 1), and the cells the frame's depth covers.
     HrocSeed,
     /// HROC's step 2: the occludee groups.
     HrocGroups,

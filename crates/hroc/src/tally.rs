@@ -1,6 +1,6 @@
 //! Objects and triangles drawn per frame, counted on the GPU from every
 //! list a view hands its host (`tally.wgsl`, one dispatch per list), and
-//! the frame's GPU time (timestamps at the frame's first and last pass,
+//! `auto`'s frame GPU time (timestamps at the frame's first and last pass,
 //! where the device has `TIMESTAMP_QUERY`), read back without waiting: the
 //! totals are copied to a staging ring, mapped once the frame's encoder is
 //! submitted and done, and tagged with the frame they describe
@@ -16,7 +16,7 @@ const RING: usize = 3;
 
 /// Statistics every method shares, of one frame of one view, read back
 /// without waiting ([`crate::View::frame_stats`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct FrameStats {
     /// Which frame: the number of [`crate::View::cull`] calls on the view
     /// before it (0 for its first).
@@ -40,9 +40,13 @@ pub struct FrameStats {
     /// Passes over the object-ID target that marked what a list drew
     /// ([`crate::Marks::Ids`]).
     pub id_passes: u64,
-    /// GPU milliseconds from the frame's first pass to its last, the host's
-    /// draws included; `None` where the device has no `TIMESTAMP_QUERY`.
-    pub gpu_ms: Option<f32>,
+    /// GPU nanoseconds from the frame's first pass to its last, the host's
+    /// draws included, for views of [`crate::Method::Auto`] (which chooses
+    /// by them); `None` for other views, where the device has no
+    /// `TIMESTAMP_QUERY`, and when the stamps came back out of order. (Two
+    /// timestamps a frame are cheap on GPUs; on lavapipe each one waits for
+    /// the rasterizer.)
+    pub gpu_ns: Option<u64>,
 }
 
 /// Bytes of a staging buffer: objects and triangles (u32 each), then the
@@ -77,10 +81,11 @@ impl FrameClock {
 }
 
 impl DrawTally {
-    pub(crate) fn new(gpu: &Gpu) -> Self {
+    /// A tally; `timed` adds the frame clock (where the device has timestamps).
+    pub(crate) fn new(gpu: &Gpu, timed: bool) -> Self {
         use wgpu::BufferUsages as U;
         let totals = gpu.buffer("hroc tally", 8, U::STORAGE | U::COPY_SRC | U::COPY_DST);
-        let clock = gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY).then(|| FrameClock {
+        let clock = (timed && gpu.device.features().contains(wgpu::Features::TIMESTAMP_QUERY)).then(|| FrameClock {
             set: gpu.device.create_query_set(&wgpu::QuerySetDescriptor { label: Some("hroc frame clock"), ty: wgpu::QueryType::Timestamp, count: 2 }),
             resolve: gpu.buffer("hroc frame clock", 16, U::QUERY_RESOLVE | U::COPY_SRC),
             period_ns: gpu.queue.get_timestamp_period() as f64,
@@ -144,7 +149,7 @@ impl DrawTally {
                 FrameStats {
                     objects: bytemuck::pod_read_unaligned(&v[0..4]),
                     triangles: bytemuck::pod_read_unaligned(&v[4..8]),
-                    gpu_ms: period_ns.map(|p| (tick(16).saturating_sub(tick(8)) as f64 * p / 1e6) as f32),
+                    gpu_ns: period_ns.and_then(|p| tick(16).checked_sub(tick(8)).filter(|&t| t > 0).map(|t| (t as f64 * p) as u64)),
                     ..stats
                 }
             };

@@ -550,11 +550,12 @@ pub fn parse_methods(spec: &str) -> Result<Vec<Method>> {
     Ok(Method::parse_list(spec)?)
 }
 
-/// A method by its name in the JSON rows.
+/// Methods by their names in the JSON rows.
 fn method_names<S: serde::Serializer>(m: &[Method], s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_seq(m.iter().map(|m| m.name()))
 }
 
+/// A method by its name in the JSON rows.
 fn method_name<S: serde::Serializer>(m: &Method, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.serialize_str(m.name())
 }

@@ -1,6 +1,6 @@
 //! `houses`: a grid of hollow, furnished buildings that the path enters and
-//! leaves. Outside, walls hide every interior; inside, the room's walls
-//! hide the town. Leaving is the hard moment for culling from last frame's
+//! leaves. Outside, walls hide the interiors but for glimpses through open
+//! doors; inside, the room's walls hide the town. Leaving is the hard moment for culling from last frame's
 //! visibility: the frame before, the view was one room, whose walls now
 //! stand behind the eye and hide nothing (a visible set that collapses).
 
@@ -93,7 +93,8 @@ pub(super) fn build(b: &mut Builder) -> CameraPath {
             1 => (b.rng.range(1.2, 2.0), 0.75, b.rng.range(0.7, 1.0)),
             _ => (b.rng.range(0.8, 1.6), b.rng.range(1.6, 2.4), 0.4),
         };
-        let inner = LOT * 0.5 - WALL_T - 1.0;
+        // A piece's half-diagonal is at most 1.2: it stays clear of the walls.
+        let inner = LOT * 0.5 - WALL_T - 1.2;
         let pos = c + Vec3::new(b.rng.range(-inner, inner), 0.05, b.rng.range(-inner, inner));
         let m = trs(pos, b.rng.range(0.0, PI), Vec3::new(w, h, d));
         if misses < 100 && clear.blocks(&b.bounds(unit, &m)) {

@@ -37,7 +37,8 @@ pub struct Generator {
     pub description: &'static str,
     /// Object count used when none is given (sized for a CPU renderer).
     pub default_objects: usize,
-    /// Object count of the scene in the papers (Lee et al. 2021 Table 1; Lee's thesis, Table 1).
+    /// Object count of the scene in the papers (Lee et al. 2021 Table 1;
+    /// Lee's thesis, Table 1); for a scene of no paper (`houses`), its default.
     pub paper_objects: usize,
 }
 

@@ -206,7 +206,9 @@ impl Method {
             Method::Oq | Method::Soq | Method::Chc => &[Layout::QueryBoxes],
             Method::Roc | Method::RocAll => &[Layout::RocBoxes, Layout::Roc, Layout::Compact],
             Method::Ioc => &[Layout::Ioc, Layout::RocBoxes, Layout::Compact],
-            Method::Hzb | Method::Auto => &[Layout::Vfc, Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
+            Method::Hzb => &[Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
+            // Its candidates are checked one by one (`Culler::auto_candidates`).
+            Method::Auto => &[],
             Method::Woc => &[Layout::WocWarp, Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
             Method::Hroc(_) => &[
                 Layout::HrocSeed,

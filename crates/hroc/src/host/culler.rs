@@ -618,7 +618,7 @@ impl Culler {
             last_pose: None,
             last_cut: false,
             work: WorkCounts::default(),
-            tally: DrawTally::new(&self.gpu),
+            tally: DrawTally::new(&self.gpu, method == Method::Auto),
             uploads: Uploads::new(&self.gpu.device),
             tail: None,
             tail_pass: (self.caps.draw_count == DrawCount::Emulated).then(|| ListPass::new(&self.gpu, Layout::Tail, "tail.wgsl", "tail", None)),

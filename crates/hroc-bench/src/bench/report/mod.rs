@@ -74,8 +74,9 @@ pub struct ReportArgs {
     /// The sweep's methods: the peers, and `auto` on top.
     #[arg(long, default_value_t = MethodList(peers(&[Method::Vfc]).0.into_iter().chain([Method::Auto]).collect()))]
     pub sweep_methods: MethodList,
-    /// Frames of each sweep run (`auto` calibrates in its first ten or so).
-    #[arg(long, default_value_t = 12)]
+    /// Frames of each sweep run (4 untimed; `auto` calibrates in its first
+    /// ten or so).
+    #[arg(long, default_value_t = 24)]
     pub sweep_frames: usize,
     /// Resolution of the high-resolution run on the first scene (the
     /// paper's Table 2, 4096x2160), or `none`.

@@ -15,9 +15,9 @@ use crate::bvh::{Bvh, LEAF_BIT};
 use crate::frustum::aabb_in_frustum;
 use crate::layout::DrawCommand;
 
-/// Nodes a count opens at most: about 20 µs a frame on this machine's
-/// CPU at any object count (4096 took 0.35 ms at 256k objects, a sixth of
-/// an H200's frame). The estimate is then high by a share the cost model
+/// Nodes a count opens at most: 48 µs a frame at 256k objects on a core
+/// of the 2-core machine BENCHMARKS.md describes (4096 took 0.35 ms there,
+/// a sixth of an H200's frame). The estimate is then high by a share the cost model
 /// learns (what a frame drew over the estimate).
 pub const BUDGET: usize = 256;
 

@@ -10,9 +10,10 @@
 //!    scales the occlusion methods' draws;
 //! 3. choice: the chooser's candidate, with hysteresis and a probe of a
 //!    stale estimate at most one frame in thirty;
-//! 4. the candidate's frame. A candidate taking over culls as after a cut;
-//!    the one handing over keeps its state and its read-backs in flight
-//!    (the stall-free counters take them when it runs again).
+//! 4. the candidate's frame. A candidate taking over culls as after a cut
+//!    (HROC reseeds: a probe costs the returning HROC a seeded frame); the
+//!    one handing over keeps its read-backs in flight (the stall-free
+//!    counters take them when it runs again).
 //!
 //! Every candidate is conservative, and each frame is one candidate's
 //! whole frame, so `auto` is as conservative as they are.
@@ -40,6 +41,8 @@ struct Pending {
     left_out: bool,
     /// The candidate's first frame ever.
     first: bool,
+    /// The CPU clock's period from this frame to the next (without timestamps).
+    period_ms: Option<f64>,
 }
 
 /// Frames `m` takes after taking over from another method to reach its
@@ -67,8 +70,19 @@ pub struct Auto {
 }
 
 impl Auto {
-    /// `auto` over `candidates` (created from `cx`); fails if one cannot be created.
+    /// `auto` over `candidates` (created from `cx`): fails with none, with
+    /// a candidate that is not conservative, needs an oracle, keeps its own
+    /// tree, submits mid-frame or does not follow motion (only `noc`, `vfc`,
+    /// `hzb`, `roc`, `roc-all` and the HROC variants without read-back
+    /// qualify), or one that cannot be created.
     pub fn new(cx: &super::MethodContext, candidates: &[Method]) -> Result<Auto> {
+        let unfit = |m: &Method| *m == Method::Auto || !m.is_conservative() || m.is_benchmark_only() || m.keeps_tree() || m.submits_mid_frame() || !m.takes_dynamic();
+        if candidates.is_empty() {
+            return Err(crate::error::Error::Arg("auto needs at least one candidate method".into()));
+        }
+        if let Some(m) = candidates.iter().find(|m| unfit(m)) {
+            return Err(crate::error::Error::Arg(format!("{m} cannot be one of auto's candidates")));
+        }
         let methods = candidates.iter().map(|&m| Ok((m, m.create(cx)?))).collect::<Result<Vec<_>>>()?;
         let loads = candidates
             .iter()
@@ -89,7 +103,7 @@ impl Auto {
         })
     }
 
-    /// The candidates, in the order of [`Stat::Chosen`]'s values.
+    /// The candidates, in the chooser's order.
     pub fn candidates(&self) -> Vec<Method> {
         self.candidates.iter().map(|c| c.0).collect()
     }
@@ -119,32 +133,26 @@ impl Auto {
             chooser.observe(&o);
             // A frame that drew the whole frustum (or every object) bounds
             // what vfc (or noc) costs from above.
-            {
-                for (bound, drew) in [(vfc, triangles >= 0.95 * p.frustum_triangles), (noc, triangles >= 0.95 * all)] {
-                    if let Some(b) = bound.filter(|&b| drew && b != p.candidate) {
-                        chooser.observe(&Observation { candidate: b, warm_up: false, ..o });
-                    }
+            for (bound, drew) in [(vfc, triangles >= 0.95 * p.frustum_triangles), (noc, triangles >= 0.95 * all)] {
+                if let Some(b) = bound.filter(|&b| drew && b != p.candidate) {
+                    chooser.bound(b, cost_ms);
                 }
             }
         };
-        match (timed, arrived) {
-            (true, Some(s)) => {
-                while let Some(p) = self.pending.front().copied().filter(|p| p.frame <= s.frame) {
-                    self.pending.pop_front();
-                    if p.frame == s.frame {
-                        observe(&p, s.gpu_ms.unwrap_or(0.0) as f64 + p.cpu_ms, s.triangles as f64);
-                    }
+        // Without timestamps, the period since the last frame began is the
+        // last frame's cost.
+        if let (Some(p), Some(ms)) = (self.pending.back_mut(), period) {
+            p.period_ms.get_or_insert(ms);
+        }
+        if let Some(s) = arrived {
+            while let Some(p) = self.pending.front().copied().filter(|p| p.frame <= s.frame) {
+                self.pending.pop_front();
+                // A frame whose timestamps did not come back is not a measurement.
+                let cost_ms = if timed { s.gpu_ns.map(|ns| ns as f64 / 1e6 + p.cpu_ms) } else { p.period_ms };
+                if let (true, Some(c)) = (p.frame == s.frame, cost_ms) {
+                    observe(&p, c, s.triangles as f64);
                 }
             }
-            (false, Some(s)) => {
-                // The period since the last frame began is the last frame's
-                // cost; its triangles come later, so take the newest count.
-                if let (Some(p), Some(ms)) = (self.pending.back().copied(), period) {
-                    observe(&p, ms, s.triangles as f64);
-                }
-                self.pending.clear();
-            }
-            _ => {}
         }
         // Nothing older than the ring can still arrive.
         while self.pending.len() > 8 {
@@ -178,8 +186,9 @@ impl CullMethod for Auto {
         if d.fresh && handed_over {
             imp.reset(f.encoder());
         }
-        // 4. The candidate's frame.
+        // 4. The candidate's frame (a failure part-way resets it: `reset`).
         f.culled_by = *method;
+        self.last = Some(d);
         let start = std::time::Instant::now();
         imp.frame(f)?;
         self.pending.push_back(Pending {
@@ -189,8 +198,8 @@ impl CullMethod for Auto {
             frustum_triangles: frustum,
             left_out: !d.measured,
             first: d.first,
+            period_ms: None,
         });
-        self.last = Some(d);
         Ok(())
     }
 

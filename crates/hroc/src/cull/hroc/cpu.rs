@@ -220,6 +220,8 @@ pub fn seed(bvh: &Bvh, ray_dirs: &Mat4, ray_origins: &Mat4, grid: (u32, u32)) ->
 /// centre pixel (of a `size` target) is at the far plane in `depth` (V's
 /// standard depth, one sample) and was not in `last` (last frame's final
 /// depth), leaving out V's objects (`in_v`). Sorted, without repeats.
+/// `depth` and `last` hold `size.0 * size.1` values (row by row), `size`
+/// is not empty, and `in_v` has an entry for every object.
 #[allow(clippy::too_many_arguments)]
 pub fn refill(bvh: &Bvh, ray_dirs: &Mat4, ray_origins: &Mat4, grid: (u32, u32), size: (u32, u32), depth: &[f32], last: &[f32], in_v: &[bool]) -> Vec<u32> {
     let (cols, rows) = grid;
