@@ -426,11 +426,6 @@ impl Chooser {
     pub fn set_params(&mut self, params: Params) {
         self.params = params;
     }
-
-    /// The candidate chosen (not probed) now.
-    pub fn current(&self) -> Option<usize> {
-        self.current
-    }
 }
 
 #[cfg(test)]

@@ -103,16 +103,6 @@ impl Auto {
         })
     }
 
-    /// The candidates, in the chooser's order.
-    pub fn candidates(&self) -> Vec<Method> {
-        self.candidates.iter().map(|c| c.0).collect()
-    }
-
-    /// The chooser (its fits and counts), for tests and the benchmark.
-    pub fn chooser(&self) -> &Chooser {
-        &self.chooser
-    }
-
     /// The chooser, to change its constants (tests make it switch often).
     pub fn chooser_mut(&mut self) -> &mut Chooser {
         &mut self.chooser
