@@ -5,9 +5,14 @@
 //! run). Prints a row per run (auto's mean and p95 over the best fixed
 //! method's, and what auto ran), then the geometric mean and the worst.
 //!
+//! `--repeat` runs each run a second time and prints the spread of
+//! repeated runs: the best fixed method's mean and p95 in the second run
+//! over the first, and auto's (the margins auto is held to cannot be
+//! finer than these).
+//!
 //! `cargo run --release -p hroc-bench --example auto_matrix -- [--quick]
-//! [--seconds S] [--json FILE]`: `--quick` runs 1k and 5k only; at 60
-//! frames per path second a run covers the path's first S seconds
+//! [--repeat] [--seconds S] [--json FILE]`: `--quick` runs 1k and 5k only;
+//! at 60 frames per path second a run covers the path's first S seconds
 //! (default 4: 241 frames).
 
 use std::path::Path;
@@ -32,14 +37,18 @@ fn first_seconds(path: &CameraPath, seconds: f32) -> CameraPath {
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let quick = args.iter().any(|a| a == "--quick");
+    let repeat = args.iter().any(|a| a == "--repeat");
     let value = |flag: &str| args.iter().position(|a| a == flag).and_then(|i| args.get(i + 1)).cloned();
     let seconds: f32 = value("--seconds").map_or(Ok(4.0), |s| s.parse())?;
     let gpu = Headless::new()?;
     let sizes: &[usize] = if quick { &[1000, 5000] } else { &[1000, 5000, 20000] };
     let methods = bench::parse_methods("noc,vfc,hzb,hroc,auto")?;
     println!("# {} | {}", gpu.adapter_name(), if quick { "quick" } else { "full" });
-    println!("| scene | objects | path | fps | frames | best fixed | its ms | auto ms | auto/best | its p95 | auto p95 | p95 ratio | auto ran |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
+    let again = if repeat { " best again / first | p95 again / first | auto again / first |" } else { "" };
+    println!("| scene | objects | path | fps | frames | best fixed | its ms | auto ms | auto/best | its p95 | auto p95 | p95 ratio | auto ran |{again}");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|{}", if repeat { "---|---|---|" } else { "" });
+    let mut spreads: Vec<(f64, f64, String)> = Vec::new();
+    let mut auto_spreads: Vec<f64> = Vec::new();
     let (mut logs, mut worst, mut p95_worst) = (Vec::new(), (0.0f64, String::new()), (0.0f64, String::new()));
     let mut reports = Vec::new();
     for scene_key in ["radial-city", "factory", "satellites"] {
@@ -53,7 +62,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         spec => bench::load_path(&scene, Path::new(spec))?,
                     };
                     let path = if fps > 30.0 { first_seconds(&path, seconds) } else { path };
-                    let r = bench::run_scene(&gpu, &o, scene, Some(path))?;
+                    let r = bench::run_scene(&gpu, &o, scene.clone(), Some(path.clone()))?;
                     for x in &r.rows {
                         assert_eq!((x.false_negatives, x.missing_pixels), (0, 0), "{} {scene_key} {n} {path_name} {fps}", x.method);
                     }
@@ -62,8 +71,18 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     let (ratio, p95) = (auto.ms_mean / best.ms_mean, auto.ms_p95 / best.ms_p95);
                     let ran: Vec<String> = auto.choices().iter().map(|(m, s)| format!("{m} {:.0}%", 100.0 * s)).collect();
                     let label = format!("{scene_key} {n} {path_name} {fps}");
+                    // The same run again.
+                    let again = if repeat {
+                        let r2 = bench::run_scene(&gpu, &o, scene, Some(path))?;
+                        let (b2, a2) = (row(&r2, best.method), row(&r2, Method::Auto));
+                        spreads.push((b2.ms_mean / best.ms_mean, b2.ms_p95 / best.ms_p95, label.clone()));
+                        auto_spreads.push(a2.ms_mean / auto.ms_mean);
+                        format!(" {:.3} | {:.3} | {:.3} |", b2.ms_mean / best.ms_mean, b2.ms_p95 / best.ms_p95, a2.ms_mean / auto.ms_mean)
+                    } else {
+                        String::new()
+                    };
                     println!(
-                        "| {scene_key} | {n} | {path_name} | {fps} | {} | {} | {:.2} | {:.2} | {ratio:.3} | {:.2} | {:.2} | {p95:.3} | {} |",
+                        "| {scene_key} | {n} | {path_name} | {fps} | {} | {} | {:.2} | {:.2} | {ratio:.3} | {:.2} | {:.2} | {p95:.3} | {} |{again}",
                         r.frames,
                         best.method,
                         best.ms_mean,
@@ -93,6 +112,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         p95_worst.0,
         p95_worst.1
     );
+    if !spreads.is_empty() {
+        let geo = (spreads.iter().map(|s| s.0.ln()).sum::<f64>() / spreads.len() as f64).exp();
+        let far = |f: fn(&(f64, f64, String)) -> f64| spreads.iter().map(|s| (f(s).max(1.0 / f(s)), &s.2)).max_by(|a, b| a.0.total_cmp(&b.0)).map(|(x, l)| (x, l.clone())).unwrap_or_default();
+        let ((mean_far, mean_at), (p95_far, p95_at)) = (far(|s| s.0), far(|s| s.1));
+        let auto_far = auto_spreads.iter().map(|&x| x.max(1.0 / x)).fold(1.0, f64::max);
+        println!("spread of repeated runs (the best fixed method again / first): geometric mean {geo:.3}; farthest {mean_far:.3} ({mean_at}); farthest p95 {p95_far:.3} ({p95_at}); auto again / first: farthest {auto_far:.3}");
+    }
     if let Some(file) = value("--json") {
         std::fs::write(file, serde_json::to_string_pretty(&reports)?)?;
     }

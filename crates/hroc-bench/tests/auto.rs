@@ -132,3 +132,50 @@ fn leaving_a_building_does_not_collapse_hroc() {
     assert!(most(&refill, Method::HROC) <= most(&refill, Method::Hzb), "hroc's worst frame {} against hzb's {}", most(&refill, Method::HROC), most(&refill, Method::Hzb));
     assert!(most(&refill, Method::HROC) < most(&cuts_only, Method::HROC), "refill {} against cuts only {}", most(&refill, Method::HROC), most(&cuts_only, Method::HROC));
 }
+
+/// A method taking over from another starts from the other's visible set
+/// (`CullMethod::take_over`): `hzb` handed HROC's V holds it as its own
+/// (the copy), draws fewer objects than an `hzb` starting from nothing
+/// (which draws the frustum), and both stay conservative; HROC handed
+/// `hzb`'s V does not seed, and is conservative too.
+#[test]
+fn a_method_taking_over_starts_from_the_visible_set_handed_over() {
+    use hroc::testing::cull::hroc::Hroc;
+    use hroc::testing::cull::hzb::Hzb;
+    use hroc::testing::cull::CullMethod;
+    let scene = hroc_bench::scene::load("radial-city", Some(2000), 5).unwrap();
+    let mut s = Session::new(gpu(), scene, None, 12, RES, Split::Sah).unwrap();
+    let (mut from_hroc, mut hzb_handed, mut hzb_cold) = (s.create(Method::HROC).unwrap(), s.create(Method::Hzb).unwrap(), s.create(Method::Hzb).unwrap());
+    let frame = |s: &mut Session, v: &mut hroc::View, k: usize| {
+        let (_, truth) = s.truth(k).unwrap();
+        let r = s.run_frame(v, k).unwrap();
+        let c = s.check(&r, &truth).unwrap();
+        assert_eq!((c.false_negatives, c.missing_pixels), (0, 0), "{} frame {k}", v.culled_by());
+        c.drawn
+    };
+    for k in 0..6 {
+        frame(&mut s, &mut from_hroc, k);
+    }
+    let set = from_hroc.method_state::<Hroc>().unwrap().visible_set().unwrap().clone();
+    let mut enc = gpu().device.create_command_encoder(&Default::default());
+    hzb_handed.method_state_mut::<Hzb>().unwrap().take_over(&mut enc, Some(&set));
+    hzb_cold.method_state_mut::<Hzb>().unwrap().take_over(&mut enc, None);
+    gpu().queue.submit([enc.finish()]);
+    let handed: Vec<bool> = gpu().read::<u32>(&set, 0, s.scene.objects.len() as u64).unwrap().iter().map(|&x| x != 0).collect();
+    assert_eq!(hzb_handed.method_state::<Hzb>().unwrap().test_result(gpu()).unwrap(), handed, "hzb's V is HROC's");
+    assert!(hzb_cold.method_state::<Hzb>().unwrap().test_result(gpu()).unwrap().iter().all(|&v| !v), "a cold hzb starts from nothing");
+    let (warm, cold) = (frame(&mut s, &mut hzb_handed, 6), frame(&mut s, &mut hzb_cold, 6));
+    assert!(2 * warm < cold, "handed over: {warm} objects; from nothing: {cold}");
+    // And back: HROC handed hzb's V.
+    let set = hzb_handed.method_state::<Hzb>().unwrap().visible_set().unwrap().clone();
+    let mut enc = gpu().device.create_command_encoder(&Default::default());
+    from_hroc.method_state_mut::<Hroc>().unwrap().take_over(&mut enc, Some(&set));
+    gpu().queue.submit([enc.finish()]);
+    for k in 7..12 {
+        frame(&mut s, &mut from_hroc, k);
+        if k == 7 {
+            let seeded = from_hroc.stats(&s.culler).unwrap().iter().find(|(st, _)| *st == hroc::Stat::Seeded).map(|x| x.1);
+            assert_eq!(seeded, Some(0.0), "HROC handed a visible set does not seed");
+        }
+    }
+}

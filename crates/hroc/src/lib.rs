@@ -214,9 +214,10 @@
 //! ([`FrameStats::gpu_ns`]; without `TIMESTAMP_QUERY`, which [`features`]
 //! requests where the adapter has it, the CPU clock's frame period between
 //! the view's frames stands in: a GPU-bound host's frame time). Each frame
-//! is one candidate's whole frame, and a candidate taking over culls as
-//! after a cut, so `auto` is as conservative as they are and takes what
-//! they take (motion, flags, MSAA, layers, every tier). [`View::culled_by`]
+//! is one candidate's whole frame, and a candidate taking over starts from
+//! the last `hzb` or HROC frame's visible set (which only orders its work)
+//! or as after a cut, so `auto` is as conservative as they are and takes
+//! what they take (motion, flags, MSAA, layers, every tier). [`View::culled_by`]
 //! says which ran. Its first frames calibrate (about ten: every plausible
 //! candidate runs); it then probes at most one frame in thirty.
 //!

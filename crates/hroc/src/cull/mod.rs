@@ -46,6 +46,25 @@ pub trait CullMethod: Any {
     /// culled as a first frame. Every method with temporal state overrides it.
     fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
 
+    /// The objects the method's last frame found visible, as a temporal
+    /// method keeps them for its next frame: one `u32` per object, nonzero
+    /// where visible (`hzb`'s and HROC's V). `None` for methods that keep
+    /// no such set.
+    fn visible_set(&self) -> Option<&wgpu::Buffer> {
+        None
+    }
+
+    /// Takes over a view from another method (`auto`'s switch): `visible`
+    /// is the other method's [`CullMethod::visible_set`] from the frame
+    /// just before, or `None` (nothing to start from). A temporal method
+    /// starts from it as from its own last frame; what the set holds only
+    /// orders the work (everything outside it is still tested against this
+    /// frame's depth), so any set keeps the method conservative. The
+    /// default, and any method without such state, resets.
+    fn take_over(&mut self, enc: &mut wgpu::CommandEncoder, _visible: Option<&wgpu::Buffer>) {
+        self.reset(enc);
+    }
+
     /// `ref` only: the objects that own a pixel in `noc`'s ID target this
     /// frame, sorted.
     fn set_oracle(&mut self, _gpu: &Gpu, _visible: &[u32]) -> Result<()> {

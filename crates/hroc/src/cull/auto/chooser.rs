@@ -22,10 +22,16 @@
 //!   costs: the caller observes it for them too (`hzb` taking over draws
 //!   the frustum).
 //! - **Hysteresis.** A switch needs the best prediction below
-//!   `1 - margin` times the current one in `confirm` decisions in a row,
-//!   `dwell` frames since the last switch, and a saving over the next
-//!   `probe_every` frames above what the switch costs (the warm-up frames
-//!   of the candidate taking over, measured over its steady cost).
+//!   `1 - margin` times the current one (`1 - 2 · margin` from one
+//!   occlusion method to another that would draw more triangles) in
+//!   `confirm` decisions in a row,
+//!   `dwell` frames since the last switch (unless the saving passes
+//!   `3 · margin`: a mistake is undone at once), a saving over the
+//!   next `probe_every` frames above what the switch costs (the warm-up
+//!   frames of the candidate taking over, measured over its steady cost),
+//!   and an estimate of the best measured within `dwell` frames: an older
+//!   one is first checked by a probe (a heavier view raises every
+//!   candidate's cost, but only the running one's estimate sees it).
 //! - **Probes.** After the calibration, at most one frame in
 //!   `probe_every` probes: the candidate measured longest ago (past
 //!   `stale` frames), if plausible, runs for its warm-up frames and one
@@ -37,11 +43,16 @@
 //!   first frame ever (lazy set-up in drivers). A probe of every candidate
 //!   at least every `forced` frames keeps an unlucky estimate from sticking.
 //!
-//! A switch is a cut for the method taking over (`fresh`): its state is
-//! from another time.
+//! A candidate taking over (`fresh`) starts from the visible set of the
+//! last candidate that keeps one (`hzb` and HROC do) if that one ran
+//! within [`ARRIVAL`] frames and no camera cut came since
+//! ([`Decision::from`]: itself, after a probe of `vfc` or `noc`, resumes);
+//! else it starts as after a cut. Its warm-up is counted for the way it
+//! starts ([`WarmUp`]).
 
 /// Frames within which a frame's measurement arrives (the read-back ring
-/// holds three); one lost is not waited for longer.
+/// holds three); one lost is not waited for longer. Also the oldest
+/// visible set a candidate taking over starts from.
 const ARRIVAL: u64 = 8;
 
 /// What a candidate draws, for predicting frames it does not run.
@@ -53,6 +64,28 @@ pub enum Load {
     Frustum,
     /// A share of the frustum's objects, learnt when it runs (`hzb`, `hroc`).
     Occluded,
+}
+
+/// Frames a candidate takes after taking over to reach its steady cost.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct WarmUp {
+    /// Starting from nothing (as after a cut).
+    pub cold: u32,
+    /// Starting from the visible set the candidate before it handed over.
+    pub handed: u32,
+}
+
+impl WarmUp {
+    /// A candidate without state between frames (`noc`, `vfc`).
+    pub const NONE: WarmUp = WarmUp { cold: 0, handed: 0 };
+
+    fn frames(self, handed: bool) -> u32 {
+        if handed {
+            self.handed
+        } else {
+            self.cold
+        }
+    }
 }
 
 /// The chooser's constants.
@@ -99,6 +132,8 @@ pub struct Observation {
     /// A warm-up frame after the candidate took over: it prices a switch,
     /// not the candidate's steady cost.
     pub warm_up: bool,
+    /// ... a warm-up that started from a visible set handed over.
+    pub handed: bool,
 }
 
 /// What to run this frame.
@@ -106,8 +141,12 @@ pub struct Observation {
 pub struct Decision {
     /// The candidate.
     pub candidate: usize,
-    /// It takes over this frame: cull it as after a cut.
+    /// It takes over this frame from another candidate (or starts).
     pub fresh: bool,
+    /// ... from the visible set of this candidate's last frame (itself:
+    /// its own set, kept while a stateless candidate ran), else as after
+    /// a cut.
+    pub from: Option<usize>,
     /// A probe, not the choice.
     pub probe: bool,
     /// The frame counts in the candidate's estimate: false in its warm-up
@@ -157,7 +196,11 @@ struct Probe {
 pub struct Chooser {
     loads: Vec<Load>,
     /// Frames each candidate takes after taking over to reach its steady cost.
-    warm: Vec<u32>,
+    warm: Vec<WarmUp>,
+    /// The candidate of the last decision.
+    last: Option<usize>,
+    /// The last candidate with a visible set that ran, and when (none after a cut).
+    holder: Option<(usize, u64)>,
     /// Warm-up frames left of the candidate running.
     warming: u32,
     fits: Vec<Fit>,
@@ -169,6 +212,8 @@ pub struct Chooser {
     /// The frame of the last switch (none before calibration ended).
     switched_at: Option<u64>,
     better: u32,
+    /// The last probe checking a candidate's old estimate before a switch to it, and its frame.
+    checked: Option<(usize, u64)>,
     probe: Option<Probe>,
     last_probe: u64,
     params: Params,
@@ -177,8 +222,9 @@ pub struct Chooser {
     /// Frames spent probing, and of them in the calibration.
     pub probe_frames: u64,
     calibration_frames: u64,
-    /// What a warm-up frame of each candidate costs over its steady frame, ms.
-    switch_ms: Vec<Option<f64>>,
+    /// What a warm-up frame of each candidate costs over its steady frame,
+    /// ms: starting cold, and from a visible set handed over.
+    switch_ms: Vec<[Option<f64>; 2]>,
     /// The least cost of a frame of another candidate that drew what this
     /// one would (the whole frustum for `vfc`, everything for `noc`): an
     /// upper bound of its cost, used until it is measured itself.
@@ -189,16 +235,19 @@ pub struct Chooser {
 
 impl Chooser {
     /// A chooser over candidates with these loads; `warm[i]` frames after
-    /// taking over, candidate `i` reaches its steady cost.
+    /// taking over, candidate `i` reaches its steady cost. A candidate
+    /// with [`Load::Occluded`] keeps a visible set it hands over.
     ///
     /// # Panics
     /// With no candidates, or `warm` not one per candidate.
-    pub fn new(loads: Vec<Load>, warm: Vec<u32>, params: Params) -> Chooser {
+    pub fn new(loads: Vec<Load>, warm: Vec<WarmUp>, params: Params) -> Chooser {
         let n = loads.len();
         assert!(n > 0 && warm.len() == n, "one load and one warm-up per candidate");
         Chooser {
             loads,
             warm,
+            last: None,
+            holder: None,
             warming: 0,
             fits: vec![Fit::default(); n],
             ran: vec![None; n],
@@ -207,12 +256,13 @@ impl Chooser {
             current: None,
             switched_at: None,
             better: 0,
+            checked: None,
             probe: None,
             last_probe: 0,
             params,
             frames_run: vec![0; n],
             probe_frames: 0,
-            switch_ms: vec![None; n],
+            switch_ms: vec![[None; 2]; n],
             bound_ms: vec![None; n],
             first_frame: None,
             calibration_frames: 0,
@@ -233,7 +283,8 @@ impl Chooser {
         if o.warm_up {
             if measured {
                 let excess = (o.cost_ms - predicted).max(0.0);
-                self.switch_ms[i] = Some(self.switch_ms[i].map_or(excess, |e| 0.5 * (e + excess)));
+                let e = &mut self.switch_ms[i][o.handed as usize];
+                *e = Some(e.map_or(excess, |e| 0.5 * (e + excess)));
             }
             return;
         }
@@ -319,12 +370,18 @@ impl Chooser {
     pub fn decide(&mut self, frame: u64, frustum: f64, all: f64) -> Decision {
         self.first_frame.get_or_insert(frame);
         let mut d = self.decide_inner(frame, frustum, all);
+        d.fresh &= self.last != Some(d.candidate);
+        d.from = self.source(frame).filter(|_| d.fresh && self.loads[d.candidate] == Load::Occluded);
         if d.fresh {
-            // A candidate's first frames ever also pay for lazy set-up.
-            self.warming = self.warm[d.candidate].max(self.ran[d.candidate].is_none() as u32);
+            // A stateful candidate's first frames ever also pay for lazy set-up.
+            self.warming = self.warm[d.candidate].frames(d.from.is_some()).max(self.first(d.candidate) as u32);
+        }
+        self.last = Some(d.candidate);
+        if self.loads[d.candidate] == Load::Occluded {
+            self.holder = Some((d.candidate, frame));
         }
         d.measured = self.warming == 0;
-        d.first = self.ran[d.candidate].is_none();
+        d.first = self.first(d.candidate);
         self.warming = self.warming.saturating_sub(1);
         self.frames_run[d.candidate] += 1;
         self.probe_frames += d.probe as u64;
@@ -348,9 +405,9 @@ impl Chooser {
         // A probe under way runs to its end (and on while its measurement
         // is on its way), then hands on to the calibration's next, or back.
         if let Some(pr) = self.probe.as_mut() {
-            if pr.left > 0 || arriving(pr.candidate) {
+            if pr.left > 0 {
                 pr.left = pr.left.saturating_sub(1);
-                return Decision { candidate: pr.candidate, fresh: false, probe: true, measured: true, first: false };
+                return Decision { candidate: pr.candidate, fresh: false, probe: true, measured: true, first: false, from: None };
             }
             let back = pr.back_to;
             self.probe = None;
@@ -358,24 +415,25 @@ impl Chooser {
             if let Some(i) = untried {
                 return self.start_probe(frame, i, back);
             }
-            return Decision { candidate: back, fresh: true, probe: false, measured: true, first: false };
+            return Decision { candidate: back, fresh: true, probe: false, measured: true, first: false, from: None };
         }
         let Some(current) = self.current else {
             let first = n - 1;
             self.current = Some(first);
             self.started[first] = Some(frame);
-            return Decision { candidate: first, fresh: true, probe: false, measured: true, first: false };
+            return Decision { candidate: first, fresh: true, probe: false, measured: true, first: false, from: None };
         };
         if let Some(i) = untried {
             return self.start_probe(frame, i, current);
         }
         if waiting {
-            return Decision { candidate: current, fresh: false, probe: false, measured: true, first: false };
+            return Decision { candidate: current, fresh: false, probe: false, measured: true, first: false, from: None };
         }
         // Probes of stale estimates.
         let since = frame - self.first_frame.unwrap_or(frame);
         if frame >= self.last_probe.saturating_add(p.probe_every) {
-            let budget = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i] as u64).saturating_mul(p.probe_every) <= since;
+            let handed = self.source(frame).is_some();
+            let budget = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].frames(handed) as u64).saturating_mul(p.probe_every) <= since;
             // Candidates that never ran (not plausible) are not forced.
             let age = |i: usize| self.measured[i].or(self.ran[i]).map(|m| frame.saturating_sub(m));
             let due = |i: usize| age(i).is_some_and(|a| (a >= p.stale && plausible(i)) || a >= p.forced);
@@ -386,35 +444,84 @@ impl Chooser {
         }
         // The choice, with hysteresis.
         let best = (0..n).filter(|&i| predictions[i].1).min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)).unwrap_or(current);
-        // The calibration's end: straight to the best.
+        // The calibration's end: straight to the best, or, where that is
+        // an occlusion method, to the one of them within twice the margin
+        // of it that draws least (as a switch asks, below).
+        let occluding = |i: usize| self.loads[i] == Load::Occluded;
         let Some(switched_at) = self.switched_at else {
+            let best = (0..n)
+                .filter(|&i| occluding(best) && occluding(i) && predictions[i].1 && (1.0 - 2.0 * p.margin) * predictions[i].0 <= predictions[best].0)
+                .min_by(|&a, &b| self.load(a, frustum, all).total_cmp(&self.load(b, frustum, all)))
+                .unwrap_or(best);
             self.switched_at = Some(frame);
             self.current = Some(best);
-            return Decision { candidate: best, fresh: best != current, probe: false, measured: true, first: false };
+            return Decision { candidate: best, fresh: best != current, probe: false, measured: true, first: false, from: None };
         };
         // A switch pays the warm-up of the candidate taking over: worth it
         // when the saving over the next `probe_every` frames covers it.
-        let switch_ms = self.warm[best] as f64 * self.switch_ms[best].unwrap_or(0.0);
+        let handed = self.source(frame).is_some();
+        let switch_ms = self.warm[best].frames(handed) as f64 * self.switch_ms[best][handed as usize].unwrap_or(0.0);
         let saving = predictions[current].0 - predictions[best].0;
-        if best != current && saving > p.margin * predictions[current].0 && saving * p.probe_every as f64 > switch_ms {
+        // Between occlusion methods, trading culling for fixed cost asks
+        // twice the margin: the one that draws more pays for disocclusions
+        // its estimate has not seen (what `vfc` and `noc` draw is counted
+        // each frame).
+        let margin = if occluding(best) && occluding(current) && self.load(best, frustum, all) > self.load(current, frustum, all) { 2.0 * p.margin } else { p.margin };
+        if best != current && saving > margin * predictions[current].0 && saving * p.probe_every as f64 > switch_ms {
             self.better += 1;
         } else {
             self.better = 0;
         }
-        if self.better >= p.confirm && frame >= switched_at.saturating_add(p.dwell) {
+        // A switch that measures far worse than the candidate it left is
+        // undone without the dwell.
+        let mistake = saving > 3.0 * p.margin * predictions[current].0;
+        if self.better >= p.confirm && (mistake || frame >= switched_at.saturating_add(p.dwell)) {
+            // An estimate older than the dwell is checked by a probe first:
+            // what every candidate costs moves with the view, and a stale
+            // estimate only sees the triangles move.
+            let recent = self.measured[best].is_some_and(|m| frame <= m.saturating_add(p.dwell));
+            if !recent {
+                if self.checked.is_none_or(|(c, f)| c != best || frame > f.saturating_add(ARRIVAL)) {
+                    self.checked = Some((best, frame));
+                    self.better = 0;
+                    return self.start_probe(frame, best, current);
+                }
+                return Decision { candidate: current, fresh: false, probe: false, measured: true, first: false, from: None };
+            }
             self.better = 0;
             self.current = Some(best);
             self.switched_at = Some(frame);
-            return Decision { candidate: best, fresh: true, probe: false, measured: true, first: false };
+            return Decision { candidate: best, fresh: true, probe: false, measured: true, first: false, from: None };
         }
-        Decision { candidate: current, fresh: false, probe: false, measured: true, first: false }
+        Decision { candidate: current, fresh: false, probe: false, measured: true, first: false, from: None }
+    }
+
+    /// The candidate whose visible set a candidate taking over at `frame`
+    /// starts from.
+    fn source(&self, frame: u64) -> Option<usize> {
+        self.holder.filter(|&(_, f)| frame <= f.saturating_add(ARRIVAL)).map(|(c, _)| c)
+    }
+
+    /// A candidate's first frame ever, left out of its estimate: a stateful
+    /// candidate's pays for lazy set-up in drivers (`hzb` on lavapipe: 14 ms
+    /// against 9 ms next); a stateless candidate's costs what its next do
+    /// (`vfc`: 24 and 22 ms) and is measured.
+    fn first(&self, i: usize) -> bool {
+        self.ran[i].is_none() && self.warm[i] != WarmUp::NONE
+    }
+
+    /// A camera cut: the candidate running reset its state, and the next
+    /// to take over starts from nothing.
+    pub fn cut(&mut self) {
+        self.holder = None;
     }
 
     fn start_probe(&mut self, frame: u64, i: usize, back_to: usize) -> Decision {
         self.last_probe = frame;
         self.started[i].get_or_insert(frame);
-        self.probe = Some(Probe { candidate: i, left: self.warm[i].max(self.ran[i].is_none() as u32), back_to });
-        Decision { candidate: i, fresh: true, probe: true, measured: true, first: false }
+        let warm = self.warm[i].frames(self.source(frame).is_some() && self.loads[i] == Load::Occluded);
+        self.probe = Some(Probe { candidate: i, left: warm.max(self.first(i) as u32), back_to });
+        Decision { candidate: i, fresh: true, probe: true, measured: true, first: false, from: None }
     }
 
     /// The candidate with `load`, if any.
@@ -434,13 +541,19 @@ mod tests {
 
     /// noc, vfc, hzb, hroc.
     fn chooser() -> Chooser {
-        Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], vec![0, 0, 2, 2], Params::default())
+        let warm = WarmUp { cold: 2, handed: 1 };
+        Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], vec![WarmUp::NONE, WarmUp::NONE, warm, warm], Params::default())
     }
 
     /// Runs `frames` frames of a world where candidate i costs `cost(i,
     /// frame)` and draws `draws(i)` triangles, measurements arriving
     /// `late` frames after; returns the candidate of every frame.
     fn run(c: &mut Chooser, frames: u64, late: u64, cost: impl Fn(usize, u64) -> f64, draws: impl Fn(usize) -> f64, frustum: f64, all: f64) -> Vec<usize> {
+        decisions(c, frames, late, cost, draws, frustum, all).iter().map(|d| d.candidate).collect()
+    }
+
+    /// [`run`]'s decisions.
+    fn decisions(c: &mut Chooser, frames: u64, late: u64, cost: impl Fn(usize, u64) -> f64, draws: impl Fn(usize) -> f64, frustum: f64, all: f64) -> Vec<Decision> {
         let mut ran: Vec<Decision> = Vec::new();
         for f in 0..frames {
             if f >= late {
@@ -453,11 +566,12 @@ mod tests {
                     triangles: draws(d.candidate),
                     frustum_triangles: frustum,
                     warm_up: !d.measured,
+                    handed: d.from.is_some(),
                 });
             }
             ran.push(c.decide(f, frustum, all));
         }
-        ran.iter().map(|d| d.candidate).collect()
+        ran
     }
 
     #[test]
@@ -527,13 +641,69 @@ mod tests {
     }
 
     #[test]
+    fn a_switch_to_a_candidate_that_draws_more_needs_twice_the_margin() {
+        // hzb (2) draws ten times what hroc (3) does; vfc and noc far off.
+        let share = |hzb_ms: f64| {
+            let mut c = chooser();
+            let cost = move |i: usize, _| [40.0, 30.0, hzb_ms, 10.0][i];
+            let ran = run(&mut c, 400, 2, cost, |i| [1e6, 5e5, 1e4, 1e3][i], 5e5, 1e6);
+            ran[50..].iter().filter(|&&i| i == 2).count() as f64 / (ran.len() - 50) as f64
+        };
+        // 10 % cheaper: within twice the margin, hroc stays.
+        assert!(share(9.0) < 0.05, "{}", share(9.0));
+        // 20 % cheaper: hzb takes over.
+        assert!(share(8.0) > 0.9, "{}", share(8.0));
+    }
+
+    #[test]
+    fn an_old_estimate_is_probed_before_a_switch_to_it() {
+        let mut c = chooser();
+        // hroc (3) cheapest; from frame 200 the view costs every candidate
+        // twice as much, which only the running hroc's estimate sees.
+        let cost = |i: usize, f: u64| [40.0, 30.0, 12.0, 10.0][i] * if f < 200 { 1.0 } else { 2.0 };
+        let ds = decisions(&mut c, 400, 2, cost, |i| [1e6, 5e5, 5e4, 5e4][i], 5e5, 1e6);
+        // hzb runs after it only in probes: no switch on its stale 12 ms.
+        let switched = ds[200..].iter().filter(|d| d.candidate != 3 && !d.probe).count();
+        assert_eq!(switched, 0, "{:?}", ds[200..].iter().map(|d| d.candidate).collect::<Vec<_>>());
+    }
+
+    #[test]
+    fn a_candidate_taking_over_starts_from_the_last_visible_set_unless_a_cut_came() {
+        let mut c = chooser();
+        c.set_params(Params { margin: 0.0, confirm: 1, dwell: 0, probe_every: 2, stale: 2, plausible: f64::INFINITY, forced: 4, decay: 0.85 });
+        let cost = |i: usize, f: u64| [14.0, 12.0, 11.0, 10.0][i] * (1.0 + 0.3 * ((f * 7919 % 13) as f64 / 13.0));
+        let (mut holder, mut ds): (Option<(usize, u64)>, Vec<Decision>) = (None, Vec::new());
+        for f in 0..300u64 {
+            if let Some(d) = f.checked_sub(1).map(|g| ds[g as usize]) {
+                let o = Observation { candidate: d.candidate, frame: f - 1, cost_ms: cost(d.candidate, f - 1), triangles: 1e4, frustum_triangles: 1e5, warm_up: !d.measured, handed: d.from.is_some() };
+                c.observe(&o);
+            }
+            if f % 37 == 36 {
+                c.cut();
+                holder = None;
+            }
+            let d = c.decide(f, 1e5, 2e5);
+            let want = holder.filter(|&(_, h)| d.fresh && d.candidate >= 2 && f <= h + ARRIVAL).map(|(h, _)| h);
+            assert_eq!(d.from, want, "frame {f}: {d:?}");
+            if d.candidate >= 2 {
+                holder = Some((d.candidate, f));
+            }
+            ds.push(d);
+        }
+        // Handed over, resumed after a stateless probe, and started cold.
+        assert!(ds.iter().any(|d| d.from.is_some_and(|h| h != d.candidate)));
+        assert!(ds.iter().any(|d| d.from == Some(d.candidate)));
+        assert!(ds.iter().skip(1).any(|d| d.fresh && d.candidate >= 2 && d.from.is_none()));
+    }
+
+    #[test]
     fn the_triangle_cost_is_fitted_within_candidates() {
         let mut c = chooser();
         // cost = 2 + 1e-4 * T for vfc, 5 + 1e-4 * T for hroc.
         for f in 0..20u64 {
             let t = 1e4 * (1 + f % 5) as f64;
-            c.observe(&Observation { candidate: 1, frame: f, cost_ms: 2.0 + 1e-4 * t, triangles: t, frustum_triangles: t, warm_up: false });
-            c.observe(&Observation { candidate: 3, frame: f, cost_ms: 5.0 + 1e-4 * t * 0.2, triangles: t * 0.2, frustum_triangles: t, warm_up: false });
+            c.observe(&Observation { candidate: 1, frame: f, cost_ms: 2.0 + 1e-4 * t, triangles: t, frustum_triangles: t, warm_up: false, handed: false });
+            c.observe(&Observation { candidate: 3, frame: f, cost_ms: 5.0 + 1e-4 * t * 0.2, triangles: t * 0.2, frustum_triangles: t, warm_up: false, handed: false });
         }
         assert!((c.triangle_ms() - 1e-4).abs() < 1e-6, "{}", c.triangle_ms());
         // vfc with twice the frustum: 2 + 1e-4 * 2e5 = 22 ms.

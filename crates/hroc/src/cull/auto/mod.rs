@@ -10,10 +10,13 @@
 //!    scales the occlusion methods' draws;
 //! 3. choice: the chooser's candidate, with hysteresis and a probe of a
 //!    stale estimate at most one frame in thirty;
-//! 4. the candidate's frame. A candidate taking over culls as after a cut
-//!    (HROC reseeds: a probe costs the returning HROC a seeded frame); the
-//!    one handing over keeps its read-backs in flight (the stall-free
-//!    counters take them when it runs again).
+//! 4. the candidate's frame. A candidate taking over starts from the
+//!    visible set of the last `hzb` or HROC frame, if one ran in the last
+//!    few frames ([`CullMethod::take_over`]; its own set after a probe of
+//!    `vfc` or `noc`), as from its own last frame; else, and after a
+//!    camera cut, it culls as after a cut (HROC reseeds). The one handing
+//!    over keeps its read-backs in flight (the stall-free counters take
+//!    them when it runs again).
 //!
 //! Every candidate is conservative, and each frame is one candidate's
 //! whole frame, so `auto` is as conservative as they are.
@@ -21,7 +24,7 @@
 mod chooser;
 mod load;
 
-pub use chooser::{Chooser, Decision, Load, Observation, Params};
+pub use chooser::{Chooser, Decision, Load, Observation, Params, WarmUp};
 
 use std::collections::VecDeque;
 
@@ -39,6 +42,8 @@ struct Pending {
     frustum_triangles: f64,
     /// Left out of the candidate's estimate: a warm-up frame after it took over.
     left_out: bool,
+    /// ... from the visible set handed over.
+    handed: bool,
     /// The candidate's first frame ever.
     first: bool,
     /// The CPU clock's period from this frame to the next (without timestamps).
@@ -46,14 +51,17 @@ struct Pending {
 }
 
 /// Frames `m` takes after taking over from another method to reach its
-/// steady cost: HROC's first is the cut's (V seeded by rays), and its
-/// second draws what the seed's depth left untested; `hzb`'s first draws
-/// what its stale visible set and an empty pyramid pass, its second finds
-/// the visible set from the depth the first left.
-fn warm_up(m: Method) -> u32 {
+/// steady cost. From nothing: HROC's first is the cut's (V seeded by
+/// rays), and its second draws what the seed's depth left untested;
+/// `hzb`'s first draws the frustum (an empty V and pyramid), its second
+/// finds the visible set from the depth the first left. From a visible
+/// set handed over: `hzb` is at once steady, HROC's first frame draws
+/// `hzb`'s larger set.
+fn warm_up(m: Method) -> WarmUp {
     match m {
-        Method::Noc | Method::Vfc => 0,
-        _ => 2,
+        Method::Noc | Method::Vfc => WarmUp::NONE,
+        Method::Hzb => WarmUp { cold: 2, handed: 0 },
+        _ => WarmUp { cold: 2, handed: 1 },
     }
 }
 
@@ -115,7 +123,7 @@ impl Auto {
         let (chooser, timed, all) = (&mut self.chooser, self.timed, self.load.all);
         let (vfc, noc) = (chooser.with_load(Load::Frustum), chooser.with_load(Load::All));
         let mut observe = |p: &Pending, cost_ms: f64, triangles: f64| {
-            let o = Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles, warm_up: p.left_out };
+            let o = Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles, warm_up: p.left_out, handed: p.handed };
             // A first frame ever pays for lazy set-up besides.
             if p.first {
                 return;
@@ -160,6 +168,7 @@ impl CullMethod for Auto {
         if let Some(d) = self.last {
             self.candidates[d.candidate].1.reset(enc);
         }
+        self.chooser.cut();
     }
 
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
@@ -171,11 +180,11 @@ impl CullMethod for Auto {
         let frustum = self.load.count(tree, &f.geometry.planes);
         // 3. Choice.
         let d = self.chooser.decide(f.number, frustum, self.load.all);
-        let handed_over = self.last.is_some_and(|l| l.candidate != d.candidate);
-        let (method, imp) = &mut self.candidates[d.candidate];
-        if d.fresh && handed_over {
-            imp.reset(f.encoder());
+        if d.fresh && self.last.is_some() && d.from != Some(d.candidate) {
+            let visible = d.from.and_then(|c| self.candidates[c].1.visible_set().cloned());
+            self.candidates[d.candidate].1.take_over(f.encoder(), visible.as_ref());
         }
+        let (method, imp) = &mut self.candidates[d.candidate];
         // 4. The candidate's frame (a failure part-way resets it: `reset`).
         f.culled_by = *method;
         self.last = Some(d);
@@ -187,6 +196,7 @@ impl CullMethod for Auto {
             cpu_ms: start.elapsed().as_secs_f64() * 1e3,
             frustum_triangles: frustum,
             left_out: !d.measured,
+            handed: d.from.is_some(),
             first: d.first,
             period_ms: None,
         });

@@ -379,6 +379,22 @@ impl CullMethod for Hroc {
         self.seed_next = true;
     }
 
+    fn visible_set(&self) -> Option<&wgpu::Buffer> {
+        Some(&self.visible)
+    }
+
+    fn take_over(&mut self, enc: &mut wgpu::CommandEncoder, visible: Option<&wgpu::Buffer>) {
+        match visible {
+            // V is the set handed over, as after an ordinary frame: no seed
+            // (the refill still fills what its depth leaves open).
+            Some(v) => {
+                enc.copy_buffer_to_buffer(v, 0, &self.visible, 0, v.size().min(self.visible.size()));
+                self.seed_next = false;
+            }
+            None => self.reset(enc),
+        }
+    }
+
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         let (n, nodes) = (self.n, self.nodes);
         self.tree_nodes = f.uniform.node_count;

@@ -226,6 +226,19 @@ impl CullMethod for Hzb {
         enc.clear_buffer(&self.visible, 0, None);
     }
 
+    fn visible_set(&self) -> Option<&wgpu::Buffer> {
+        Some(&self.visible)
+    }
+
+    fn take_over(&mut self, enc: &mut wgpu::CommandEncoder, visible: Option<&wgpu::Buffer>) {
+        match visible {
+            // Its early pass draws the set handed over, and its pyramid is
+            // built from that depth: no frame drawing the whole frustum.
+            Some(v) => enc.copy_buffer_to_buffer(v, 0, &self.visible, 0, v.size().min(self.visible.size())),
+            None => self.reset(enc),
+        }
+    }
+
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         // 1. Early pass: last frame's visible set.
         f.stage(Stage::OcclusionMap);
