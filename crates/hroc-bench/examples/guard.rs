@@ -173,6 +173,14 @@ fn main() {
     let cmd = "hroc bench --objects 5000 --camera-path hard --fps 5 --methods noc,vfc,hzb,hroc,auto";
     let r = run(&gpu, &BenchOptions { camera_path: Some("hard".into()), fps: Some(5.0), ..options("radial-city", Some(5000), "noc,vfc,hzb,hroc,auto") });
     g.conservative("radial-city 5000 hard, 5 fps", &r, cmd);
+    // From 16k objects up, auto at most 0.95 × hzb on radial-city's own
+    // path, HROC's own ratio beside it.
+    let cmd = "hroc bench --objects 16000 --frames 120 --methods hzb,hroc,auto";
+    let r = run(&gpu, &BenchOptions { frames: 120, ..options("radial-city", Some(16000), "hzb,hroc,auto") });
+    g.conservative("radial-city 16000", &r, cmd);
+    let hzb = row(&r, Method::Hzb).ms_mean;
+    g.check("radial-city 16000: hroc ms / hzb ms", row(&r, Method::HROC).ms_mean / hzb, Limit::AtMost(1.0), cmd);
+    g.check("radial-city 16000: auto ms / hzb ms", row(&r, Method::Auto).ms_mean / hzb, Limit::AtMost(0.95), cmd);
     let cmd = "hroc bench --scene houses --objects 11000 --fps 24 --methods hzb,hroc";
     let r = run(&gpu, &BenchOptions { fps: Some(24.0), ..options("houses", Some(11000), "hzb,hroc") });
     g.conservative("houses", &r, cmd);

@@ -19,7 +19,7 @@
 //!   past [`Params::plausible`] times the best: at 20k objects `noc` and
 //!   `vfc` never run. A frame of any candidate that drew the whole
 //!   frustum, or every object, is an upper bound of what `vfc`, or `noc`,
-//!   costs: the caller observes it for them too (`hzb` taking over draws
+//!   costs: the caller observes it for them too (`hzb` taking over cold draws
 //!   the frustum).
 //! - **Hysteresis.** A switch needs the best prediction below
 //!   `1 - margin` times the current one (`1 - 2 · margin` from one
@@ -520,7 +520,10 @@ impl Chooser {
         self.last_probe = frame;
         self.started[i].get_or_insert(frame);
         let warm = self.warm[i].frames(self.source(frame).is_some() && self.loads[i] == Load::Occluded);
-        self.probe = Some(Probe { candidate: i, left: warm.max(self.first(i) as u32), back_to });
+        // In the calibration an occlusion method, near its steady cost from
+        // a visible set handed over, measures two frames.
+        let second = (self.switched_at.is_none() && self.loads[i] == Load::Occluded) as u32;
+        self.probe = Some(Probe { candidate: i, left: warm.max(self.first(i) as u32) + second, back_to });
         Decision { candidate: i, fresh: true, probe: true, measured: true, first: false, from: None }
     }
 
