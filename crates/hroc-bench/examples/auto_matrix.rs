@@ -114,7 +114,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     if !spreads.is_empty() {
         let geo = (spreads.iter().map(|s| s.0.ln()).sum::<f64>() / spreads.len() as f64).exp();
-        let far = |f: fn(&(f64, f64, String)) -> f64| spreads.iter().map(|s| (f(s).max(1.0 / f(s)), &s.2)).max_by(|a, b| a.0.total_cmp(&b.0)).map(|(x, l)| (x, l.clone())).unwrap_or_default();
+        let far = |f: fn(&(f64, f64, String)) -> f64| {
+            spreads.iter().map(|s| (f(s).max(1.0 / f(s)), &s.2)).max_by(|a, b| a.0.total_cmp(&b.0)).map(|(x, l)| (x, l.clone())).unwrap_or_default()
+        };
         let ((mean_far, mean_at), (p95_far, p95_at)) = (far(|s| s.0), far(|s| s.1));
         let auto_far = auto_spreads.iter().map(|&x| x.max(1.0 / x)).fold(1.0, f64::max);
         println!("spread of repeated runs (the best fixed method again / first): geometric mean {geo:.3}; farthest {mean_far:.3} ({mean_at}); farthest p95 {p95_far:.3} ({p95_at}); auto again / first: farthest {auto_far:.3}");

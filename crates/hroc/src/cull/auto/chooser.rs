@@ -677,7 +677,15 @@ mod tests {
         let (mut holder, mut ds): (Option<(usize, u64)>, Vec<Decision>) = (None, Vec::new());
         for f in 0..300u64 {
             if let Some(d) = f.checked_sub(1).map(|g| ds[g as usize]) {
-                let o = Observation { candidate: d.candidate, frame: f - 1, cost_ms: cost(d.candidate, f - 1), triangles: 1e4, frustum_triangles: 1e5, warm_up: !d.measured, handed: d.from.is_some() };
+                let o = Observation {
+                    candidate: d.candidate,
+                    frame: f - 1,
+                    cost_ms: cost(d.candidate, f - 1),
+                    triangles: 1e4,
+                    frustum_triangles: 1e5,
+                    warm_up: !d.measured,
+                    handed: d.from.is_some(),
+                };
                 c.observe(&o);
             }
             if f % 37 == 36 {
