@@ -50,6 +50,8 @@
 //! else it starts as after a cut. Its warm-up is counted for the way it
 //! starts ([`WarmUp`]).
 
+use super::fit::Fit;
+
 /// Frames within which a frame's measurement arrives (the read-back ring
 /// holds three); one lost is not waited for longer. Also the oldest
 /// visible set a candidate taking over starts from.
@@ -154,34 +156,6 @@ pub struct Decision {
     pub measured: bool,
     /// The candidate's first frame ever (lazy set-up in drivers).
     pub first: bool,
-}
-
-/// Decayed sums of one candidate's observations (for `a_m` and `k`).
-#[derive(Clone, Copy, Debug, Default)]
-struct Fit {
-    n: f64,
-    t: f64,
-    c: f64,
-    tt: f64,
-    tc: f64,
-    /// Share of the frustum's triangles drawn (decayed mean).
-    share: f64,
-    /// The frame of the last observation.
-    frame: u64,
-}
-
-impl Fit {
-    fn add(&mut self, o: &Observation, decay: f64) {
-        let d = if self.n == 0.0 { 0.0 } else { decay.powf(o.frame.saturating_sub(self.frame) as f64) };
-        self.frame = self.frame.max(o.frame);
-        let share = if o.frustum_triangles > 0.0 { (o.triangles / o.frustum_triangles).min(1.0) } else { 1.0 };
-        self.share = (self.share * d * self.n + share) / (d * self.n + 1.0);
-        self.n = self.n * d + 1.0;
-        self.t = self.t * d + o.triangles;
-        self.c = self.c * d + o.cost_ms;
-        self.tt = self.tt * d + o.triangles * o.triangles;
-        self.tc = self.tc * d + o.triangles * o.cost_ms;
-    }
 }
 
 #[derive(Clone, Copy, Debug)]

@@ -22,6 +22,7 @@
 //! whole frame, so `auto` is as conservative as they are.
 
 mod chooser;
+mod fit;
 mod load;
 
 pub use chooser::{Chooser, Decision, Load, Observation, Params, WarmUp};
