@@ -11,7 +11,9 @@
 //! finer than these).
 //!
 //! `cargo run --release -p hroc-bench --example auto_matrix -- [--quick]
-//! [--repeat] [--seconds S] [--json FILE]`: `--quick` runs 1k and 5k only;
+//! [--repeat] [--seconds S] [--only TEXT] [--json FILE]`: `--quick` runs
+//! 1k and 5k only, `--only` the runs whose label ("factory 5000 hard 5")
+//! holds TEXT;
 //! at 60 frames per path second a run covers the path's first S seconds
 //! (default 4: 241 frames).
 
@@ -39,6 +41,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let quick = args.iter().any(|a| a == "--quick");
     let repeat = args.iter().any(|a| a == "--repeat");
     let value = |flag: &str| args.iter().position(|a| a == flag).and_then(|i| args.get(i + 1)).cloned();
+    let only = value("--only");
     let seconds: f32 = value("--seconds").map_or(Ok(4.0), |s| s.parse())?;
     let gpu = Headless::new()?;
     let sizes: &[usize] = if quick { &[1000, 5000] } else { &[1000, 5000, 20000] };
@@ -55,6 +58,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         for &n in sizes {
             for path_name in ["own", "hard", "cuts"] {
                 for fps in [5.0f32, 60.0] {
+                    let label = format!("{scene_key} {n} {path_name} {fps}");
+                    if only.as_ref().is_some_and(|o| !label.contains(o.as_str())) {
+                        continue;
+                    }
                     let o = BenchOptions { fps: Some(fps), ..BenchOptions::new(scene_key, Some(n), methods.clone()) };
                     let (scene, _) = bench::load_inputs(&o)?;
                     let path = match path_name {
@@ -70,7 +77,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     let auto = row(&r, Method::Auto);
                     let (ratio, p95) = (auto.ms_mean / best.ms_mean, auto.ms_p95 / best.ms_p95);
                     let ran: Vec<String> = auto.choices().iter().map(|(m, s)| format!("{m} {:.0}%", 100.0 * s)).collect();
-                    let label = format!("{scene_key} {n} {path_name} {fps}");
                     // The same run again.
                     let again = if repeat {
                         let r2 = bench::run_scene(&gpu, &o, scene, Some(path))?;

@@ -42,6 +42,16 @@
 //!   empty pyramid pass); those are left out of its estimate, and so is a candidate's
 //!   first frame ever (lazy set-up in drivers). A probe of every candidate
 //!   at least every `forced` frames keeps an unlucky estimate from sticking.
+//! - **Probes after a change of view.** An occlusion method's share of the
+//!   frustum holds for the view it was learnt on: after a camera cut, or
+//!   once the frustum holds `view_change` times more or fewer triangles
+//!   than when it was measured, it says nothing, and a cut leaves every
+//!   occlusion method cold anyway. So while `vfc` or `noc` runs, the
+//!   occlusion method predicted cheapest whose estimate is from another
+//!   view is probed, at most one frame in `cut_probe_every` and while the
+//!   probes' cost over the candidates they left stays within
+//!   `probe_share` of the time measured (`spend.rs`): often where a probe
+//!   is cheap, rarely where it is dear.
 //!
 //! A candidate taking over (`fresh`) starts from the visible set of the
 //! last candidate that keeps one (`hzb` and HROC do) if that one ran
@@ -51,6 +61,7 @@
 //! starts ([`WarmUp`]).
 
 use super::fit::Fit;
+use super::spend::Spend;
 
 /// Frames within which a frame's measurement arrives (the read-back ring
 /// holds three); one lost is not waited for longer. Also the oldest
@@ -109,11 +120,18 @@ pub struct Params {
     pub forced: u64,
     /// Weight of an observation in a candidate's fit, per frame of its age.
     pub decay: f64,
+    /// The frustum's triangles changing by this factor since an occlusion
+    /// method was measured changes the view as a camera cut does.
+    pub view_change: f64,
+    /// Probes after changes of view take at most one frame in this many ...
+    pub cut_probe_every: u64,
+    /// ... and cost over the candidates they left at most this share of the time.
+    pub probe_share: f64,
 }
 
 impl Default for Params {
     fn default() -> Self {
-        Params { margin: 0.08, confirm: 3, dwell: 8, probe_every: 30, stale: 90, plausible: 1.3, forced: 600, decay: 0.85 }
+        Params { margin: 0.08, confirm: 3, dwell: 8, probe_every: 30, stale: 90, plausible: 1.3, forced: 600, decay: 0.85, view_change: 3.0, cut_probe_every: 5, probe_share: 0.04 }
     }
 }
 
@@ -182,6 +200,8 @@ pub struct Chooser {
     ran: Vec<Option<u64>>,
     started: Vec<Option<u64>>,
     measured: Vec<Option<u64>>,
+    /// The frustum's triangles in each candidate's last measured frame.
+    measured_frustum: Vec<f64>,
     current: Option<usize>,
     /// The frame of the last switch (none before calibration ended).
     switched_at: Option<u64>,
@@ -205,6 +225,11 @@ pub struct Chooser {
     bound_ms: Vec<Option<f64>>,
     /// The frame of the first decision.
     first_frame: Option<u64>,
+    /// A camera cut came since the last decision; the frame of the last.
+    cut_seen: bool,
+    last_cut: Option<u64>,
+    /// What the probes after the calibration cost.
+    spend: Spend,
 }
 
 impl Chooser {
@@ -227,6 +252,7 @@ impl Chooser {
             ran: vec![None; n],
             started: vec![None; n],
             measured: vec![None; n],
+            measured_frustum: vec![0.0; n],
             current: None,
             switched_at: None,
             better: 0,
@@ -240,6 +266,9 @@ impl Chooser {
             bound_ms: vec![None; n],
             first_frame: None,
             calibration_frames: 0,
+            cut_seen: false,
+            last_cut: None,
+            spend: Spend::default(),
         }
     }
 
@@ -251,6 +280,9 @@ impl Chooser {
     pub fn observe(&mut self, o: &Observation) {
         if !o.cost_ms.is_finite() || o.cost_ms < 0.0 {
             return;
+        }
+        if self.switched_at.is_some() {
+            self.spend.measured(o.frame, o.cost_ms);
         }
         let i = o.candidate;
         let (predicted, measured) = self.predict(i, o.frustum_triangles, f64::INFINITY);
@@ -264,7 +296,10 @@ impl Chooser {
         }
         let cost_ms = if measured && self.loads[i] != Load::All { o.cost_ms.min(2.0 * predicted) } else { o.cost_ms };
         self.fits[i].add(&Observation { cost_ms, ..*o }, self.params.decay);
-        self.measured[i] = Some(self.measured[i].map_or(o.frame, |m| m.max(o.frame)));
+        if self.measured[i].is_none_or(|m| o.frame >= m) {
+            self.measured[i] = Some(o.frame);
+            self.measured_frustum[i] = o.frustum_triangles;
+        }
     }
 
     /// ms per drawn triangle: the within-candidate least-squares slope,
@@ -343,7 +378,14 @@ impl Chooser {
     /// Call once per frame, with frame numbers that do not decrease.
     pub fn decide(&mut self, frame: u64, frustum: f64, all: f64) -> Decision {
         self.first_frame.get_or_insert(frame);
+        if std::mem::take(&mut self.cut_seen) {
+            self.last_cut = Some(frame);
+        }
         let mut d = self.decide_inner(frame, frustum, all);
+        if let Some(pr) = self.probe.filter(|_| d.probe && self.switched_at.is_some()) {
+            let left = self.predict(pr.back_to, frustum, all).0;
+            self.spend.probe(frame, left);
+        }
         d.fresh &= self.last != Some(d.candidate);
         d.from = self.source(frame).filter(|_| d.fresh && self.loads[d.candidate] == Load::Occluded);
         if d.fresh {
@@ -416,12 +458,30 @@ impl Chooser {
                 return self.start_probe(frame, i, current);
             }
         }
+        // Probes after a change of view: an occlusion method's share of
+        // the frustum was learnt on another view when it was measured
+        // before a camera cut, or with `view_change` times fewer or more
+        // triangles in the frustum (and a cut left any occlusion method
+        // cold). So while a stateless candidate runs, the occlusion method
+        // predicted cheapest whose estimate is from another view is
+        // probed, as the probes' spend allows.
+        let occluding = |i: usize| self.loads[i] == Load::Occluded;
+        if !occluding(current) && self.spend.within(p.probe_share) {
+            let paced = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].cold as u64).saturating_mul(p.cut_probe_every) <= since;
+            let moved = |i: usize| {
+                let (a, b) = (frustum.max(1.0), self.measured_frustum[i].max(1.0));
+                self.measured[i].is_some_and(|m| self.last_cut.is_some_and(|c| m < c)) || a.max(b) > p.view_change * a.min(b)
+            };
+            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && moved(i));
+            if let Some(i) = due.min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)) {
+                return self.start_probe(frame, i, current);
+            }
+        }
         // The choice, with hysteresis.
         let best = (0..n).filter(|&i| predictions[i].1).min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)).unwrap_or(current);
         // The calibration's end: straight to the best, or, where that is
         // an occlusion method, to the one of them within twice the margin
         // of it that draws least (as a switch asks, below).
-        let occluding = |i: usize| self.loads[i] == Load::Occluded;
         let Some(switched_at) = self.switched_at else {
             let best = (0..n)
                 .filter(|&i| occluding(best) && occluding(i) && predictions[i].1 && (1.0 - 2.0 * p.margin) * predictions[i].0 <= predictions[best].0)
@@ -487,6 +547,7 @@ impl Chooser {
     /// to take over starts from nothing.
     pub fn cut(&mut self) {
         self.holder = None;
+        self.cut_seen = true;
     }
 
     fn start_probe(&mut self, frame: u64, i: usize, back_to: usize) -> Decision {
@@ -512,186 +573,4 @@ impl Chooser {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// noc, vfc, hzb, hroc.
-    fn chooser() -> Chooser {
-        let warm = WarmUp { cold: 2, handed: 1 };
-        Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], vec![WarmUp::NONE, WarmUp::NONE, warm, warm], Params::default())
-    }
-
-    /// Runs `frames` frames of a world where candidate i costs `cost(i,
-    /// frame)` and draws `draws(i)` triangles, measurements arriving
-    /// `late` frames after; returns the candidate of every frame.
-    fn run(c: &mut Chooser, frames: u64, late: u64, cost: impl Fn(usize, u64) -> f64, draws: impl Fn(usize) -> f64, frustum: f64, all: f64) -> Vec<usize> {
-        decisions(c, frames, late, cost, draws, frustum, all).iter().map(|d| d.candidate).collect()
-    }
-
-    /// [`run`]'s decisions.
-    fn decisions(c: &mut Chooser, frames: u64, late: u64, cost: impl Fn(usize, u64) -> f64, draws: impl Fn(usize) -> f64, frustum: f64, all: f64) -> Vec<Decision> {
-        let mut ran: Vec<Decision> = Vec::new();
-        for f in 0..frames {
-            if f >= late {
-                let d = ran[(f - late) as usize];
-                let g = f - late;
-                c.observe(&Observation {
-                    candidate: d.candidate,
-                    frame: g,
-                    cost_ms: cost(d.candidate, g),
-                    triangles: draws(d.candidate),
-                    frustum_triangles: frustum,
-                    warm_up: !d.measured,
-                    handed: d.from.is_some(),
-                });
-            }
-            ran.push(c.decide(f, frustum, all));
-        }
-        ran
-    }
-
-    #[test]
-    fn it_settles_on_the_cheapest_and_probes_rarely() {
-        let mut c = chooser();
-        // hroc (3) cheapest, hzb close behind, vfc and noc far.
-        let cost = |i: usize, _| [40.0, 30.0, 12.0, 10.0][i];
-        let draws = |i: usize| [1e6, 5e5, 5e4, 3e4][i];
-        let ran = run(&mut c, 600, 2, cost, draws, 5e5, 1e6);
-        let tail = &ran[100..];
-        let on_best = tail.iter().filter(|&&i| i == 3).count() as f64 / tail.len() as f64;
-        assert!(on_best > 0.93, "{on_best}");
-        // One frame in thirty, the calibration's aside.
-        assert!(c.probe_frames.saturating_sub(7) * 30 <= 600, "{} probe frames", c.probe_frames);
-    }
-
-    #[test]
-    fn noc_is_never_tried_where_an_optimistic_guess_is_far_off() {
-        let mut c = chooser();
-        let cost = |i: usize, _| [400.0, 30.0, 12.0, 10.0][i];
-        let draws = |i: usize| [1e7, 5e5, 5e4, 3e4][i];
-        run(&mut c, 400, 2, cost, draws, 5e5, 1e7);
-        assert_eq!(c.frames_run[0], 0);
-    }
-
-    #[test]
-    fn it_follows_a_change_and_does_not_oscillate_between_equals() {
-        let mut c = chooser();
-        // vfc cheapest for 300 frames, then hroc; hzb and noc never.
-        let cost = |i: usize, f: u64| match (i, f < 300) {
-            (1, true) => 10.0,
-            (3, true) => 14.0,
-            (1, false) => 20.0,
-            (3, false) => 9.0,
-            (0, _) => 25.0,
-            _ => 30.0,
-        };
-        let draws = |i: usize| [1e5, 8e4, 2e4, 1e4][i];
-        let ran = run(&mut c, 700, 3, cost, draws, 8e4, 1e5);
-        let share = |r: &[usize], m: usize| r.iter().filter(|&&i| i == m).count() as f64 / r.len() as f64;
-        assert!(share(&ran[50..300], 1) > 0.9, "{}", share(&ran[50..300], 1));
-        assert!(share(&ran[450..], 3) > 0.9, "{}", share(&ran[450..], 3));
-        // Two equal candidates with noise: few switches.
-        let mut c = chooser();
-        let noisy = |i: usize, f: u64| [50.0, 10.0, 50.0, 10.0][i] * (1.0 + 0.05 * ((f * 7919 % 13) as f64 / 13.0 - 0.5));
-        let ran = run(&mut c, 600, 2, noisy, |i| [1e5, 5e4, 5e4, 5e4][i], 5e4, 1e5);
-        let switches = ran.windows(2).filter(|w| w[0] != w[1]).count();
-        // Probes cost two switches each; beyond them, at most a few.
-        assert!(switches as u64 <= 2 * (c.probe_frames + 4), "{switches} switches, {} probe frames", c.probe_frames);
-    }
-
-    #[test]
-    fn bounds_predict_until_measured_and_unplausible_never_runs() {
-        let mut c = chooser();
-        // hzb's warm-up frames drew the frustum at 40 ms: vfc's bound.
-        c.bound(1, 40.0);
-        assert_eq!(c.predict(1, 5e5, 1e7), (40.0, true));
-        // vfc is cheaper (10 ms): with the bound alone it is still tried
-        // (40 is within the plausible factor of hroc's 35) and then chosen.
-        let cost = |i: usize, _| [400.0, 10.0, 45.0, 35.0][i];
-        let draws = |i: usize| [1e7, 5e5, 5e4, 3e4][i];
-        let ran = run(&mut c, 1500, 2, cost, draws, 5e5, 1e7);
-        let on_vfc = ran[100..].iter().filter(|&&i| i == 1).count() as f64 / (ran.len() - 100) as f64;
-        assert!(on_vfc > 0.9, "{on_vfc}");
-        // noc, never plausible, is never forced either (1500 > forced frames).
-        assert_eq!(c.frames_run[0], 0);
-    }
-
-    #[test]
-    fn a_switch_to_a_candidate_that_draws_more_needs_twice_the_margin() {
-        // hzb (2) draws ten times what hroc (3) does; vfc and noc far off.
-        let share = |hzb_ms: f64| {
-            let mut c = chooser();
-            let cost = move |i: usize, _| [40.0, 30.0, hzb_ms, 10.0][i];
-            let ran = run(&mut c, 400, 2, cost, |i| [1e6, 5e5, 1e4, 1e3][i], 5e5, 1e6);
-            ran[50..].iter().filter(|&&i| i == 2).count() as f64 / (ran.len() - 50) as f64
-        };
-        // 10 % cheaper: within twice the margin, hroc stays.
-        assert!(share(9.0) < 0.05, "{}", share(9.0));
-        // 20 % cheaper: hzb takes over.
-        assert!(share(8.0) > 0.9, "{}", share(8.0));
-    }
-
-    #[test]
-    fn an_old_estimate_is_probed_before_a_switch_to_it() {
-        let mut c = chooser();
-        // hroc (3) cheapest; from frame 200 the view costs every candidate
-        // twice as much, which only the running hroc's estimate sees.
-        let cost = |i: usize, f: u64| [40.0, 30.0, 12.0, 10.0][i] * if f < 200 { 1.0 } else { 2.0 };
-        let ds = decisions(&mut c, 400, 2, cost, |i| [1e6, 5e5, 5e4, 5e4][i], 5e5, 1e6);
-        // hzb runs after it only in probes: no switch on its stale 12 ms.
-        let switched = ds[200..].iter().filter(|d| d.candidate != 3 && !d.probe).count();
-        assert_eq!(switched, 0, "{:?}", ds[200..].iter().map(|d| d.candidate).collect::<Vec<_>>());
-    }
-
-    #[test]
-    fn a_candidate_taking_over_starts_from_the_last_visible_set_unless_a_cut_came() {
-        let mut c = chooser();
-        c.set_params(Params { margin: 0.0, confirm: 1, dwell: 0, probe_every: 2, stale: 2, plausible: f64::INFINITY, forced: 4, decay: 0.85 });
-        let cost = |i: usize, f: u64| [14.0, 12.0, 11.0, 10.0][i] * (1.0 + 0.3 * ((f * 7919 % 13) as f64 / 13.0));
-        let (mut holder, mut ds): (Option<(usize, u64)>, Vec<Decision>) = (None, Vec::new());
-        for f in 0..300u64 {
-            if let Some(d) = f.checked_sub(1).map(|g| ds[g as usize]) {
-                let o = Observation {
-                    candidate: d.candidate,
-                    frame: f - 1,
-                    cost_ms: cost(d.candidate, f - 1),
-                    triangles: 1e4,
-                    frustum_triangles: 1e5,
-                    warm_up: !d.measured,
-                    handed: d.from.is_some(),
-                };
-                c.observe(&o);
-            }
-            if f % 37 == 36 {
-                c.cut();
-                holder = None;
-            }
-            let d = c.decide(f, 1e5, 2e5);
-            let want = holder.filter(|&(_, h)| d.fresh && d.candidate >= 2 && f <= h + ARRIVAL).map(|(h, _)| h);
-            assert_eq!(d.from, want, "frame {f}: {d:?}");
-            if d.candidate >= 2 {
-                holder = Some((d.candidate, f));
-            }
-            ds.push(d);
-        }
-        // Handed over, resumed after a stateless probe, and started cold.
-        assert!(ds.iter().any(|d| d.from.is_some_and(|h| h != d.candidate)));
-        assert!(ds.iter().any(|d| d.from == Some(d.candidate)));
-        assert!(ds.iter().skip(1).any(|d| d.fresh && d.candidate >= 2 && d.from.is_none()));
-    }
-
-    #[test]
-    fn the_triangle_cost_is_fitted_within_candidates() {
-        let mut c = chooser();
-        // cost = 2 + 1e-4 * T for vfc, 5 + 1e-4 * T for hroc.
-        for f in 0..20u64 {
-            let t = 1e4 * (1 + f % 5) as f64;
-            c.observe(&Observation { candidate: 1, frame: f, cost_ms: 2.0 + 1e-4 * t, triangles: t, frustum_triangles: t, warm_up: false, handed: false });
-            c.observe(&Observation { candidate: 3, frame: f, cost_ms: 5.0 + 1e-4 * t * 0.2, triangles: t * 0.2, frustum_triangles: t, warm_up: false, handed: false });
-        }
-        assert!((c.triangle_ms() - 1e-4).abs() < 1e-6, "{}", c.triangle_ms());
-        // vfc with twice the frustum: 2 + 1e-4 * 2e5 = 22 ms.
-        let (p, measured) = c.predict(1, 2e5, 4e5);
-        assert!(measured && (p - 22.0).abs() < 0.1, "{p}");
-    }
-}
+mod tests;

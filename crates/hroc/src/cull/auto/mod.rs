@@ -8,8 +8,11 @@
 //! 2. load: the triangles in the frustum, counted on the CPU over the BVH
 //!    (`load.rs`), which predicts what `noc` and `vfc` would cost now and
 //!    scales the occlusion methods' draws;
-//! 3. choice: the chooser's candidate, with hysteresis and a probe of a
-//!    stale estimate at most one frame in thirty;
+//! 3. choice: the chooser's candidate, with hysteresis, a probe of a
+//!    stale estimate at most one frame in thirty, and a probe of an
+//!    occlusion method after a change of view (a camera cut, or a frustum
+//!    three times fuller or emptier) while its cost stays a small share of
+//!    the time;
 //! 4. the candidate's frame. A candidate taking over starts from the
 //!    visible set of the last `hzb` or HROC frame, if one ran in the last
 //!    few frames ([`CullMethod::take_over`]; its own set after a probe of
@@ -24,6 +27,7 @@
 mod chooser;
 mod fit;
 mod load;
+mod spend;
 
 pub use chooser::{Chooser, Decision, Load, Observation, Params, WarmUp};
 

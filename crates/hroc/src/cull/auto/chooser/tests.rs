@@ -1,0 +1,263 @@
+//! The chooser against scripted worlds: what each candidate costs and
+//! draws per frame, measurements arriving late.
+
+use super::*;
+
+/// noc, vfc, hzb, hroc.
+fn chooser() -> Chooser {
+    let warm = WarmUp { cold: 2, handed: 1 };
+    Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], vec![WarmUp::NONE, WarmUp::NONE, warm, warm], Params::default())
+}
+
+/// Runs `frames` frames of a world where candidate i costs `cost(i,
+/// frame)` and draws `draws(i)` triangles, measurements arriving
+/// `late` frames after; returns the candidate of every frame.
+fn run(c: &mut Chooser, frames: u64, late: u64, cost: impl Fn(usize, u64) -> f64, draws: impl Fn(usize) -> f64, frustum: f64, all: f64) -> Vec<usize> {
+    decisions(c, frames, late, cost, draws, frustum, all).iter().map(|d| d.candidate).collect()
+}
+
+/// [`run`]'s decisions.
+fn decisions(c: &mut Chooser, frames: u64, late: u64, cost: impl Fn(usize, u64) -> f64, draws: impl Fn(usize) -> f64, frustum: f64, all: f64) -> Vec<Decision> {
+    decisions_in(c, frames, late, cost, |i, _| draws(i), |_| frustum, all, |_| false)
+}
+
+/// [`decisions`] in a world where candidate i draws `draws(i, frame)`
+/// triangles, the frustum holds `frustum(frame)`, and `cut(frame)` is a
+/// camera cut.
+#[allow(clippy::too_many_arguments)]
+fn decisions_in(
+    c: &mut Chooser,
+    frames: u64,
+    late: u64,
+    cost: impl Fn(usize, u64) -> f64,
+    draws: impl Fn(usize, u64) -> f64,
+    frustum: impl Fn(u64) -> f64,
+    all: f64,
+    cut: impl Fn(u64) -> bool,
+) -> Vec<Decision> {
+    let mut ran: Vec<Decision> = Vec::new();
+    for f in 0..frames {
+        if f >= late {
+            let d = ran[(f - late) as usize];
+            let g = f - late;
+            c.observe(&Observation {
+                candidate: d.candidate,
+                frame: g,
+                cost_ms: cost(d.candidate, g),
+                triangles: draws(d.candidate, g),
+                frustum_triangles: frustum(g),
+                warm_up: !d.measured,
+                handed: d.from.is_some(),
+            });
+        }
+        if cut(f) {
+            c.cut();
+        }
+        ran.push(c.decide(f, frustum(f), all));
+    }
+    ran
+}
+
+/// Share of `ds` that ran candidate `m`.
+fn share(ds: &[Decision], m: usize) -> f64 {
+    ds.iter().filter(|d| d.candidate == m).count() as f64 / ds.len() as f64
+}
+
+#[test]
+fn it_settles_on_the_cheapest_and_probes_rarely() {
+    let mut c = chooser();
+    // hroc (3) cheapest, hzb close behind, vfc and noc far.
+    let cost = |i: usize, _| [40.0, 30.0, 12.0, 10.0][i];
+    let draws = |i: usize| [1e6, 5e5, 5e4, 3e4][i];
+    let ran = run(&mut c, 600, 2, cost, draws, 5e5, 1e6);
+    let tail = &ran[100..];
+    let on_best = tail.iter().filter(|&&i| i == 3).count() as f64 / tail.len() as f64;
+    assert!(on_best > 0.93, "{on_best}");
+    // One frame in thirty, the calibration's aside.
+    assert!(c.probe_frames.saturating_sub(7) * 30 <= 600, "{} probe frames", c.probe_frames);
+}
+
+#[test]
+fn noc_is_never_tried_where_an_optimistic_guess_is_far_off() {
+    let mut c = chooser();
+    let cost = |i: usize, _| [400.0, 30.0, 12.0, 10.0][i];
+    let draws = |i: usize| [1e7, 5e5, 5e4, 3e4][i];
+    run(&mut c, 400, 2, cost, draws, 5e5, 1e7);
+    assert_eq!(c.frames_run[0], 0);
+}
+
+#[test]
+fn it_follows_a_change_and_does_not_oscillate_between_equals() {
+    let mut c = chooser();
+    // vfc cheapest for 300 frames, then hroc; hzb and noc never.
+    let cost = |i: usize, f: u64| match (i, f < 300) {
+        (1, true) => 10.0,
+        (3, true) => 14.0,
+        (1, false) => 20.0,
+        (3, false) => 9.0,
+        (0, _) => 25.0,
+        _ => 30.0,
+    };
+    let draws = |i: usize| [1e5, 8e4, 2e4, 1e4][i];
+    let ran = run(&mut c, 700, 3, cost, draws, 8e4, 1e5);
+    let share = |r: &[usize], m: usize| r.iter().filter(|&&i| i == m).count() as f64 / r.len() as f64;
+    assert!(share(&ran[50..300], 1) > 0.9, "{}", share(&ran[50..300], 1));
+    assert!(share(&ran[450..], 3) > 0.9, "{}", share(&ran[450..], 3));
+    // Two equal candidates with noise: few switches.
+    let mut c = chooser();
+    let noisy = |i: usize, f: u64| [50.0, 10.0, 50.0, 10.0][i] * (1.0 + 0.05 * ((f * 7919 % 13) as f64 / 13.0 - 0.5));
+    let ran = run(&mut c, 600, 2, noisy, |i| [1e5, 5e4, 5e4, 5e4][i], 5e4, 1e5);
+    let switches = ran.windows(2).filter(|w| w[0] != w[1]).count();
+    // Probes cost two switches each; beyond them, at most a few.
+    assert!(switches as u64 <= 2 * (c.probe_frames + 4), "{switches} switches, {} probe frames", c.probe_frames);
+}
+
+#[test]
+fn bounds_predict_until_measured_and_unplausible_never_runs() {
+    let mut c = chooser();
+    // hzb's warm-up frames drew the frustum at 40 ms: vfc's bound.
+    c.bound(1, 40.0);
+    assert_eq!(c.predict(1, 5e5, 1e7), (40.0, true));
+    // vfc is cheaper (10 ms): with the bound alone it is still tried
+    // (40 is within the plausible factor of hroc's 35) and then chosen.
+    let cost = |i: usize, _| [400.0, 10.0, 45.0, 35.0][i];
+    let draws = |i: usize| [1e7, 5e5, 5e4, 3e4][i];
+    let ran = run(&mut c, 1500, 2, cost, draws, 5e5, 1e7);
+    let on_vfc = ran[100..].iter().filter(|&&i| i == 1).count() as f64 / (ran.len() - 100) as f64;
+    assert!(on_vfc > 0.9, "{on_vfc}");
+    // noc, never plausible, is never forced either (1500 > forced frames).
+    assert_eq!(c.frames_run[0], 0);
+}
+
+#[test]
+fn a_switch_to_a_candidate_that_draws_more_needs_twice_the_margin() {
+    // hzb (2) draws ten times what hroc (3) does; vfc and noc far off.
+    let share = |hzb_ms: f64| {
+        let mut c = chooser();
+        let cost = move |i: usize, _| [40.0, 30.0, hzb_ms, 10.0][i];
+        let ran = run(&mut c, 400, 2, cost, |i| [1e6, 5e5, 1e4, 1e3][i], 5e5, 1e6);
+        ran[50..].iter().filter(|&&i| i == 2).count() as f64 / (ran.len() - 50) as f64
+    };
+    // 10 % cheaper: within twice the margin, hroc stays.
+    assert!(share(9.0) < 0.05, "{}", share(9.0));
+    // 20 % cheaper: hzb takes over.
+    assert!(share(8.0) > 0.9, "{}", share(8.0));
+}
+
+#[test]
+fn an_old_estimate_is_probed_before_a_switch_to_it() {
+    let mut c = chooser();
+    // hroc (3) cheapest; from frame 200 the view costs every candidate
+    // twice as much, which only the running hroc's estimate sees.
+    let cost = |i: usize, f: u64| [40.0, 30.0, 12.0, 10.0][i] * if f < 200 { 1.0 } else { 2.0 };
+    let ds = decisions(&mut c, 400, 2, cost, |i| [1e6, 5e5, 5e4, 5e4][i], 5e5, 1e6);
+    // hzb runs after it only in probes: no switch on its stale 12 ms.
+    let switched = ds[200..].iter().filter(|d| d.candidate != 3 && !d.probe).count();
+    assert_eq!(switched, 0, "{:?}", ds[200..].iter().map(|d| d.candidate).collect::<Vec<_>>());
+}
+
+#[test]
+fn a_candidate_taking_over_starts_from_the_last_visible_set_unless_a_cut_came() {
+    let mut c = chooser();
+    c.set_params(Params {
+        margin: 0.0,
+        confirm: 1,
+        dwell: 0,
+        probe_every: 2,
+        stale: 2,
+        plausible: f64::INFINITY,
+        forced: 4,
+        decay: 0.85,
+        view_change: 3.0,
+        cut_probe_every: 2,
+        probe_share: 1.0,
+    });
+    let cost = |i: usize, f: u64| [14.0, 12.0, 11.0, 10.0][i] * (1.0 + 0.3 * ((f * 7919 % 13) as f64 / 13.0));
+    let (mut holder, mut ds): (Option<(usize, u64)>, Vec<Decision>) = (None, Vec::new());
+    for f in 0..300u64 {
+        if let Some(d) = f.checked_sub(1).map(|g| ds[g as usize]) {
+            let o = Observation {
+                candidate: d.candidate,
+                frame: f - 1,
+                cost_ms: cost(d.candidate, f - 1),
+                triangles: 1e4,
+                frustum_triangles: 1e5,
+                warm_up: !d.measured,
+                handed: d.from.is_some(),
+            };
+            c.observe(&o);
+        }
+        if f % 37 == 36 {
+            c.cut();
+            holder = None;
+        }
+        let d = c.decide(f, 1e5, 2e5);
+        let want = holder.filter(|&(_, h)| d.fresh && d.candidate >= 2 && f <= h + ARRIVAL).map(|(h, _)| h);
+        assert_eq!(d.from, want, "frame {f}: {d:?}");
+        if d.candidate >= 2 {
+            holder = Some((d.candidate, f));
+        }
+        ds.push(d);
+    }
+    // Handed over, resumed after a stateless probe, and started cold.
+    assert!(ds.iter().any(|d| d.from.is_some_and(|h| h != d.candidate)));
+    assert!(ds.iter().any(|d| d.from == Some(d.candidate)));
+    assert!(ds.iter().skip(1).any(|d| d.fresh && d.candidate >= 2 && d.from.is_none()));
+}
+
+#[test]
+fn the_triangle_cost_is_fitted_within_candidates() {
+    let mut c = chooser();
+    // cost = 2 + 1e-4 * T for vfc, 5 + 1e-4 * T for hroc.
+    for f in 0..20u64 {
+        let t = 1e4 * (1 + f % 5) as f64;
+        c.observe(&Observation { candidate: 1, frame: f, cost_ms: 2.0 + 1e-4 * t, triangles: t, frustum_triangles: t, warm_up: false, handed: false });
+        c.observe(&Observation { candidate: 3, frame: f, cost_ms: 5.0 + 1e-4 * t * 0.2, triangles: t * 0.2, frustum_triangles: t, warm_up: false, handed: false });
+    }
+    assert!((c.triangle_ms() - 1e-4).abs() < 1e-6, "{}", c.triangle_ms());
+    // vfc with twice the frustum: 2 + 1e-4 * 2e5 = 22 ms.
+    let (p, measured) = c.predict(1, 2e5, 4e5);
+    assert!(measured && (p - 22.0).abs() < 0.1, "{p}");
+}
+
+#[test]
+fn a_cut_has_an_occlusion_method_probed_while_vfc_runs() {
+    // vfc (1) cheapest until a cut at frame 200, after which hroc (3)
+    // costs half of it; nothing else tells the chooser.
+    let cost = |i: usize, f: u64| if f < 200 { [40.0, 10.0, 16.0, 14.0][i] } else { [40.0, 10.0, 7.0, 5.0][i] };
+    let draws = |i: usize, _| [1e6, 5e5, 5e4, 5e4][i];
+    let hroc_after = |params: Params| {
+        let mut c = chooser();
+        c.set_params(params);
+        let ds = decisions_in(&mut c, 300, 2, cost, draws, |_| 5e5, 1e6, |f| f == 200);
+        assert!(share(&ds[50..200], 1) > 0.9, "{}", share(&ds[50..200], 1));
+        share(&ds[220..], 3)
+    };
+    assert!(hroc_after(Params::default()) > 0.9, "{}", hroc_after(Params::default()));
+    // Without probes after cuts, the stale estimate holds on.
+    let never = Params { cut_probe_every: u64::MAX, ..Params::default() };
+    assert!(hroc_after(never) < 0.5, "{}", hroc_after(never));
+}
+
+#[test]
+fn a_frustum_holding_three_times_the_triangles_changes_the_view_as_a_cut_does() {
+    // hroc (3) draws the whole frustum until frame 200 (the eye inside a
+    // box), then a tenth of it while the frustum holds five times more:
+    // its share learnt before predicts it dear.
+    let frustum = |f: u64| if f < 200 { 1e5 } else { 5e5 };
+    let draws = |i: usize, f: u64| match i {
+        0 => 1e6,
+        3 if f >= 200 => 1e4,
+        _ => frustum(f),
+    };
+    let cost = move |i: usize, f: u64| [8.0, 2.0, 6.0, 4.0][i] + 1e-4 * draws(i, f);
+    let hroc_after = |params: Params| {
+        let mut c = chooser();
+        c.set_params(params);
+        let ds = decisions_in(&mut c, 300, 2, cost, draws, frustum, 1e6, |_| false);
+        share(&ds[220..], 3)
+    };
+    assert!(hroc_after(Params::default()) > 0.9, "{}", hroc_after(Params::default()));
+    let never = Params { view_change: f64::INFINITY, ..Params::default() };
+    assert!(hroc_after(never) < 0.5, "{}", hroc_after(never));
+}
