@@ -11,9 +11,9 @@
 //! finer than these).
 //!
 //! `cargo run --release -p hroc-bench --example auto_matrix -- [--quick]
-//! [--repeat] [--seconds S] [--only TEXT] [--json FILE]`: `--quick` runs
-//! 1k and 5k only, `--only` the runs whose label ("factory 5000 hard 5")
-//! holds TEXT;
+//! [--repeat] [--seconds S] [--only TEXT] [--fps 5|60] [--json FILE]`:
+//! `--quick` runs 1k and 5k only, `--only` the runs whose label ("factory
+//! 5000 hard 5") holds TEXT, `--fps` one sampling;
 //! at 60 frames per path second a run covers the path's first S seconds
 //! (default 4: 241 frames).
 
@@ -42,6 +42,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let repeat = args.iter().any(|a| a == "--repeat");
     let value = |flag: &str| args.iter().position(|a| a == flag).and_then(|i| args.get(i + 1)).cloned();
     let only = value("--only");
+    let only_fps: Option<f32> = value("--fps").map(|s| s.parse()).transpose()?;
     let seconds: f32 = value("--seconds").map_or(Ok(4.0), |s| s.parse())?;
     let gpu = Headless::new()?;
     let sizes: &[usize] = if quick { &[1000, 5000] } else { &[1000, 5000, 20000] };
@@ -57,7 +58,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     for scene_key in ["radial-city", "factory", "satellites"] {
         for &n in sizes {
             for path_name in ["own", "hard", "cuts"] {
-                for fps in [5.0f32, 60.0] {
+                for fps in [5.0f32, 60.0].into_iter().filter(|&f| only_fps.is_none_or(|o| o == f)) {
                     let label = format!("{scene_key} {n} {path_name} {fps}");
                     if only.as_ref().is_some_and(|o| !label.contains(o.as_str())) {
                         continue;

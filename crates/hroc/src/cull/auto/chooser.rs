@@ -110,6 +110,9 @@ pub struct Params {
     pub confirm: u32,
     /// Frames after a switch before the next.
     pub dwell: u64,
+    /// A switch to a candidate measured with this factor fewer or more
+    /// triangles in the frustum (or before a cut) checks it by a probe first.
+    pub check_view: f64,
     /// Probes take at most one frame in this many (the calibration aside).
     pub probe_every: u64,
     /// A candidate is probed once its last measurement is this old.
@@ -131,7 +134,20 @@ pub struct Params {
 
 impl Default for Params {
     fn default() -> Self {
-        Params { margin: 0.08, confirm: 3, dwell: 8, probe_every: 30, stale: 90, plausible: 1.3, forced: 600, decay: 0.85, view_change: 3.0, cut_probe_every: 5, probe_share: 0.04 }
+        Params {
+            margin: 0.08,
+            confirm: 3,
+            dwell: 8,
+            check_view: 1.5,
+            probe_every: 30,
+            stale: 90,
+            plausible: 1.3,
+            forced: 600,
+            decay: 0.85,
+            view_change: 3.0,
+            cut_probe_every: 5,
+            probe_share: 0.04,
+        }
     }
 }
 
@@ -413,16 +429,23 @@ impl Chooser {
         let measured_best = (0..n).filter(|&i| predictions[i].1).map(|i| predictions[i].0).fold(f64::INFINITY, f64::min);
         let plausible = |i: usize| !measured_best.is_finite() || predictions[i].0 <= p.plausible * measured_best;
         // Calibration: every plausible candidate runs, one after another,
-        // each judged once the measurements before it arrived.
+        // once the first candidate's measurement arrived; `noc`, predicted
+        // from what `vfc` costs, once the measurements before it arrived.
         // Waiting, from when a candidate first ran, for its first measurement.
         let arriving = |i: usize| self.started[i].is_some_and(|r| frame < r.saturating_add(ARRIVAL)) && self.measured[i].is_none();
         let waiting = (0..n).any(arriving) || !measured_best.is_finite();
-        let untried = (0..n).rev().find(|&i| self.ran[i].is_none() && plausible(i)).filter(|_| !waiting);
-        // A probe under way runs to its end (and on while its measurement
-        // is on its way), then hands on to the calibration's next, or back.
+        let first_measured = self.current.is_some_and(|c| !arriving(c));
+        let untried =
+            (0..n).rev().find(|&i| self.ran[i].is_none() && plausible(i)).filter(|&i| first_measured && measured_best.is_finite() && (!waiting || self.loads[i] != Load::All));
+        // A probe under way runs to its end, then hands on to the
+        // calibration's next, or back (in the calibration it runs on while
+        // measurements are on their way, and its end is the choice's).
         if let Some(pr) = self.probe.as_mut() {
             if pr.left > 0 {
                 pr.left = pr.left.saturating_sub(1);
+                return Decision { candidate: pr.candidate, fresh: false, probe: true, measured: true, first: false, from: None };
+            }
+            if self.switched_at.is_none() && waiting && untried.is_none() {
                 return Decision { candidate: pr.candidate, fresh: false, probe: true, measured: true, first: false, from: None };
             }
             let back = pr.back_to;
@@ -431,7 +454,9 @@ impl Chooser {
             if let Some(i) = untried {
                 return self.start_probe(frame, i, back);
             }
-            return Decision { candidate: back, fresh: true, probe: false, measured: true, first: false, from: None };
+            if self.switched_at.is_some() {
+                return Decision { candidate: back, fresh: true, probe: false, measured: true, first: false, from: None };
+            }
         }
         let Some(current) = self.current else {
             let first = n - 1;
@@ -466,13 +491,9 @@ impl Chooser {
         // predicted cheapest whose estimate is from another view is
         // probed, as the probes' spend allows.
         let occluding = |i: usize| self.loads[i] == Load::Occluded;
-        if !occluding(current) && self.spend.within(p.probe_share) {
+        if self.switched_at.is_some() && !occluding(current) && self.spend.within(p.probe_share) {
             let paced = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].cold as u64).saturating_mul(p.cut_probe_every) <= since;
-            let moved = |i: usize| {
-                let (a, b) = (frustum.max(1.0), self.measured_frustum[i].max(1.0));
-                self.measured[i].is_some_and(|m| self.last_cut.is_some_and(|c| m < c)) || a.max(b) > p.view_change * a.min(b)
-            };
-            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && moved(i));
+            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && self.other_view(i, frustum, p.view_change));
             if let Some(i) = due.min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)) {
                 return self.start_probe(frame, i, current);
             }
@@ -489,7 +510,7 @@ impl Chooser {
                 .unwrap_or(best);
             self.switched_at = Some(frame);
             self.current = Some(best);
-            return Decision { candidate: best, fresh: best != current, probe: false, measured: true, first: false, from: None };
+            return Decision { candidate: best, fresh: true, probe: false, measured: true, first: false, from: None };
         };
         // A switch pays the warm-up of the candidate taking over: worth it
         // when the saving over the next `probe_every` frames covers it.
@@ -510,10 +531,12 @@ impl Chooser {
         // undone without the dwell.
         let mistake = saving > 3.0 * p.margin * predictions[current].0;
         if self.better >= p.confirm && (mistake || frame >= switched_at.saturating_add(p.dwell)) {
-            // An estimate older than the dwell is checked by a probe first:
-            // what every candidate costs moves with the view, and a stale
-            // estimate only sees the triangles move.
-            let recent = self.measured[best].is_some_and(|m| frame <= m.saturating_add(p.dwell));
+            // An estimate older than the dwell, or from another view (the
+            // frustum's triangles `check_view` times fewer or more, or a
+            // cut since), is checked by a probe first: what every candidate
+            // costs moves with the view, and a stale estimate only sees the
+            // triangles move.
+            let recent = self.measured[best].is_some_and(|m| frame <= m.saturating_add(p.dwell)) && !self.other_view(best, frustum, p.check_view);
             if !recent {
                 if self.checked.is_none_or(|(c, f)| c != best || frame > f.saturating_add(ARRIVAL)) {
                     self.checked = Some((best, frame));
@@ -528,6 +551,14 @@ impl Chooser {
             return Decision { candidate: best, fresh: true, probe: false, measured: true, first: false, from: None };
         }
         Decision { candidate: current, fresh: false, probe: false, measured: true, first: false, from: None }
+    }
+
+    /// Candidate `i` was last measured on another view: before the last
+    /// camera cut, or with `factor` times fewer or more triangles in the
+    /// frustum than `frustum`.
+    fn other_view(&self, i: usize, frustum: f64, factor: f64) -> bool {
+        let (a, b) = (frustum.max(1.0), self.measured_frustum[i].max(1.0));
+        self.measured[i].is_some_and(|m| self.last_cut.is_some_and(|c| m < c)) || a.max(b) > factor * a.min(b)
     }
 
     /// The candidate whose visible set a candidate taking over at `frame`

@@ -168,9 +168,9 @@ fn a_candidate_taking_over_starts_from_the_last_visible_set_unless_a_cut_came() 
         plausible: f64::INFINITY,
         forced: 4,
         decay: 0.85,
-        view_change: 3.0,
         cut_probe_every: 2,
         probe_share: 1.0,
+        ..Params::default()
     });
     let cost = |i: usize, f: u64| [14.0, 12.0, 11.0, 10.0][i] * (1.0 + 0.3 * ((f * 7919 % 13) as f64 / 13.0));
     let (mut holder, mut ds): (Option<(usize, u64)>, Vec<Decision>) = (None, Vec::new());
