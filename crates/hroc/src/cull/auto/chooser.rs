@@ -536,7 +536,9 @@ impl Chooser {
             // cut since), is checked by a probe first: what every candidate
             // costs moves with the view, and a stale estimate only sees the
             // triangles move.
-            let recent = self.measured[best].is_some_and(|m| frame <= m.saturating_add(p.dwell)) && !self.other_view(best, frustum, p.check_view);
+            // What the check measured stands, whatever the view did since.
+            let checked = self.checked.is_some_and(|(c, f)| c == best && self.measured[best].is_some_and(|m| m >= f));
+            let recent = self.measured[best].is_some_and(|m| frame <= m.saturating_add(p.dwell)) && (checked || !self.other_view(best, frustum, p.check_view));
             if !recent {
                 if self.checked.is_none_or(|(c, f)| c != best || frame > f.saturating_add(ARRIVAL)) {
                     self.checked = Some((best, frame));

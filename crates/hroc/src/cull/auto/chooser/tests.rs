@@ -261,3 +261,15 @@ fn a_frustum_holding_three_times_the_triangles_changes_the_view_as_a_cut_does() 
     let never = Params { view_change: f64::INFINITY, ..Params::default() };
     assert!(hroc_after(never) < 0.5, "{}", hroc_after(never));
 }
+
+#[test]
+fn with_a_camera_cut_every_frame_it_still_switches() {
+    // hroc (3) cheapest until frame 100, then vfc (1) at half its cost;
+    // every frame a cut, so every estimate is from another view and a
+    // switch is checked by a probe, whose measurement then stands.
+    let cost = |i: usize, f: u64| if f < 100 { [40.0, 10.0, 8.0, 6.0][i] } else { [40.0, 5.0, 12.0, 10.0][i] };
+    let mut c = chooser();
+    let ds = decisions_in(&mut c, 300, 2, cost, |i, _| [1e6, 5e5, 5e4, 5e4][i], |_| 5e5, 1e6, |_| true);
+    assert!(share(&ds[50..100], 3) > 0.8, "{}", share(&ds[50..100], 3));
+    assert!(share(&ds[130..], 1) > 0.8, "{}", share(&ds[130..], 1));
+}
