@@ -429,23 +429,16 @@ impl Chooser {
         let measured_best = (0..n).filter(|&i| predictions[i].1).map(|i| predictions[i].0).fold(f64::INFINITY, f64::min);
         let plausible = |i: usize| !measured_best.is_finite() || predictions[i].0 <= p.plausible * measured_best;
         // Calibration: every plausible candidate runs, one after another,
-        // once the first candidate's measurement arrived; `noc`, predicted
-        // from what `vfc` costs, once the measurements before it arrived.
+        // each judged once the measurements before it arrived.
         // Waiting, from when a candidate first ran, for its first measurement.
         let arriving = |i: usize| self.started[i].is_some_and(|r| frame < r.saturating_add(ARRIVAL)) && self.measured[i].is_none();
         let waiting = (0..n).any(arriving) || !measured_best.is_finite();
-        let first_measured = self.current.is_some_and(|c| !arriving(c));
-        let untried =
-            (0..n).rev().find(|&i| self.ran[i].is_none() && plausible(i)).filter(|&i| first_measured && measured_best.is_finite() && (!waiting || self.loads[i] != Load::All));
-        // A probe under way runs to its end, then hands on to the
-        // calibration's next, or back (in the calibration it runs on while
-        // measurements are on their way, and its end is the choice's).
+        let untried = (0..n).rev().find(|&i| self.ran[i].is_none() && plausible(i)).filter(|_| !waiting);
+        // A probe under way runs to its end (and on while its measurement
+        // is on its way), then hands on to the calibration's next, or back.
         if let Some(pr) = self.probe.as_mut() {
             if pr.left > 0 {
                 pr.left = pr.left.saturating_sub(1);
-                return Decision { candidate: pr.candidate, fresh: false, probe: true, measured: true, first: false, from: None };
-            }
-            if self.switched_at.is_none() && waiting && untried.is_none() {
                 return Decision { candidate: pr.candidate, fresh: false, probe: true, measured: true, first: false, from: None };
             }
             let back = pr.back_to;
@@ -454,9 +447,7 @@ impl Chooser {
             if let Some(i) = untried {
                 return self.start_probe(frame, i, back);
             }
-            if self.switched_at.is_some() {
-                return Decision { candidate: back, fresh: true, probe: false, measured: true, first: false, from: None };
-            }
+            return Decision { candidate: back, fresh: true, probe: false, measured: true, first: false, from: None };
         }
         let Some(current) = self.current else {
             let first = n - 1;
@@ -491,7 +482,7 @@ impl Chooser {
         // predicted cheapest whose estimate is from another view is
         // probed, as the probes' spend allows.
         let occluding = |i: usize| self.loads[i] == Load::Occluded;
-        if self.switched_at.is_some() && !occluding(current) && self.spend.within(p.probe_share) {
+        if !occluding(current) && self.spend.within(p.probe_share) {
             let paced = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].cold as u64).saturating_mul(p.cut_probe_every) <= since;
             let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && self.other_view(i, frustum, p.view_change));
             if let Some(i) = due.min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)) {
@@ -510,7 +501,7 @@ impl Chooser {
                 .unwrap_or(best);
             self.switched_at = Some(frame);
             self.current = Some(best);
-            return Decision { candidate: best, fresh: true, probe: false, measured: true, first: false, from: None };
+            return Decision { candidate: best, fresh: best != current, probe: false, measured: true, first: false, from: None };
         };
         // A switch pays the warm-up of the candidate taking over: worth it
         // when the saving over the next `probe_every` frames covers it.
@@ -535,8 +526,8 @@ impl Chooser {
             // frustum's triangles `check_view` times fewer or more, or a
             // cut since), is checked by a probe first: what every candidate
             // costs moves with the view, and a stale estimate only sees the
-            // triangles move.
-            // What the check measured stands, whatever the view did since.
+            // triangles move. What the check measured stands, whatever the
+            // view did since.
             let checked = self.checked.is_some_and(|(c, f)| c == best && self.measured[best].is_some_and(|m| m >= f));
             let recent = self.measured[best].is_some_and(|m| frame <= m.saturating_add(p.dwell)) && (checked || !self.other_view(best, frustum, p.check_view));
             if !recent {
