@@ -62,13 +62,7 @@ pub(crate) struct DrawTally {
     clock: Option<FrameClock>,
     ring: Vec<(wgpu::Buffer, Readback<FrameStats>)>,
     latest: Option<FrameStats>,
-    /// Every frame that arrived since [`DrawTally::take_arrived`] last ran
-    /// (the newest `KEPT`).
-    arrived: Vec<FrameStats>,
 }
-
-/// Frames [`DrawTally::take_arrived`] keeps between calls.
-const KEPT: usize = 8;
 
 /// Two timestamps a frame, written by empty compute passes (pass
 /// timestamps need only `TIMESTAMP_QUERY`, which Metal, DX12, Vulkan and
@@ -102,7 +96,6 @@ impl DrawTally {
             clock,
             ring: (0..RING).map(|_| (gpu.buffer("hroc tally staging", STAGED, U::MAP_READ | U::COPY_DST), Readback::Free)).collect(),
             latest: None,
-            arrived: Vec::new(),
         }
     }
 
@@ -146,16 +139,6 @@ impl DrawTally {
         self.latest
     }
 
-    /// Every frame whose totals arrived since the last call (the newest
-    /// few), oldest first, polling the device without waiting: two frames
-    /// arriving together are both there, where [`DrawTally::latest`] has one.
-    pub(crate) fn take_arrived(&mut self, gpu: &Gpu) -> Vec<FrameStats> {
-        self.harvest(gpu);
-        let mut v = std::mem::take(&mut self.arrived);
-        v.sort_by_key(|s| s.frame);
-        v
-    }
-
     /// Takes the totals that arrived, polling the device without waiting.
     fn harvest(&mut self, gpu: &Gpu) {
         let _ = gpu.device.poll(wgpu::PollType::Poll);
@@ -174,10 +157,6 @@ impl DrawTally {
                 if self.latest.is_none_or(|l| l.frame < arrived.frame) {
                     self.latest = Some(arrived);
                 }
-                if self.arrived.len() == KEPT {
-                    self.arrived.remove(0);
-                }
-                self.arrived.push(arrived);
             }
         }
     }

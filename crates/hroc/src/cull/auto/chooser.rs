@@ -110,9 +110,6 @@ pub struct Params {
     pub confirm: u32,
     /// Frames after a switch before the next.
     pub dwell: u64,
-    /// A switch to a candidate measured with this factor fewer or more
-    /// triangles in the frustum (or before a cut) checks it by a probe first.
-    pub check_view: f64,
     /// Probes take at most one frame in this many (the calibration aside).
     pub probe_every: u64,
     /// A candidate is probed once its last measurement is this old.
@@ -134,20 +131,7 @@ pub struct Params {
 
 impl Default for Params {
     fn default() -> Self {
-        Params {
-            margin: 0.08,
-            confirm: 3,
-            dwell: 8,
-            check_view: 1.5,
-            probe_every: 30,
-            stale: 90,
-            plausible: 1.3,
-            forced: 600,
-            decay: 0.85,
-            view_change: 3.0,
-            cut_probe_every: 5,
-            probe_share: 0.04,
-        }
+        Params { margin: 0.08, confirm: 3, dwell: 8, probe_every: 30, stale: 90, plausible: 1.3, forced: 600, decay: 0.85, view_change: 3.0, cut_probe_every: 5, probe_share: 0.04 }
     }
 }
 
@@ -484,7 +468,11 @@ impl Chooser {
         let occluding = |i: usize| self.loads[i] == Load::Occluded;
         if !occluding(current) && self.spend.within(p.probe_share) {
             let paced = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].cold as u64).saturating_mul(p.cut_probe_every) <= since;
-            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && self.other_view(i, frustum, p.view_change));
+            let moved = |i: usize| {
+                let (a, b) = (frustum.max(1.0), self.measured_frustum[i].max(1.0));
+                self.measured[i].is_some_and(|m| self.last_cut.is_some_and(|c| m < c)) || a.max(b) > p.view_change * a.min(b)
+            };
+            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && moved(i));
             if let Some(i) = due.min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)) {
                 return self.start_probe(frame, i, current);
             }
@@ -522,14 +510,10 @@ impl Chooser {
         // undone without the dwell.
         let mistake = saving > 3.0 * p.margin * predictions[current].0;
         if self.better >= p.confirm && (mistake || frame >= switched_at.saturating_add(p.dwell)) {
-            // An estimate older than the dwell, or from another view (the
-            // frustum's triangles `check_view` times fewer or more, or a
-            // cut since), is checked by a probe first: what every candidate
-            // costs moves with the view, and a stale estimate only sees the
-            // triangles move. What the check measured stands, whatever the
-            // view did since.
-            let checked = self.checked.is_some_and(|(c, f)| c == best && self.measured[best].is_some_and(|m| m >= f));
-            let recent = self.measured[best].is_some_and(|m| frame <= m.saturating_add(p.dwell)) && (checked || !self.other_view(best, frustum, p.check_view));
+            // An estimate older than the dwell is checked by a probe first:
+            // what every candidate costs moves with the view, and a stale
+            // estimate only sees the triangles move.
+            let recent = self.measured[best].is_some_and(|m| frame <= m.saturating_add(p.dwell));
             if !recent {
                 if self.checked.is_none_or(|(c, f)| c != best || frame > f.saturating_add(ARRIVAL)) {
                     self.checked = Some((best, frame));
@@ -544,14 +528,6 @@ impl Chooser {
             return Decision { candidate: best, fresh: true, probe: false, measured: true, first: false, from: None };
         }
         Decision { candidate: current, fresh: false, probe: false, measured: true, first: false, from: None }
-    }
-
-    /// Candidate `i` was last measured on another view: before the last
-    /// camera cut, or with `factor` times fewer or more triangles in the
-    /// frustum than `frustum`.
-    fn other_view(&self, i: usize, frustum: f64, factor: f64) -> bool {
-        let (a, b) = (frustum.max(1.0), self.measured_frustum[i].max(1.0));
-        self.measured[i].is_some_and(|m| self.last_cut.is_some_and(|c| m < c)) || a.max(b) > factor * a.min(b)
     }
 
     /// The candidate whose visible set a candidate taking over at `frame`

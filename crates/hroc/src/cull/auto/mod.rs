@@ -123,7 +123,7 @@ impl Auto {
 
     /// Step 1: takes the measurements that came back.
     fn measure(&mut self, f: &mut Frame) {
-        let arrived = f.tally.take_arrived(f.gpu);
+        let arrived = f.tally.latest(f.gpu);
         let period = f.period_ms;
         let (chooser, timed, all) = (&mut self.chooser, self.timed, self.load.all);
         let (vfc, noc) = (chooser.with_load(Load::Frustum), chooser.with_load(Load::All));
@@ -147,7 +147,7 @@ impl Auto {
         if let (Some(p), Some(ms)) = (self.pending.back_mut(), period) {
             p.period_ms.get_or_insert(ms);
         }
-        for s in arrived {
+        if let Some(s) = arrived {
             while let Some(p) = self.pending.front().copied().filter(|p| p.frame <= s.frame) {
                 self.pending.pop_front();
                 // A frame whose timestamps did not come back is not a measurement.
