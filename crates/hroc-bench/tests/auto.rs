@@ -26,19 +26,7 @@ fn gpu() -> &'static Headless {
 /// A switch every two or three frames: probes of every candidate, each
 /// plausible, each stale after two frames.
 fn restless() -> Params {
-    Params {
-        margin: 0.0,
-        confirm: 1,
-        dwell: 0,
-        probe_every: 2,
-        stale: 2,
-        plausible: f64::INFINITY,
-        forced: 4,
-        decay: 0.85,
-        cut_probe_every: 2,
-        probe_share: 1.0,
-        ..Params::default()
-    }
+    Params { margin: 0.0, confirm: 1, dwell: 0, probe_every: 2, stale: 2, plausible: f64::INFINITY, forced: 4, cut_probe_every: 2, probe_share: 1.0, ..Params::default() }
 }
 
 #[test]

@@ -167,7 +167,6 @@ fn a_candidate_taking_over_starts_from_the_last_visible_set_unless_a_cut_came() 
         stale: 2,
         plausible: f64::INFINITY,
         forced: 4,
-        decay: 0.85,
         cut_probe_every: 2,
         probe_share: 1.0,
         ..Params::default()
