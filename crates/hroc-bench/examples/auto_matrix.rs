@@ -10,8 +10,15 @@
 //! over the first, and auto's (the margins auto is held to cannot be
 //! finer than these).
 //!
+//! `--record FILE` writes every fixed method's ms and triangles in every
+//! frame, for replaying the chooser against them on the CPU
+//! (`hroc::cull::auto::chooser::replay`, a test): `run LABEL WARMUP`, then
+//! per frame `CUT MS_NOC MS_VFC MS_HZB MS_HROC TRI_NOC TRI_VFC TRI_HZB
+//! TRI_HROC`.
+//!
 //! `cargo run --release -p hroc-bench --example auto_matrix -- [--quick]
-//! [--repeat] [--seconds S] [--only TEXT] [--fps 5|60] [--json FILE]`:
+//! [--repeat] [--seconds S] [--only TEXT] [--fps 5|60] [--json FILE]
+//! [--record FILE]`:
 //! `--quick` runs 1k and 5k only, `--only` the runs whose label ("factory
 //! 5000 hard 5") holds TEXT, `--fps` one sampling;
 //! at 60 frames per path second a run covers the path's first S seconds
@@ -28,6 +35,19 @@ const FIXED: [Method; 4] = [Method::Noc, Method::Vfc, Method::Hzb, Method::HROC]
 
 fn row(r: &BenchReport, method: Method) -> &MethodRow {
     r.rows.iter().find(|row| row.method == method).unwrap_or_else(|| panic!("no {method} row"))
+}
+
+/// Appends run `label` of `r` in `--record`'s format.
+fn record(out: &mut String, label: &str, r: &BenchReport) {
+    use std::fmt::Write;
+    let rows: Vec<&MethodRow> = FIXED.iter().map(|&m| row(r, m)).collect();
+    let cuts = &row(r, Method::Auto).cut_frames;
+    let _ = writeln!(out, "run {label} {}", r.warmup_frames);
+    for k in 0..r.frames {
+        let ms: Vec<String> = rows.iter().map(|x| format!("{:.4}", x.frame_ms[k])).collect();
+        let tri: Vec<String> = rows.iter().map(|x| x.frame_triangles[k].to_string()).collect();
+        let _ = writeln!(out, "{} {} {}", cuts.contains(&k) as u8, ms.join(" "), tri.join(" "));
+    }
 }
 
 /// The path's first `seconds`.
@@ -55,6 +75,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut auto_spreads: Vec<f64> = Vec::new();
     let (mut logs, mut worst, mut p95_worst) = (Vec::new(), (0.0f64, String::new()), (0.0f64, String::new()));
     let mut reports = Vec::new();
+    let mut recorded = String::new();
     for scene_key in ["radial-city", "factory", "satellites"] {
         for &n in sizes {
             for path_name in ["own", "hard", "cuts"] {
@@ -103,8 +124,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         worst = (ratio, label.clone());
                     }
                     if p95 > p95_worst.0 {
-                        p95_worst = (p95, label);
+                        p95_worst = (p95, label.clone());
                     }
+                    record(&mut recorded, &label, &r);
                     reports.push(r);
                 }
             }
@@ -127,6 +149,9 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let ((mean_far, mean_at), (p95_far, p95_at)) = (far(|s| s.0), far(|s| s.1));
         let auto_far = auto_spreads.iter().map(|&x| x.max(1.0 / x)).fold(1.0, f64::max);
         println!("spread of repeated runs (the best fixed method again / first): geometric mean {geo:.3}; farthest {mean_far:.3} ({mean_at}); farthest p95 {p95_far:.3} ({p95_at}); auto again / first: farthest {auto_far:.3}");
+    }
+    if let Some(file) = value("--record") {
+        std::fs::write(file, recorded)?;
     }
     if let Some(file) = value("--json") {
         std::fs::write(file, serde_json::to_string_pretty(&reports)?)?;

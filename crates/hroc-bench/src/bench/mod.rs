@@ -140,6 +140,11 @@ pub struct MethodRow {
     pub stats: BTreeMap<hroc::Stat, f64>,
     /// Wall ms of every frame (warm-up frames included).
     pub frame_ms: Vec<f64>,
+    /// Triangles drawn in every frame, by every view (warm-up frames
+    /// included): with `vfc`'s, the frustum's count each frame.
+    pub frame_triangles: Vec<u64>,
+    /// Frames the camera view took as camera cuts.
+    pub cut_frames: Vec<usize>,
     /// `auto`: the method that culled each frame of the camera view
     /// (empty for the other methods).
     #[serde(serialize_with = "method_names")]
@@ -265,6 +270,10 @@ struct Acc {
     stray: u64,
     /// Objects drawn by each view, summed over frames.
     view_drawn: Vec<u64>,
+    /// Triangles drawn in every frame.
+    frame_triangles: Vec<u64>,
+    /// Frames taken as camera cuts.
+    cut_frames: Vec<usize>,
     /// `auto`: the method of every frame.
     chosen: Vec<Method>,
     missed: Vec<(usize, u32, u32)>,
@@ -363,10 +372,15 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
         for (st, v) in stats {
             match st {
                 hroc::Stat::Chosen => a.chosen.push(Method::ALL.get(v as usize).copied().unwrap_or(Method::Auto)),
+                hroc::Stat::Cut if v > 0.0 => {
+                    a.cut_frames.push(k);
+                    *a.stats.entry(st).or_default() += v;
+                }
                 _ => *a.stats.entry(st).or_default() += v,
             }
         }
         a.wall.push(r.wall_ms);
+        a.frame_triangles.push(c.triangles);
         if k >= warm {
             a.gpu.push(r.gpu_ms());
             for (st, ms) in &r.stages {
@@ -484,6 +498,8 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
                 invocations: a.invocations.iter().map(|(k, v)| (*k, InvocationsMean::of(v, timed_frames))).collect(),
                 stats: a.stats.iter().map(|(k, v)| (*k, v / frames as f64)).collect(),
                 frame_ms: a.wall.clone(),
+                frame_triangles: a.frame_triangles.clone(),
+                cut_frames: a.cut_frames.clone(),
                 frame_methods: a.chosen.clone(),
                 missed_frames: a.missed.clone(),
             }

@@ -25,8 +25,8 @@
 //!   `1 - margin` times the current one (`1 - 2 · margin` from one
 //!   occlusion method to another that would draw more triangles) in
 //!   `confirm` decisions in a row,
-//!   `dwell` frames since the last switch (unless the saving passes
-//!   `3 · margin`: a mistake is undone at once), a saving over the
+//!   `dwell` frames since the last switch (a saving past `3 · margin`
+//!   needs neither: a mistake is undone at once), a saving over the
 //!   next `probe_every` frames above what the switch costs (the warm-up
 //!   frames of the candidate taking over, measured over its steady cost),
 //!   and an estimate of the best measured within `dwell` frames: an older
@@ -131,7 +131,19 @@ pub struct Params {
 
 impl Default for Params {
     fn default() -> Self {
-        Params { margin: 0.08, confirm: 3, dwell: 8, probe_every: 30, stale: 90, plausible: 1.3, forced: 600, decay: 0.85, view_change: 3.0, cut_probe_every: 5, probe_share: 0.04 }
+        Params {
+            margin: 0.065,
+            confirm: 3,
+            dwell: 8,
+            probe_every: 30,
+            stale: 90,
+            plausible: 1.3,
+            forced: 600,
+            decay: 0.93,
+            view_change: 3.0,
+            cut_probe_every: 5,
+            probe_share: 0.04,
+        }
     }
 }
 
@@ -506,10 +518,12 @@ impl Chooser {
         } else {
             self.better = 0;
         }
-        // A switch that measures far worse than the candidate it left is
-        // undone without the dwell.
-        let mistake = saving > 3.0 * p.margin * predictions[current].0;
-        if self.better >= p.confirm && (mistake || frame >= switched_at.saturating_add(p.dwell)) {
+        // A saving past three margins switches at once, without the dwell
+        // or the confirmation: a switch that measures far worse than the
+        // candidate it left is undone, and a probe that finds a candidate
+        // far cheaper is followed.
+        let far = saving > 3.0 * p.margin * predictions[current].0 && self.better > 0;
+        if far || (self.better >= p.confirm && frame >= switched_at.saturating_add(p.dwell)) {
             // An estimate older than the dwell is checked by a probe first:
             // what every candidate costs moves with the view, and a stale
             // estimate only sees the triangles move.
@@ -572,5 +586,7 @@ impl Chooser {
     }
 }
 
+#[cfg(test)]
+mod replay;
 #[cfg(test)]
 mod tests;
