@@ -4,7 +4,9 @@
 //! 1. measurements: the frames whose GPU time and triangles came back
 //!    (timestamps read without a stall, [`crate::FrameStats`]) feed each
 //!    candidate's cost model (`chooser.rs`); without `TIMESTAMP_QUERY`,
-//!    the CPU clock's frame period stands in for the GPU time;
+//!    the CPU clock's frame period stands in for the GPU time. Every frame
+//!    of a probe, a warm-up or a switch's dwell is timed, a steady frame
+//!    one in four;
 //! 2. load: the triangles in the frustum, counted on the CPU over the BVH
 //!    (`load.rs`), which predicts what `noc` and `vfc` would cost now and
 //!    scales the occlusion methods' draws;
@@ -123,7 +125,7 @@ impl Auto {
 
     /// Step 1: takes the measurements that came back.
     fn measure(&mut self, f: &mut Frame) {
-        let arrived = f.tally.latest(f.gpu);
+        let arrived = if self.timed { f.tally.latest_timed(f.gpu) } else { f.tally.latest(f.gpu) };
         let period = f.period_ms;
         let (chooser, timed, all) = (&mut self.chooser, self.timed, self.load.all);
         let (vfc, noc) = (chooser.with_load(Load::Frustum), chooser.with_load(Load::All));
@@ -185,6 +187,9 @@ impl CullMethod for Auto {
         let frustum = self.load.count(tree, &f.geometry.planes);
         // 3. Choice.
         let d = self.chooser.decide(f.number, frustum, self.load.all);
+        if self.chooser.times(&d, f.number) {
+            f.tally.start_clock(f.encoder);
+        }
         if d.fresh && self.last.is_some() && d.from != Some(d.candidate) {
             let visible = d.from.and_then(|c| self.candidates[c].1.visible_set().cloned());
             self.candidates[d.candidate].1.take_over(f.encoder(), visible.as_ref());

@@ -16,8 +16,11 @@ pub(super) struct Spend {
     awaited: Vec<(u64, f64)>,
     /// Measured cost of probe frames over those predictions, ms.
     excess_ms: f64,
-    /// Measured cost of every frame, ms.
+    /// Cost of every frame, ms: each measured frame stands for the
+    /// frames since the last measured (steady frames are measured one in
+    /// a few).
     total_ms: f64,
+    last: Option<u64>,
 }
 
 impl Spend {
@@ -29,7 +32,9 @@ impl Spend {
 
     /// Frame `frame` was measured at `cost_ms`.
     pub(super) fn measured(&mut self, frame: u64, cost_ms: f64) {
-        self.total_ms += cost_ms;
+        let frames = self.last.map_or(1, |l| frame.saturating_sub(l).clamp(1, KEPT));
+        self.last = Some(self.last.map_or(frame, |l| l.max(frame)));
+        self.total_ms += cost_ms * frames as f64;
         if let Some(k) = self.awaited.iter().position(|&(f, _)| f == frame) {
             let (_, left_ms) = self.awaited.swap_remove(k);
             self.excess_ms += (cost_ms - left_ms).max(0.0);
@@ -59,6 +64,10 @@ mod tests {
         s.measured(10, 14.0);
         s.measured(11, 8.0);
         assert!(s.within(0.04) && !s.within(0.03));
+        // A frame measured after three unmeasured stands for four.
+        let before = s.total_ms;
+        s.measured(15, 10.0);
+        assert_eq!(s.total_ms - before, 40.0);
         // A measurement lost is given up, not awaited for ever.
         s.probe(12, 10.0);
         s.probe(12 + KEPT + 1, 10.0);

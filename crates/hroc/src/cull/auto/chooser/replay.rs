@@ -1,7 +1,7 @@
 //! The chooser against recorded runs: every fixed candidate's cost and
 //! triangles in every frame of a benchmark run (`auto_matrix --record`),
-//! replayed as `auto` would have met them: measurements a frame late, a
-//! candidate's first frame ever left out, an occlusion method taking over
+//! replayed as `auto` would have met them: measurements a frame late (of
+//! the frames it times), a candidate's first frame ever left out, an occlusion method taking over
 //! cold drawing the frustum first. Deterministic, so variants of the
 //! chooser compare without the noise of a run; what it leaves out (lazy
 //! set-up, hand-over costs) makes it a little optimistic.
@@ -61,13 +61,13 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
     let warm = vec![WarmUp::NONE, WarmUp::NONE, WarmUp { cold: 2, handed: 0 }, WarmUp { cold: 2, handed: 1 }];
     let mut c = Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], warm, params);
     let n = r.ms.len();
-    let mut ran: Vec<(Decision, f64, f64)> = Vec::new();
+    let mut ran: Vec<(Decision, f64, f64, bool)> = Vec::new();
     for f in 0..n {
         // Last frame's measurement arrives (as on lavapipe).
-        if let Some(&(d, cost, tri)) = f.checked_sub(1).and_then(|g| ran.get(g)) {
+        if let Some(&(d, cost, tri, timed)) = f.checked_sub(1).and_then(|g| ran.get(g)) {
             let g = f - 1;
             let frustum = r.tri[g][1];
-            if !d.first {
+            if !d.first && timed {
                 c.observe(&Observation {
                     candidate: d.candidate,
                     frame: g as u64,
@@ -103,7 +103,7 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
             let ms: Vec<String> = r.ms[f].iter().map(|x| format!("{x:7.2}")).collect();
             println!("{f:3} {} {} | {} {cost:7.2}{} | predicted {}", if r.cut[f] { 'C' } else { ' ' }, ms.join(" "), LETTERS[m], if d.probe { " probe" } else { "" }, p.join(" "));
         }
-        ran.push((d, cost, tri));
+        ran.push((d, cost, tri, c.times(&d, f as u64)));
     }
     let w = r.warmup.min(n.saturating_sub(1));
     let timed = (n - w) as f64;
@@ -165,6 +165,7 @@ fn recorded_runs() {
             "view_change" => params.view_change = v,
             "cut_probe_every" => params.cut_probe_every = v as u64,
             "probe_share" => params.probe_share = v,
+            "time_every" => params.time_every = v as u64,
             _ => panic!("no constant {k}"),
         }
     }
