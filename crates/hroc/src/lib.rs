@@ -210,7 +210,8 @@
 //! [`Method::Auto`] is the culler to leave on: each frame of each view, the
 //! cheapest of `noc`, `vfc`, `hzb` and HROC (`hroc` with an ID target, else
 //! `hroc-sf`) on this device, scene and path, chosen by a cost model that
-//! two GPU timestamps a frame calibrate, read back without a stall
+//! GPU timestamps calibrate (two in every frame of a probe or a switch, in
+//! one steady frame in four), read back without a stall
 //! ([`FrameStats::gpu_ns`]; without `TIMESTAMP_QUERY`, which [`features`]
 //! requests where the adapter has it, the CPU clock's frame period between
 //! the view's frames stands in: a GPU-bound host's frame time). Each frame
