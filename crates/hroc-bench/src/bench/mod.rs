@@ -372,11 +372,12 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
         for (st, v) in stats {
             match st {
                 hroc::Stat::Chosen => a.chosen.push(Method::ALL.get(v as usize).copied().unwrap_or(Method::Auto)),
-                hroc::Stat::Cut if v > 0.0 => {
-                    a.cut_frames.push(k);
+                _ => {
+                    if st == hroc::Stat::Cut && v > 0.0 {
+                        a.cut_frames.push(k);
+                    }
                     *a.stats.entry(st).or_default() += v;
                 }
-                _ => *a.stats.entry(st).or_default() += v,
             }
         }
         a.wall.push(r.wall_ms);

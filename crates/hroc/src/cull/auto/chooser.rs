@@ -586,7 +586,7 @@ impl Chooser {
     /// Call after [`Chooser::decide`].
     pub fn times(&self, d: &Decision, frame: u64) -> bool {
         let settling = self.switched_at.is_none_or(|s| frame < s.saturating_add(self.params.dwell));
-        d.probe || d.fresh || !d.measured || settling || self.probe.is_some() || frame.is_multiple_of(self.params.time_every.max(1))
+        d.fresh || !d.measured || settling || self.probe.is_some() || frame.is_multiple_of(self.params.time_every.max(1))
     }
 
     /// The candidate with `load`, if any.
