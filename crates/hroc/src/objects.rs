@@ -3,6 +3,7 @@
 
 use crate::contract::DrawList;
 use crate::error::{Error, Result};
+use crate::gpu::Gpu;
 use crate::layout::{DrawCommand, ObjectBounds, OrientedBounds};
 use crate::{Aabb, OrientedBox};
 
@@ -71,6 +72,9 @@ pub(crate) struct SharedObjects {
     /// Object slots (the culler's capacity): every per-object buffer and
     /// pass covers them; empty slots draw nothing.
     pub count: u32,
+    /// Live objects tested alone (`ALONE`: DYNAMIC, or outside the BVH),
+    /// as the bounds last uploaded flag them.
+    pub alone: u32,
     pub bounds: wgpu::Buffer,
     /// `OrientedBounds` per slot (`valid` 0 where the host gave none).
     pub oriented: wgpu::Buffer,
@@ -134,4 +138,30 @@ pub(super) fn bounds_of(b: Aabb, flags: u32) -> ObjectBounds {
 
 pub(super) fn command(o: &ObjectDesc, i: u32) -> DrawCommand {
     DrawCommand { index_count: o.index_count, instance_count: 1, first_index: o.first_index, base_vertex: o.base_vertex, first_instance: i }
+}
+
+/// Nodes a tree over `slots` objects can have.
+pub(crate) fn node_capacity(slots: u32) -> u32 {
+    (2 * slots).saturating_sub(1).max(1)
+}
+
+/// The shared buffers of `slots` object slots.
+pub(crate) fn allocate(gpu: &Gpu, slots: u32, commands: &[DrawCommand], flags: Vec<ObjectFlags>) -> (SharedObjects, wgpu::Buffer, wgpu::Buffer) {
+    use wgpu::BufferUsages as U;
+    let n = slots as u64;
+    let shared = SharedObjects {
+        count: slots,
+        alone: 0,
+        bounds: gpu.buffer("hroc object boxes", n * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC),
+        oriented: gpu.buffer("hroc oriented boxes", n * ORIENTED_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC),
+        commands: gpu.buffer_init("hroc commands", bytemuck::cast_slice(commands), U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
+        all_count: gpu.buffer_init("hroc all count", bytemuck::bytes_of(&slots), U::STORAGE | U::INDIRECT | U::COPY_SRC),
+        flags,
+        cpu_commands: commands.to_vec(),
+        always: None,
+        always_deferred: gpu.buffer("hroc never-culled non-occluders", n * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST),
+    };
+    let nodes = gpu.buffer("hroc bvh nodes", node_capacity(slots) as u64 * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+    let leaves = gpu.buffer("hroc leaf of object", n * 4, U::STORAGE | U::COPY_DST);
+    (shared, nodes, leaves)
 }

@@ -54,7 +54,10 @@ pub enum Layout {
     /// HROC's ray grid: the seed of V after a cut (step 0), the refill of
     /// V's holes (step 1), and the cells the frame's depth covers.
     HrocSeed,
-    /// HROC's step 2: the occludee groups.
+    /// HROC's step 2, the walk up the BVH from V's occluders (and its sizing).
+    HrocWalk,
+    /// HROC's step 2, the occludee groups: the walk's candidates and the
+    /// objects tested alone.
     HrocGroups,
     /// HROC's step 5: the next V.
     HrocNext,
@@ -74,7 +77,7 @@ const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 22] = [
+    pub const ALL: [Layout; 23] = [
         Layout::Compact,
         Layout::Refit,
         Layout::FlagSplit,
@@ -90,6 +93,7 @@ impl Layout {
         Layout::Ioc,
         Layout::QueryBoxes,
         Layout::HrocSeed,
+        Layout::HrocWalk,
         Layout::HrocGroups,
         Layout::HrocNext,
         Layout::HrocTest,
@@ -117,6 +121,7 @@ impl Layout {
             Layout::Ioc => "ioc",
             Layout::QueryBoxes => "query boxes",
             Layout::HrocSeed => "hroc seed",
+            Layout::HrocWalk => "hroc walk",
             Layout::HrocGroups => "hroc groups",
             Layout::HrocNext => "hroc next occluders",
             Layout::HrocTest => "hroc test",
@@ -147,7 +152,9 @@ impl Layout {
             // which the queries never draw.
             Layout::QueryBoxes => &[("hroc_test.wgsl", &["box_vs"])],
             Layout::HrocSeed => &[("hroc_seed.wgsl", &[])],
-            Layout::HrocGroups => &[("hroc_groups.wgsl", &[])],
+            // Two layouts of one pass, each within 8 storage buffers.
+            Layout::HrocWalk => &[("hroc_groups.wgsl", &["walk_size", "extract"])],
+            Layout::HrocGroups => &[("hroc_groups.wgsl", &["alone", "collect"])],
             Layout::HrocNext => &[("hroc_next.wgsl", &[])],
             Layout::HrocTest => &[("hroc_test.wgsl", &["box_vs", "group_vs", "box_fs"])],
             Layout::HrocRounds => &[("hroc_test.wgsl", ROUNDS)],

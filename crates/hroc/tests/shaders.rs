@@ -95,10 +95,14 @@ fn layouts_come_from_the_shaders() {
     assert_eq!(entry(0).visibility, ShaderStages::VERTEX | ShaderStages::FRAGMENT);
     // The reduce pass's depth (binding 7) is not part of the test's layout.
     assert!(test.iter().all(|e| e.binding != 7));
-    // Steps 0, 2 and 5 share a bind group: the union of their bindings
-    // (12 to 17: the seed's refill of V's holes).
+    // Steps 0, 2 and 5 number their bindings from one list of resources
+    // (12 to 17: the seed's refill of V's holes; 18 to 22: the walk from V).
     let groups = entries(&[("hroc_seed.wgsl", &[]), ("hroc_groups.wgsl", &[]), ("hroc_next.wgsl", &[])], 0);
-    assert_eq!(groups.iter().map(|e| e.binding).collect::<Vec<_>>(), (0..18).collect::<Vec<_>>());
+    assert_eq!(groups.iter().map(|e| e.binding).collect::<Vec<_>>(), (0..23).collect::<Vec<_>>());
+    // HROC runs on wgpu's default limits: 8 storage buffers a stage.
+    for layout in [Layout::HrocSeed, Layout::HrocWalk, Layout::HrocGroups, Layout::HrocNext, Layout::HrocTest] {
+        assert!(layout.storage_buffers_per_stage() <= 8, "{layout:?}");
+    }
 }
 
 #[test]

@@ -389,6 +389,7 @@ impl Culler {
 
     pub(super) fn upload_bounds(&mut self) {
         let bounds: Vec<ObjectBounds> = (0..self.boxes.len()).map(|i| bounds_of(self.boxes[i], self.gpu_flags(i))).collect();
+        self.objects.alone = bounds.iter().filter(|b| b.flags & ALONE != 0).count() as u32;
         self.gpu.queue.write_buffer(&self.objects.bounds, 0, bytemuck::cast_slice(&bounds));
     }
 
@@ -655,31 +656,6 @@ impl Culler {
     pub fn gpu(&self) -> &Gpu {
         &self.gpu
     }
-}
-
-/// Nodes a tree over `slots` objects can have.
-pub(super) fn node_capacity(slots: u32) -> u32 {
-    (2 * slots).saturating_sub(1).max(1)
-}
-
-/// The shared buffers of `slots` object slots.
-pub(super) fn allocate(gpu: &Gpu, slots: u32, commands: &[DrawCommand], flags: Vec<ObjectFlags>) -> (SharedObjects, wgpu::Buffer, wgpu::Buffer) {
-    use wgpu::BufferUsages as U;
-    let n = slots as u64;
-    let shared = SharedObjects {
-        count: slots,
-        bounds: gpu.buffer("hroc object boxes", n * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC),
-        oriented: gpu.buffer("hroc oriented boxes", n * ORIENTED_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC),
-        commands: gpu.buffer_init("hroc commands", bytemuck::cast_slice(commands), U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
-        all_count: gpu.buffer_init("hroc all count", bytemuck::bytes_of(&slots), U::STORAGE | U::INDIRECT | U::COPY_SRC),
-        flags,
-        cpu_commands: commands.to_vec(),
-        always: None,
-        always_deferred: gpu.buffer("hroc never-culled non-occluders", n * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST),
-    };
-    let nodes = gpu.buffer("hroc bvh nodes", node_capacity(slots) as u64 * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC);
-    let leaves = gpu.buffer("hroc leaf of object", n * 4, U::STORAGE | U::COPY_DST);
-    (shared, nodes, leaves)
 }
 
 pub(super) fn check_capacity(device: &wgpu::Device, n: u64) -> Result<()> {

@@ -118,7 +118,7 @@ impl View {
         if culler.moves > 0 && !self.method.takes_motion() {
             return Err(Error::InvalidScene(format!("{} keeps its own copy of the BVH and takes static scenes only; objects have moved", self.method)));
         }
-        if !self.method.takes_dynamic() {
+        if !self.method.takes_dynamic() && culler.objects.alone > 0 {
             let outside = (0..culler.objects.count as usize).find(|&i| culler.live[i] && (culler.is_dynamic(i) || culler.bvh_leaf(i).is_none()));
             if let Some(i) = outside {
                 return Err(Error::InvalidScene(format!(

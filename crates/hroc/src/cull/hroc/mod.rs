@@ -12,7 +12,9 @@
 //!    With [`MethodOptions::hroc_occluder_rounds`](super::MethodOptions),
 //!    in one front-to-back round (as step 4's below): V's objects hidden
 //!    behind V's nearest are left for the test as occludees;
-//! 2. occludee groups — BVH walk up from every occluder (`hroc_groups.wgsl`);
+//! 2. occludee groups — BVH walk up from every occluder, one thread per
+//!    object of V; the siblings a walk leaves unknown are the groups
+//!    (`hroc_groups.wgsl`);
 //! 3. batch occlusion test — rasterize group boxes, cast rays in their
 //!    subtrees (`hroc_test.wgsl`); marked objects are the occludees U.
 //!    A leaf whose object has an oriented box is entered only where the
@@ -84,6 +86,11 @@ pub struct Hroc {
     state: wgpu::Buffer,
     visited: wgpu::Buffer,
     group_count: wgpu::Buffer,
+    /// Step 2's work: the walk's and the collection's workgroups and the candidates.
+    walk: wgpu::Buffer,
+    /// The workgroups copied from `walk` (a buffer cannot be both written
+    /// and read as workgroups in one dispatch).
+    walk_launch: wgpu::Buffer,
     ray_stats: wgpu::Buffer,
     v_list: DrawList,
     u_list: DrawList,
@@ -94,7 +101,11 @@ pub struct Hroc {
     marks_o: MarkTarget,
     marks_d: MarkTarget,
     test_bind: wgpu::BindGroup,
+    /// Step 2's passes: the walk's sizing, the walk up from V's occluders,
+    /// the objects tested alone, and the collection of the groups.
+    walk_size: Step,
     extract: Step,
+    alone: Step,
     collect: Step,
     merge: Step,
     filter: Step,
@@ -134,6 +145,24 @@ pub struct Hroc {
 /// occlusion test's rays over a few group boxes.
 pub const SEED_GRID: (u32, u32) = (64, 36);
 
+/// Occluder filtering's tile: each thread reads FILTER_TILE² of the pixels
+/// it filters (`hroc_next.wgsl`), storing an object once per run of pixels
+/// it owns.
+const FILTER_TILE: u32 = 2;
+
+/// The workgroups of a compute pass: a grid, or read from a buffer at an
+/// offset (a count the frame's earlier passes wrote).
+enum Launch<'b> {
+    Grid(u32, u32),
+    Indirect(&'b wgpu::Buffer, u64),
+}
+
+impl From<(u32, u32)> for Launch<'_> {
+    fn from((x, y): (u32, u32)) -> Self {
+        Launch::Grid(x, y)
+    }
+}
+
 /// A compute pass of HROC's frame: its pipeline and bindings.
 struct Step {
     pipeline: wgpu::ComputePipeline,
@@ -159,6 +188,9 @@ impl Hroc {
         let state = gpu.buffer("hroc node state", nodes as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let visited = gpu.buffer("hroc visited", nodes as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let group_count = gpu.buffer("hroc |G|", 4, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC);
+        // Step 2's dispatches (the walk's, the collection's) and the candidates (hroc_groups.wgsl).
+        let walk = gpu.buffer("hroc walk", (9 + nodes as u64) * 4, U::STORAGE | U::COPY_SRC);
+        let walk_launch = gpu.buffer("hroc walk workgroups", 32, U::INDIRECT | U::COPY_DST);
         let ray_stats = gpu.buffer("hroc ray stats", STAT_SLOTS * 8, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         // A group per node, or per object tested alone (§6's hybrid).
         let groups = gpu.buffer("hroc groups", (nodes as u64 + n as u64) * 16, U::STORAGE | U::INDIRECT | U::COPY_SRC);
@@ -197,6 +229,11 @@ impl Hroc {
             (15, refill_list.count.as_entire_binding()),
             (16, covered.as_entire_binding()),
             (17, occluders.as_entire_binding()),
+            (18, v_list.commands.as_entire_binding()),
+            (19, v_list.count.as_entire_binding()),
+            (20, walk.as_entire_binding()),
+            (21, refill_list.commands.as_entire_binding()),
+            (22, refill_list.count.as_entire_binding()),
         ]);
         let step = |layout: Layout, pass: &str, entry: &str, constants: &[(&str, f64)]| {
             let bind_layout = layout.create_for(gpu, samples);
@@ -209,10 +246,12 @@ impl Hroc {
         let seed = step(Layout::HrocSeed, "hroc_seed.wgsl", "seed", &grid);
         let refill = step(Layout::HrocSeed, "hroc_seed.wgsl", "refill_holes", &grid);
         let cover = step(Layout::HrocSeed, "hroc_seed.wgsl", "cover", &grid);
-        let extract = step(Layout::HrocGroups, "hroc_groups.wgsl", "extract", &test_scale);
+        let walk_size = step(Layout::HrocWalk, "hroc_groups.wgsl", "walk_size", &[]);
+        let extract = step(Layout::HrocWalk, "hroc_groups.wgsl", "extract", &[]);
+        let alone = step(Layout::HrocGroups, "hroc_groups.wgsl", "alone", &test_scale);
         let collect = step(Layout::HrocGroups, "hroc_groups.wgsl", "collect", &test_scale);
         let merge = step(Layout::HrocNext, "hroc_next.wgsl", "merge", &[]);
-        let filter = step(Layout::HrocNext, "hroc_next.wgsl", "filter_occluders", &[("FILTER_STRIDE", filter_stride as f64)]);
+        let filter = step(Layout::HrocNext, "hroc_next.wgsl", "filter_occluders", &[("FILTER_STRIDE", filter_stride as f64), ("FILTER_TILE", FILTER_TILE as f64)]);
 
         let test_layout = Layout::HrocTest.create(gpu);
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source_for("hroc_test.wgsl", samples));
@@ -284,8 +323,12 @@ impl Hroc {
             // O skips the test of what it marks: only V's own objects.
             marks_o: cx.mark_target(&occluders, Some(&visible)),
             marks_d: cx.mark_target(&drawn, None),
+            walk_size,
             extract,
+            alone,
             collect,
+            walk,
+            walk_launch,
             merge,
             filter,
             filter_stride,
@@ -322,13 +365,17 @@ impl Hroc {
         })
     }
 
-    fn dispatch(&self, f: &mut Frame, label: &str, step: &Step, (x, y): (u32, u32)) {
+    fn dispatch<'b>(&self, f: &mut Frame, label: &str, step: &Step, launch: impl Into<Launch<'b>>) {
+        let launch = launch.into();
         let (enc, q) = f.counted();
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
             pass.set_pipeline(&step.pipeline);
             pass.set_bind_group(0, &step.bind, &[]);
-            pass.dispatch_workgroups(x, y, 1);
+            match launch {
+                Launch::Grid(x, y) => pass.dispatch_workgroups(x, y, 1),
+                Launch::Indirect(args, offset) => pass.dispatch_workgroups_indirect(args, offset),
+            }
         });
     }
 
@@ -443,8 +490,16 @@ impl CullMethod for Hroc {
         if let Some(r) = &self.rounds {
             r.clear(enc);
         }
-        self.dispatch(f, "hroc extract groups", &self.extract, (ox, oy));
-        self.dispatch(f, "hroc collect groups", &self.collect, dispatch_size(nodes, 256));
+        // The walk runs from V's occluders; objects tested alone, when the
+        // scene has any, and the walk's candidates are the groups.
+        self.dispatch(f, "hroc walk size", &self.walk_size, (1, 1));
+        f.encoder().copy_buffer_to_buffer(&self.walk, 0, &self.walk_launch, 0, Some(12));
+        self.dispatch(f, "hroc extract groups", &self.extract, Launch::Indirect(&self.walk_launch, 0));
+        if f.objects.alone > 0 {
+            self.dispatch(f, "hroc objects alone", &self.alone, (ox, oy));
+        }
+        f.encoder().copy_buffer_to_buffer(&self.walk, 16, &self.walk_launch, 16, Some(12));
+        self.dispatch(f, "hroc collect groups", &self.collect, Launch::Indirect(&self.walk_launch, 16));
         // The group boxes are drawn up to |G| by the indirect count (from a
         // bound: the capacity, CR's read-back or SF's estimate and its
         // overflow), or as one instanced draw of |G| instances.
@@ -500,7 +555,7 @@ impl CullMethod for Hroc {
         if self.variant.of {
             let (w, h) = f.size();
             f.encoder().clear_buffer(&self.visible, 0, None);
-            let s = self.filter_stride;
+            let s = self.filter_stride * FILTER_TILE;
             self.dispatch(f, "hroc occluder filtering", &self.filter, (w.div_ceil(s).div_ceil(16), h.div_ceil(s).div_ceil(16)));
         } else {
             self.dispatch(f, "hroc next occluders", &self.merge, (ox, oy));
