@@ -4,6 +4,8 @@
 // missed: count' = max(count - estimate, 0), and with `stride` > 0 the
 // commands [estimate, count) copied to the front of `dst`, so the host
 // draws them from offset 0. Nothing is dropped, and nothing waits.
+// A grid of at most OVERFLOW_THREADS (stall_free.rs) strides over the
+// commands: the pass costs what overflows, not the list's capacity.
 
 struct Overflow {
     estimate: u32,
@@ -26,9 +28,12 @@ fn overflow(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg:
     if i == 0u {
         dst_count[0] = extra;
     }
-    if i < extra && p.stride > 0u {
+    if p.stride == 0u {
+        return;
+    }
+    for (var k = i; k < extra; k += nwg.x * nwg.y * 256u) {
         for (var w = 0u; w < p.stride; w += 1u) {
-            dst[i * p.stride + w] = src[(p.estimate + i) * p.stride + w];
+            dst[k * p.stride + w] = src[(p.estimate + k) * p.stride + w];
         }
     }
 }

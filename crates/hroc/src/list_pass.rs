@@ -1,7 +1,7 @@
-//! [`ListPass`]: a compute pass run on one draw list at a time, one thread
-//! per command up to the list's bound: the per-list tally of what is drawn
-//! (`tally.wgsl`) and the zeroed tail of an emulated draw count
-//! (`tail.wgsl`).
+//! [`ListPass`]: a compute pass run on one draw list at a time, its threads
+//! striding over the commands up to the list's bound: the per-list tally
+//! of what is drawn (`tally.wgsl`) and the zeroed tail of an emulated draw
+//! count (`tail.wgsl`).
 
 use std::collections::HashMap;
 
@@ -10,6 +10,12 @@ use crate::reflect::{pipeline_layout, Layout};
 
 /// Bind groups kept for the lists seen lately.
 const BINDS: usize = 256;
+
+/// Most threads a pass launches: each strides over the commands, so a list
+/// of large capacity and few commands (a stall-free overflow list, hzb's
+/// occludees at 256k objects) costs a few workgroups, not one thread per
+/// slot.
+const LIST_THREADS: u32 = 4096;
 
 /// One pass over a list's commands: binding 0 the commands, 1 the GPU
 /// count, 2 a uniform `(max_count, 0, 0, 0)` written in the encoder before
@@ -51,7 +57,7 @@ impl ListPass {
             resources.extend(own.iter().map(|b| (3, b.as_entire_binding())));
             which.bind(gpu, layout, &resources)
         });
-        let (x, y) = dispatch_size(max_count, 64);
+        let (x, y) = dispatch_size(max_count.min(LIST_THREADS), 64);
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.which.label()), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &*bind, &[]);

@@ -100,7 +100,7 @@ fn layouts_come_from_the_shaders() {
     let groups = entries(&[("hroc_seed.wgsl", &[]), ("hroc_groups.wgsl", &[]), ("hroc_next.wgsl", &[])], 0);
     assert_eq!(groups.iter().map(|e| e.binding).collect::<Vec<_>>(), (0..23).collect::<Vec<_>>());
     // HROC runs on wgpu's default limits: 8 storage buffers a stage.
-    for layout in [Layout::HrocSeed, Layout::HrocWalk, Layout::HrocGroups, Layout::HrocNext, Layout::HrocTest] {
+    for layout in [Layout::HrocSeed, Layout::HrocWalkSize, Layout::HrocWalk, Layout::HrocGroups, Layout::HrocNext, Layout::HrocTest] {
         assert!(layout.storage_buffers_per_stage() <= 8, "{layout:?}");
     }
 }

@@ -246,7 +246,7 @@ impl Hroc {
         let seed = step(Layout::HrocSeed, "hroc_seed.wgsl", "seed", &grid);
         let refill = step(Layout::HrocSeed, "hroc_seed.wgsl", "refill_holes", &grid);
         let cover = step(Layout::HrocSeed, "hroc_seed.wgsl", "cover", &grid);
-        let walk_size = step(Layout::HrocWalk, "hroc_groups.wgsl", "walk_size", &[]);
+        let walk_size = step(Layout::HrocWalkSize, "hroc_groups.wgsl", "walk_size", &[]);
         let extract = step(Layout::HrocWalk, "hroc_groups.wgsl", "extract", &[]);
         let alone = step(Layout::HrocGroups, "hroc_groups.wgsl", "alone", &test_scale);
         let collect = step(Layout::HrocGroups, "hroc_groups.wgsl", "collect", &test_scale);

@@ -48,6 +48,9 @@ const MARGIN: f64 = 1.25;
 const SLACK: u32 = 16;
 /// Staging buffers in flight: a count arrives one to three frames late.
 const RING: usize = 3;
+/// Most threads of an overflow pass (`overflow.wgsl`): they stride over
+/// what overflowed, so a list of large capacity costs a few workgroups.
+const OVERFLOW_THREADS: u32 = 4096;
 
 struct Job {
     params: wgpu::Buffer,
@@ -143,7 +146,7 @@ impl StallFree {
             return None;
         }
         f.write(&job.params, 0, bytemuck::cast_slice(&[est, job.stride, job.capacity, 0]));
-        let threads = if job.stride > 0 { job.capacity - est } else { 1 };
+        let threads = if job.stride > 0 { (job.capacity - est).min(OVERFLOW_THREADS) } else { 1 };
         let (x, y) = dispatch_size(threads, 256);
         let (enc, count) = f.counted();
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc overflow"), timestamp_writes: None });
