@@ -183,11 +183,11 @@ fn main() {
     let r = run(&gpu, &BenchOptions { frames: 120, ..options("radial-city", Some(16000), "hzb,hroc,auto") });
     g.conservative("radial-city 16000", &r, cmd);
     let hzb = row(&r, Method::Hzb).ms_mean;
-    g.check("radial-city 16000: hroc ms / hzb ms", row(&r, Method::HROC).ms_mean / hzb, Limit::AtMost(1.0), cmd);
-    // Twelve runs measured 0.907-0.990 (HROC 0.882-0.954 × hzb in the same
-    // runs; 1.03 before the hand-over): the 0.95 target held in seven. The
-    // limit is hzb itself, above that spread.
-    g.check("radial-city 16000: auto ms / hzb ms", row(&r, Method::Auto).ms_mean / hzb, Limit::AtMost(1.0), cmd);
+    // Since step 2 walks from V's list and list passes stride, eight runs
+    // measured HROC 0.75-0.86 × hzb (0.88-0.95 before) and auto 0.80-0.91
+    // (0.91-0.99 before): the target is the limit.
+    g.check("radial-city 16000: hroc ms / hzb ms", row(&r, Method::HROC).ms_mean / hzb, Limit::AtMost(0.9), cmd);
+    g.check("radial-city 16000: auto ms / hzb ms", row(&r, Method::Auto).ms_mean / hzb, Limit::AtMost(0.95), cmd);
     let cmd = "hroc bench --scene houses --objects 11000 --fps 24 --methods hzb,hroc";
     let r = run(&gpu, &BenchOptions { fps: Some(24.0), ..options("houses", Some(11000), "hzb,hroc") });
     g.conservative("houses", &r, cmd);
