@@ -317,6 +317,19 @@ impl Chooser {
         }
     }
 
+    /// Takes a measured frame ([`Chooser::observe`]) of a view holding
+    /// `all` triangles; a frame that drew the whole frustum (or every
+    /// object) bounds what `vfc` (or `noc`) costs from above
+    /// ([`Chooser::bound`]).
+    pub fn observe_frame(&mut self, o: &Observation, all: f64) {
+        self.observe(o);
+        for (load, drew) in [(Load::Frustum, o.triangles >= 0.95 * o.frustum_triangles), (Load::All, o.triangles >= 0.95 * all)] {
+            if let Some(b) = self.with_load(load).filter(|&b| drew && b != o.candidate) {
+                self.bound(b, o.cost_ms);
+            }
+        }
+    }
+
     /// ms per drawn triangle: the within-candidate least-squares slope,
     /// clamped to `[0, least mean cost per mean triangle]`.
     pub fn triangle_ms(&self) -> f64 {

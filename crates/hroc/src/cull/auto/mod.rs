@@ -128,20 +128,11 @@ impl Auto {
         let arrived = if self.timed { f.tally.latest_timed(f.gpu) } else { f.tally.latest(f.gpu) };
         let period = f.period_ms;
         let (chooser, timed, all) = (&mut self.chooser, self.timed, self.load.all);
-        let (vfc, noc) = (chooser.with_load(Load::Frustum), chooser.with_load(Load::All));
         let mut observe = |p: &Pending, cost_ms: f64, triangles: f64| {
             let o = Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles, warm_up: p.left_out, handed: p.handed };
             // A first frame ever pays for lazy set-up besides.
-            if p.first {
-                return;
-            }
-            chooser.observe(&o);
-            // A frame that drew the whole frustum (or every object) bounds
-            // what vfc (or noc) costs from above.
-            for (bound, drew) in [(vfc, triangles >= 0.95 * p.frustum_triangles), (noc, triangles >= 0.95 * all)] {
-                if let Some(b) = bound.filter(|&b| drew && b != p.candidate) {
-                    chooser.bound(b, cost_ms);
-                }
+            if !p.first {
+                chooser.observe_frame(&o, all);
             }
         };
         // Without timestamps, the period since the last frame began is the

@@ -68,7 +68,7 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
             let g = f - 1;
             let frustum = r.tri[g][1];
             if !d.first && timed {
-                c.observe(&Observation {
+                let o = Observation {
                     candidate: d.candidate,
                     frame: g as u64,
                     cost_ms: cost,
@@ -76,15 +76,8 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
                     frustum_triangles: frustum,
                     warm_up: !d.measured,
                     handed: d.from.is_some(),
-                });
-                // As `Auto::measure` does: a frame that drew the frustum
-                // (everything) bounds vfc's (noc's) cost.
-                if tri >= 0.95 * frustum && d.candidate != 1 {
-                    c.bound(1, cost);
-                }
-                if tri >= 0.95 * r.tri[g][0] && d.candidate != 0 {
-                    c.bound(0, cost);
-                }
+                };
+                c.observe_frame(&o, r.tri[g][0]);
             }
         }
         if r.cut[f] {
