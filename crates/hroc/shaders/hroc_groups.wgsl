@@ -54,8 +54,6 @@ fn test_box(n: BvhNode) -> Box {
     return padded_box_px(n, frame.eye.xyz, pixel_angle_xy(frame), block_pad_px(TEST_SCALE));
 }
 
-
-
 // Workgroups (x, y) of a 1D launch of `threads` spread as dispatch_size
 // spreads them (gpu/mod.rs): y rows of at most 65535.
 fn launch(threads: u32) -> vec2<u32> {
