@@ -474,8 +474,8 @@ fn pipeline_statistics_count_every_stage() {
         let dbg = h.method_state::<Hroc>().unwrap().debug_state(s.gpu).unwrap();
         assert!(dbg.walked > 0 && dbg.candidates > 0, "frame {k}: {} walked, {} candidates", dbg.walked, dbg.candidates);
         // wgpu checks each indirect dispatch's workgroups with one thread
-        // of its own where the instance validates indirect calls (the
-        // default in release builds).
+        // of its own where the instance validates indirect calls (its
+        // default).
         let own = 1 + threads(dbg.walked) + threads(dbg.candidates + 1);
         assert!((ge.vertex, ge.fragment) == (0, 0) && [own, own + 2].contains(&ge.compute), "frame {k}: {ge:?}, {own} expected");
         assert!(ge.compute < threads(n) + threads(nodes), "frame {k}: {ge:?}");

@@ -61,6 +61,13 @@ fn launch(threads: u32) -> vec2<u32> {
     return vec2<u32>(min(groups, 65535u), (groups + 65534u) / 65535u);
 }
 
+// Flat index of a thread of such a launch: rows are 65535 workgroups wide
+// whenever there is more than one, so num_workgroups is not read (DX12
+// leaves it 0 in the indirect dispatches wgpu does not validate).
+fn launched_id(wid: vec3<u32>, lid: u32) -> u32 {
+    return (wid.y * 65535u + wid.x) * 256u + lid;
+}
+
 @compute @workgroup_size(1)
 fn walk_size() {
     let v = v_count[0];
@@ -79,8 +86,8 @@ fn walk_size() {
 }
 
 @compute @workgroup_size(256)
-fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let k = flat_id(wid, nwg, lid, 256u);
+fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let k = launched_id(wid, lid);
     if k >= atomicLoad(&work[WALK + 3u]) {
         return;
     }
@@ -149,8 +156,8 @@ fn emit_group(n: u32) {
 }
 
 @compute @workgroup_size(256)
-fn collect(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let t = flat_id(wid, nwg, lid, 256u);
+fn collect(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let t = launched_id(wid, lid);
     if t > atomicLoad(&work[COLLECT + 3u]) || frame.node_count == 0u {
         return;
     }

@@ -52,8 +52,9 @@ impl Hroc {
         })
     }
 
-    /// Debug read-back for the CPU references: node states, groups (sorted)
-    /// and the O and U marks of the last frame.
+    /// Debug read-back for the CPU references: node states, groups (sorted),
+    /// the O and U marks of the last frame, and the objects step 2 walked
+    /// from and the candidates it collected.
     pub fn debug_state(&self, gpu: &Gpu) -> Result<DebugState> {
         let g = gpu.read::<u32>(&self.group_count, 0, 1)?[0];
         let mut groups: Vec<u32> = gpu.read::<DrawArgs>(&self.groups, 0, g as u64)?.iter().map(|d| d.first_instance).collect();
