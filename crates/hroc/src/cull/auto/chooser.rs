@@ -51,7 +51,11 @@
 //!   view is probed, at most one frame in `cut_probe_every` and while the
 //!   probes' cost over the candidates they left stays within
 //!   `probe_share` of the time measured (`spend.rs`): often where a probe
-//!   is cheap, rarely where it is dear.
+//!   is cheap, rarely where it is dear. After a change of the frustum
+//!   alone, only a method whose intercept `a_m` (its frame drawing
+//!   nothing) is below the running candidate's predicted frame is probed:
+//!   a fuller frustum does not make its frame cheaper than that (on a
+//!   small scene HROC's own passes cost what `vfc`'s whole frame does).
 //!
 //! A candidate taking over (`fresh`) starts from the visible set of the
 //! last candidate that keeps one (`hzb` and HROC do) if that one ran
@@ -67,6 +71,15 @@ use super::spend::Spend;
 /// holds three); one lost is not waited for longer. Also the oldest
 /// visible set a candidate taking over starts from.
 const ARRIVAL: u64 = 8;
+
+/// Standard errors taken off the fitted ms per triangle
+/// ([`Chooser::triangle_ms`]).
+const SLOPE_ERRORS: f64 = 1.0;
+
+/// Degrees of freedom (decayed frames, less one per candidate and one for
+/// the slope) below which no slope is fitted ([`Chooser::triangle_ms`]).
+/// A candidate measured one steady frame in four weighs about four.
+const MIN_SLOPE_FRAMES: f64 = 3.0;
 
 /// What a candidate draws, for predicting frames it does not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -330,10 +343,20 @@ impl Chooser {
         }
     }
 
-    /// ms per drawn triangle: the within-candidate least-squares slope,
-    /// clamped to `[0, least mean cost per mean triangle]`.
+    /// ms per drawn triangle, clamped to `[0, least mean cost per mean
+    /// triangle]`: that bound until the frames fit a slope (fewer than
+    /// [`MIN_SLOPE_FRAMES`] degrees of freedom, or triangles that hardly
+    /// vary within any candidate); then the within-candidate
+    /// least-squares slope less [`SLOPE_ERRORS`] standard errors. Frame
+    /// times vary from frame to frame more than a small change of
+    /// triangles explains, and a slope the frames do not establish
+    /// would have a change of view move every prediction: on a small
+    /// scene, whose frame is its passes and its pixels, a fuller frustum
+    /// made HROC look cheaper than `vfc` and had it probed.
     pub fn triangle_ms(&self) -> f64 {
-        let (mut num, mut den, mut scale) = (0.0, 0.0, 0.0);
+        // Sums over candidates of (t - mean t)(c - mean c), (t - mean t)²
+        // and (c - mean c)², and the residual's degrees of freedom.
+        let (mut tc, mut tt, mut cc, mut dof, mut scale) = (0.0, 0.0, 0.0, -1.0, 0.0);
         let mut bound = f64::INFINITY;
         for f in self.fits.iter().filter(|f| f.n > 0.0) {
             scale += f.tt;
@@ -341,14 +364,19 @@ impl Chooser {
                 bound = bound.min(f.c / f.t);
             }
             if f.n > 1.0 {
-                num += f.tc - f.t * f.c / f.n;
-                den += f.tt - f.t * f.t / f.n;
+                tc += f.tc - f.t * f.c / f.n;
+                tt += f.tt - f.t * f.t / f.n;
+                cc += f.cc - f.c * f.c / f.n;
+                dof += f.n - 1.0;
             }
         }
         let bound = if bound.is_finite() { bound } else { 0.0 };
-        // Triangles that hardly vary within any candidate fit no slope.
-        let fitted = if den > 1e-4 * scale { num / den } else { bound };
-        fitted.clamp(0.0, bound)
+        if tt <= 1e-4 * scale || dof < MIN_SLOPE_FRAMES {
+            return bound;
+        }
+        let slope = tc / tt;
+        let residual = (cc - slope * tc).max(0.0) / dof;
+        (slope - SLOPE_ERRORS * (residual / tt).sqrt()).clamp(0.0, bound)
     }
 
     /// The highest ms per drawn triangle any candidate's frames could
@@ -397,8 +425,18 @@ impl Chooser {
                 None => (0.0, false),
             };
         }
-        let a = ((f.c - k * f.t) / f.n).max(0.0);
-        (a + k * self.load(i, frustum, all), true)
+        (self.intercept(i, k) + k * self.load(i, frustum, all), true)
+    }
+
+    /// Candidate `i`'s `a_i` at `k` ms per triangle: what its frames cost
+    /// drawing nothing (its own passes and the frame's), 0 before it was
+    /// measured.
+    fn intercept(&self, i: usize, k: f64) -> f64 {
+        let f = &self.fits[i];
+        if f.n == 0.0 {
+            return 0.0;
+        }
+        ((f.c - k * f.t) / f.n).max(0.0)
     }
 
     /// The candidate to run at `frame`, with `frustum` of `all` triangles
@@ -496,11 +534,16 @@ impl Chooser {
         let occluding = |i: usize| self.loads[i] == Load::Occluded;
         if !occluding(current) && self.spend.within(p.probe_share) {
             let paced = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].cold as u64).saturating_mul(p.cut_probe_every) <= since;
-            let moved = |i: usize| {
+            let cut = |i: usize| self.measured[i].is_some_and(|m| self.last_cut.is_some_and(|c| m < c));
+            // Within a view (no cut since), a method whose frame drawing
+            // nothing costs what the current one's whole frame does is
+            // not cheaper with a fuller or emptier frustum.
+            let k = self.triangle_ms();
+            let fuller = |i: usize| {
                 let (a, b) = (frustum.max(1.0), self.measured_frustum[i].max(1.0));
-                self.measured[i].is_some_and(|m| self.last_cut.is_some_and(|c| m < c)) || a.max(b) > p.view_change * a.min(b)
+                a.max(b) > p.view_change * a.min(b) && self.intercept(i, k) < predictions[current].0
             };
-            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && moved(i));
+            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && (cut(i) || fuller(i)));
             if let Some(i) = due.min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)) {
                 return self.start_probe(frame, i, current);
             }

@@ -8,12 +8,13 @@ use super::Observation;
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct Fit {
     /// Weights (observations, decayed), and the weighted sums of
-    /// triangles, cost, triangles² and triangles × cost.
+    /// triangles, cost, triangles², triangles × cost and cost².
     pub(super) n: f64,
     pub(super) t: f64,
     pub(super) c: f64,
     pub(super) tt: f64,
     pub(super) tc: f64,
+    pub(super) cc: f64,
     /// Share of the frustum's triangles drawn (decayed mean).
     pub(super) share: f64,
     /// The frame of the last observation.
@@ -32,5 +33,6 @@ impl Fit {
         self.c = self.c * d + o.cost_ms;
         self.tt = self.tt * d + o.triangles * o.triangles;
         self.tc = self.tc * d + o.triangles * o.cost_ms;
+        self.cc = self.cc * d + o.cost_ms * o.cost_ms;
     }
 }

@@ -220,6 +220,47 @@ fn the_triangle_cost_is_fitted_within_candidates() {
 }
 
 #[test]
+fn a_slope_the_frames_do_not_establish_is_zero() {
+    // vfc's frames cost 4 ms give or take 1.5 whatever they draw (750 to
+    // 830 triangles): no slope, where a least-squares fit alone finds one.
+    let mut c = chooser();
+    let (mut tc, mut tt, mut mt, mut mc) = (0.0, 0.0, 0.0, 0.0);
+    let frames: Vec<(f64, f64)> = (0..40u64).map(|f| (750.0 + 2.0 * (f % 41) as f64, 4.0 + 1.5 * ((f * 7919 % 13) as f64 / 6.0 - 1.0))).collect();
+    for (f, &(t, ms)) in frames.iter().enumerate() {
+        c.observe(&Observation { candidate: 1, frame: f as u64, cost_ms: ms, triangles: t, frustum_triangles: t, warm_up: false, handed: false });
+    }
+    let recent = &frames[frames.len() - 10..];
+    for &(t, ms) in recent {
+        mt += t / recent.len() as f64;
+        mc += ms / recent.len() as f64;
+    }
+    for &(t, ms) in recent {
+        tc += (t - mt) * (ms - mc);
+        tt += (t - mt) * (t - mt);
+    }
+    assert!((tc / tt).abs() > 1e-3, "the noise fits a slope: {}", tc / tt);
+    assert_eq!(c.triangle_ms(), 0.0);
+}
+
+#[test]
+fn an_occlusion_method_dearer_drawing_nothing_is_not_probed_after_a_change_of_view() {
+    // A small scene: hroc's frame (8 ms) costs more than vfc's whole
+    // frame (4) on any view, and the frustum holds four times more
+    // triangles from frame 100, noise on every frame.
+    let frustum = |f: u64| (if f < 100 { 800.0 } else { 3200.0 }) * (1.0 + 0.02 * (f % 5) as f64);
+    let draws = move |i: usize, f: u64| match i {
+        0 => 5600.0,
+        2 | 3 => 0.3 * frustum(f),
+        _ => frustum(f),
+    };
+    let cost = |i: usize, f: u64| [4.2, 4.0, 7.0, 8.0][i] + 1.5 * ((f * 7919 % 13) as f64 / 6.0 - 1.0);
+    let mut c = chooser();
+    let ds = decisions_in(&mut c, 200, 2, cost, draws, frustum, 5600.0, |_| false);
+    let probed = ds[100..].iter().filter(|d| d.candidate >= 2).count();
+    assert_eq!(probed, 0, "{:?}", ds[100..].iter().map(|d| d.candidate).collect::<Vec<_>>());
+}
+
+#[test]
 fn a_cut_has_an_occlusion_method_probed_while_vfc_runs() {
     // vfc (1) cheapest until a cut at frame 200, after which hroc (3)
     // costs half of it; nothing else tells the chooser.
