@@ -484,10 +484,13 @@ impl Chooser {
         let arriving = |i: usize| self.started[i].is_some_and(|r| frame < r.saturating_add(ARRIVAL)) && self.measured[i].is_none();
         let waiting = (0..n).any(arriving) || !measured_best.is_finite();
         let untried = (0..n).rev().find(|&i| self.ran[i].is_none() && plausible(i)).filter(|_| !waiting);
-        // A probe under way runs to its end (and on while its measurement
-        // is on its way), then hands on to the calibration's next, or back.
+        // A probe under way runs to its end, then hands on to the
+        // calibration's next, or back. The calibration's last probe runs
+        // on while measurements are on their way, then the calibration
+        // ends (below) with one switch, not one back and another.
         if let Some(pr) = self.probe.as_mut() {
-            if pr.left > 0 {
+            let last = self.switched_at.is_none() && untried.is_none();
+            if pr.left > 0 || (last && waiting) {
                 pr.left = pr.left.saturating_sub(1);
                 return Decision { candidate: pr.candidate, fresh: false, probe: true, measured: true, first: false, from: None };
             }
@@ -497,7 +500,9 @@ impl Chooser {
             if let Some(i) = untried {
                 return self.start_probe(frame, i, back);
             }
-            return Decision { candidate: back, fresh: true, probe: false, measured: true, first: false, from: None };
+            if !last {
+                return Decision { candidate: back, fresh: true, probe: false, measured: true, first: false, from: None };
+            }
         }
         let Some(current) = self.current else {
             let first = n - 1;
@@ -560,7 +565,8 @@ impl Chooser {
                 .unwrap_or(best);
             self.switched_at = Some(frame);
             self.current = Some(best);
-            return Decision { candidate: best, fresh: best != current, probe: false, measured: true, first: false, from: None };
+            // Fresh unless it ran last frame (`decide`).
+            return Decision { candidate: best, fresh: true, probe: false, measured: true, first: false, from: None };
         };
         // A switch pays the warm-up of the candidate taking over: worth it
         // when the saving over the next `probe_every` frames covers it.
