@@ -76,11 +76,6 @@ const ARRIVAL: u64 = 8;
 /// ([`Chooser::triangle_ms`]).
 const SLOPE_ERRORS: f64 = 1.0;
 
-/// Degrees of freedom (decayed frames, less one per candidate and one for
-/// the slope) below which no slope is fitted ([`Chooser::triangle_ms`]).
-/// A candidate measured one steady frame in four weighs about four.
-const MIN_SLOPE_FRAMES: f64 = 3.0;
-
 /// What a candidate draws, for predicting frames it does not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Load {
@@ -344,10 +339,11 @@ impl Chooser {
     }
 
     /// ms per drawn triangle, clamped to `[0, least mean cost per mean
-    /// triangle]`: that bound until the frames fit a slope (fewer than
-    /// [`MIN_SLOPE_FRAMES`] degrees of freedom, or triangles that hardly
-    /// vary within any candidate); then the within-candidate
-    /// least-squares slope less [`SLOPE_ERRORS`] standard errors. Frame
+    /// triangle]`: that bound until the frames can fit a slope (a
+    /// candidate measured twice, triangles that vary within a
+    /// candidate); then the within-candidate least-squares slope less
+    /// [`SLOPE_ERRORS`] standard errors (decayed frames, less one per
+    /// candidate and one for the slope, are its degrees of freedom). Frame
     /// times vary from frame to frame more than a small change of
     /// triangles explains, and a slope the frames do not establish
     /// would have a change of view move every prediction: on a small
@@ -371,7 +367,7 @@ impl Chooser {
             }
         }
         let bound = if bound.is_finite() { bound } else { 0.0 };
-        if tt <= 1e-4 * scale || dof < MIN_SLOPE_FRAMES {
+        if tt <= 1e-4 * scale || dof <= 0.0 {
             return bound;
         }
         let slope = tc / tt;

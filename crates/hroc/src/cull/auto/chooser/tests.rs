@@ -78,6 +78,19 @@ fn it_settles_on_the_cheapest_and_probes_rarely() {
 }
 
 #[test]
+fn the_calibration_ends_with_one_switch() {
+    // A small scene: vfc (1) cheapest, hroc (3) the calibration's first.
+    // Once vfc has run, the calibration's last probe, hroc does not run
+    // again for a frame before the choice.
+    for late in [1, 2, 3] {
+        let mut c = chooser();
+        let ran = run(&mut c, 40, late, |i, _| [4.2, 4.0, 7.0, 8.0][i], |i| [5600.0, 800.0, 300.0, 120.0][i], 800.0, 5600.0);
+        let first_vfc = ran.iter().position(|&i| i == 1).expect("vfc runs");
+        assert!(ran[first_vfc..].iter().all(|&i| i <= 1), "late {late}: {ran:?}");
+    }
+}
+
+#[test]
 fn noc_is_never_tried_where_an_optimistic_guess_is_far_off() {
     let mut c = chooser();
     let cost = |i: usize, _| [400.0, 30.0, 12.0, 10.0][i];
