@@ -9,7 +9,8 @@
 //! in the frustum (counted on the CPU), and an occlusion method the share
 //! of the frustum's triangles it drew when it last ran. `k` is fitted
 //! within candidates (least squares with an intercept per candidate, over
-//! recent frames), so a change of view moves every prediction. Frames are
+//! recent frames, less one standard error), so a change of view moves
+//! every prediction as far as the frames show triangles to cost. Frames are
 //! measured by GPU timestamps read back without a stall (or, without them,
 //! the CPU clock's frame period).
 //!
@@ -20,7 +21,8 @@
 //!   `vfc` never run. A frame of any candidate that drew the whole
 //!   frustum, or every object, is an upper bound of what `vfc`, or `noc`,
 //!   costs: the caller observes it for them too (`hzb` taking over cold draws
-//!   the frustum).
+//!   the frustum). The last runs on until the measurements arrive, and
+//!   the calibration ends with a switch to the best.
 //! - **Hysteresis.** A switch needs the best prediction below
 //!   `1 - margin` times the current one (`1 - 2 · margin` from one
 //!   occlusion method to another that would draw more triangles) in
