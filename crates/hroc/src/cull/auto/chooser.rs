@@ -542,11 +542,11 @@ impl Chooser {
             // nothing costs what the current one's whole frame does is
             // not cheaper with a fuller or emptier frustum.
             let k = self.triangle_ms();
-            let fuller = |i: usize| {
+            let reframed = |i: usize| {
                 let (a, b) = (frustum.max(1.0), self.measured_frustum[i].max(1.0));
                 a.max(b) > p.view_change * a.min(b) && self.intercept(i, k) < predictions[current].0
             };
-            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && (cut(i) || fuller(i)));
+            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && (cut(i) || reframed(i)));
             if let Some(i) = due.min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)) {
                 return self.start_probe(frame, i, current);
             }
