@@ -31,7 +31,7 @@ fn join<A: Send, B: Send>(a: impl FnOnce() -> A + Send, b: impl FnOnce() -> B + 
 }
 use std::sync::atomic::{AtomicU32, Ordering};
 
-use super::{BvhNode, Split, LEAF_BIT, NO_PARENT};
+use super::{huge_pages, BvhNode, Split, LEAF_BIT, NO_PARENT};
 use crate::Aabb;
 
 /// Bins of the binned SAH (Wald 2007) on large nodes.
@@ -60,14 +60,14 @@ const PAR_BIN_MIN: usize = 1 << 15;
 /// so the index is stored with bit 30 set: raw small integers are denormal
 /// floats, and every add/mul on a denormal costs a ~100-cycle microcode assist
 /// (it made the first version 10x slower).
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
 struct Prim {
     lo: Vec4,
     hi: Vec4,
 }
 
 impl Prim {
-    const ZERO: Prim = Prim { lo: Vec4::ZERO, hi: Vec4::ZERO };
     fn new(b: &Aabb, object: u32) -> Prim {
         Prim { lo: b.min.extend(f32::from_bits(object | INDEX_TAG)), hi: b.max.extend(0.0) }
     }
@@ -149,14 +149,18 @@ pub(super) fn build(boxes: &[Aabb], split: Split) -> (Vec<BvhNode>, Vec<u32>) {
         return (Vec::new(), Vec::new());
     }
     assert!(n <= (LEAF_BIT / 2) as usize, "BVH holds at most 2^30 objects");
+    // Every buffer is allocated zeroed on huge pages and first touched by
+    // the workers that fill it.
+    let mut prims = huge_pages::zeroed_vec::<Prim>(n);
     #[cfg(feature = "parallel")]
-    let mut prims: Vec<Prim> = boxes.par_iter().enumerate().with_min_len(4096).map(|(i, b)| Prim::new(b, i as u32)).collect();
+    prims.par_iter_mut().zip(boxes).enumerate().with_min_len(4096).for_each(|(i, (p, b))| *p = Prim::new(b, i as u32));
     #[cfg(not(feature = "parallel"))]
-    let mut prims: Vec<Prim> = boxes.iter().enumerate().map(|(i, b)| Prim::new(b, i as u32)).collect();
+    prims.iter_mut().zip(boxes).enumerate().for_each(|(i, (p, b))| *p = Prim::new(b, i as u32));
     // Out-of-place partitions ping-pong between `prims` and `scratch`.
-    let mut scratch = vec![Prim::ZERO; if split == Split::Eq { 0 } else { n }];
-    let mut nodes = vec![BvhNode { min: [0.0; 3], child: 0, max: [0.0; 3], parent: 0 }; 2 * n - 1];
-    let builder = Builder { split, leaf_of: (0..n).map(|_| AtomicU32::new(u32::MAX)).collect() };
+    let mut scratch = huge_pages::zeroed_vec::<Prim>(if split == Split::Eq { 0 } else { n });
+    let mut nodes = huge_pages::zeroed_vec::<BvhNode>(2 * n - 1);
+    // Every object gets exactly one leaf, so the zeros are all overwritten.
+    let builder = Builder { split, leaf_of: huge_pages::zeroed_vec(n) };
     let (root, rest) = nodes.split_first_mut().expect("n >= 1");
     let at = Place { me: 0, parent: NO_PARENT, base: 1, depth: 0 };
     builder.child(Work { prims: &mut prims, scratch: &mut scratch }, None, root, rest, at);

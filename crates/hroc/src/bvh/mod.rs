@@ -16,6 +16,7 @@
 //! rejects the tree (a NaN box never equals itself).
 
 mod build;
+mod huge_pages;
 
 use glam::{Vec3, Vec4};
 use std::fmt;
