@@ -10,9 +10,12 @@
 //! of the frustum's triangles it drew when it last ran. `k` is fitted
 //! within candidates (least squares with an intercept per candidate, over
 //! recent frames, less one standard error), so a change of view moves
-//! every prediction as far as the frames show triangles to cost. Frames are
-//! measured by GPU timestamps read back without a stall (or, without them,
-//! the CPU clock's frame period).
+//! every prediction as far as the frames show triangles to cost. An
+//! occlusion method's frames after a camera cut are its warm-up from
+//! nothing: left out of its estimate, they price a cut, and the recent rate
+//! of cuts adds them to its prediction. Frames are measured by GPU
+//! timestamps read back without a stall (or, without them, the CPU clock's
+//! frame period).
 //!
 //! The choice:
 //! - **Calibration.** Every candidate runs before any is chosen, the last
@@ -36,8 +39,8 @@
 //!   candidate's cost, but only the running one's estimate sees it).
 //! - **Probes.** After the calibration, at most one frame in
 //!   `probe_every` probes: the candidate measured longest ago (past
-//!   `stale` frames), if plausible, runs for its warm-up frames and one
-//!   more. A candidate that keeps
+//!   `stale` frames, or `probe_every` where its estimate is one frame), if
+//!   plausible, runs for its warm-up frames and one more. A candidate that keeps
 //!   state between frames takes frames after taking over to reach its
 //!   steady cost (`auto` gives `hzb` and HROC two: HROC's first is the
 //!   cut's seeded frame, `hzb`'s draws what its stale visible set and an
@@ -253,6 +256,8 @@ pub struct Chooser {
     /// A camera cut came since the last decision; the frame of the last.
     cut_seen: bool,
     last_cut: Option<u64>,
+    /// The share of recent frames that were camera cuts (decayed as the fits are).
+    cut_rate: f64,
     /// What the probes after the calibration cost.
     spend: Spend,
 }
@@ -293,6 +298,7 @@ impl Chooser {
             calibration_frames: 0,
             cut_seen: false,
             last_cut: None,
+            cut_rate: 0.0,
             spend: Spend::default(),
         }
     }
@@ -310,7 +316,7 @@ impl Chooser {
             self.spend.measured(o.frame, o.cost_ms);
         }
         let i = o.candidate;
-        let (predicted, measured) = self.predict(i, o.frustum_triangles, f64::INFINITY);
+        let (predicted, measured) = self.steady(i, o.frustum_triangles, f64::INFINITY);
         if o.warm_up {
             if measured {
                 let excess = (o.cost_ms - predicted).max(0.0);
@@ -408,6 +414,22 @@ impl Chooser {
     /// the highest cost per triangle measured (a guess on the high side:
     /// at 20k objects, `noc` is never tried).
     pub fn predict(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
+        let (ms, measured) = self.steady(i, frustum, all);
+        (ms + if measured { self.cut_ms(i) } else { 0.0 }, measured)
+    }
+
+    /// What camera cuts add to a frame of candidate `i` at the recent rate
+    /// of cuts: an occlusion method's frames after a cut are its warm-up
+    /// from nothing, priced as a cold take-over is.
+    fn cut_ms(&self, i: usize) -> f64 {
+        match (self.loads[i], self.switch_ms[i][0]) {
+            (Load::Occluded, Some(ms)) => self.cut_rate * self.warm[i].cold as f64 * ms,
+            _ => 0.0,
+        }
+    }
+
+    /// [`Chooser::predict`] without the cuts: its steady frame.
+    fn steady(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
         let k = self.triangle_ms();
         let f = &self.fits[i];
         if f.n == 0.0 {
@@ -442,9 +464,11 @@ impl Chooser {
     /// Call once per frame, with frame numbers that do not decrease.
     pub fn decide(&mut self, frame: u64, frustum: f64, all: f64) -> Decision {
         self.first_frame.get_or_insert(frame);
-        if std::mem::take(&mut self.cut_seen) {
+        let cut = std::mem::take(&mut self.cut_seen);
+        if cut {
             self.last_cut = Some(frame);
         }
+        self.cut_rate = self.cut_rate * self.params.decay + (1.0 - self.params.decay) * cut as u32 as f64;
         let mut d = self.decide_inner(frame, frustum, all);
         if let Some(pr) = self.probe.filter(|_| d.probe && self.switched_at.is_some()) {
             let left = self.predict(pr.back_to, frustum, all).0;
@@ -455,6 +479,12 @@ impl Chooser {
         if d.fresh {
             // A candidate's first frames ever also pay for lazy set-up.
             self.warming = self.warm[d.candidate].frames(d.from.is_some()).max(self.first(d.candidate) as u32);
+        } else if cut && self.switched_at.is_some() && self.loads[d.candidate] == Load::Occluded {
+            // An occlusion method running through a cut starts from
+            // nothing: its frames until it settles price the cut, not its
+            // steady cost (they made HROC look cheap on a path of cuts,
+            // its reseeded frames read as triangles).
+            self.warming = self.warming.max(self.warm[d.candidate].cold);
         }
         self.last = Some(d.candidate);
         if self.loads[d.candidate] == Load::Occluded {
@@ -521,7 +551,8 @@ impl Chooser {
             let budget = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].frames(handed) as u64).saturating_mul(p.probe_every) <= since;
             // Candidates that never ran (not plausible) are not forced.
             let age = |i: usize| self.measured[i].or(self.ran[i]).map(|m| frame.saturating_sub(m));
-            let due = |i: usize| age(i).is_some_and(|a| (a >= p.stale && plausible(i)) || a >= p.forced);
+            let stale_at = |i: usize| if self.fits[i].n < 1.5 { p.probe_every } else { p.stale };
+            let due = |i: usize| age(i).is_some_and(|a| (a >= stale_at(i) && plausible(i)) || a >= p.forced);
             let stale = (0..n).filter(|&i| i != current && budget(i) && due(i)).max_by_key(|&i| age(i));
             if let Some(i) = stale {
                 return self.start_probe(frame, i, current);

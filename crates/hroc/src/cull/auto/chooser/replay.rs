@@ -134,7 +134,9 @@ fn on_recorded_runs_it_beats_every_fixed_candidate() {
         .fold(f64::INFINITY, f64::min);
     let (geo, worst) = (geometric_mean(&ratios), ratios.iter().cloned().fold(0.0, f64::max));
     assert!(geo < best_fixed && geo <= 1.10, "auto {geo:.3} over the best per run; the best fixed candidate {best_fixed:.3}");
-    assert!(worst <= 1.35, "worst run {worst:.3}");
+    // Worst 1.263 (radial-city 1000 cuts) before HROC's frames after a
+    // cut were priced as a cold start; 1.173 since.
+    assert!(worst <= 1.2, "worst run {worst:.3}");
 }
 
 #[test]

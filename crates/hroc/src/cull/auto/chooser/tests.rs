@@ -326,3 +326,20 @@ fn with_a_camera_cut_every_frame_it_still_switches() {
     assert!(share(&ds[50..100], 3) > 0.8, "{}", share(&ds[50..100], 3));
     assert!(share(&ds[130..], 1) > 0.8, "{}", share(&ds[130..], 1));
 }
+
+#[test]
+fn an_occlusion_method_running_through_a_cut_prices_it_as_a_cold_start() {
+    // hroc (3) cheapest; after the cut at frame 100 it reseeds and its
+    // next two frames cost 14 ms, not 4.
+    let cost = |i: usize, f: u64| if i == 3 && (100..102).contains(&f) { 14.0 } else { [40.0, 10.0, 8.0, 4.0][i] };
+    let mut c = chooser();
+    let ds = decisions_in(&mut c, 120, 2, cost, |i, _| [1e6, 5e5, 5e4, 3e4][i], |_| 5e5, 1e6, |f| f == 100);
+    assert!(ds[90..].iter().all(|d| d.candidate == 3), "{:?}", ds[90..].iter().map(|d| d.candidate).collect::<Vec<_>>());
+    // Its cold frames are left out of its steady estimate ...
+    assert!(!ds[100].measured && !ds[101].measured && ds[102].measured);
+    let steady = c.steady(3, 5e5, 1e6).0;
+    assert!((steady - 4.0).abs() < 0.5, "{steady}");
+    // ... and, at the recent rate of cuts, priced into its prediction.
+    let predicted = c.predict(3, 5e5, 1e6).0;
+    assert!(predicted > steady + 0.1, "{predicted} against {steady}");
+}
