@@ -58,9 +58,14 @@
 //!   `probe_share` of the time measured (`spend.rs`): often where a probe
 //!   is cheap, rarely where it is dear. After a change of the frustum
 //!   alone, only a method whose intercept `a_m` (its frame drawing
-//!   nothing) is below the running candidate's predicted frame is probed:
-//!   a fuller frustum does not make its frame cheaper than that (on a
-//!   small scene HROC's own passes cost what `vfc`'s whole frame does).
+//!   nothing) is below the running candidate's predicted frame is probed
+//!   (a fuller frustum does not make its frame cheaper than that), and
+//!   only once its cold frames too fit the probes' share: on a small
+//!   scene a fuller frustum makes every method dearer, pixels more than
+//!   triangles, and HROC's probe there cost more than its passes could
+//!   save. While an occlusion method runs, `vfc` or `noc` measured before
+//!   a cut is probed (if plausible): its estimate holds the view's own
+//!   cost from before.
 //!
 //! A candidate taking over (`fresh`) starts from the visible set of the
 //! last candidate that keeps one (`hzb` and HROC do) if that one ran
@@ -70,6 +75,7 @@
 //! starts ([`WarmUp`]).
 
 use super::fit::Fit;
+use super::params::Params;
 use super::spend::Spend;
 
 /// Frames within which a frame's measurement arrives (the read-back ring
@@ -110,55 +116,6 @@ impl WarmUp {
             self.handed
         } else {
             self.cold
-        }
-    }
-}
-
-/// The chooser's constants.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Params {
-    /// A switch needs the best prediction below `1 - margin` times the current's.
-    pub margin: f64,
-    /// ... in this many decisions in a row.
-    pub confirm: u32,
-    /// Frames after a switch before the next.
-    pub dwell: u64,
-    /// Probes take at most one frame in this many (the calibration aside).
-    pub probe_every: u64,
-    /// A candidate is probed once its last measurement is this old.
-    pub stale: u64,
-    /// ... and its prediction within this factor of the best.
-    pub plausible: f64,
-    /// Any candidate not measured for this many frames is probed.
-    pub forced: u64,
-    /// Weight of an observation in a candidate's fit, per frame of its age.
-    pub decay: f64,
-    /// The frustum's triangles changing by this factor since an occlusion
-    /// method was measured changes the view as a camera cut does.
-    pub view_change: f64,
-    /// Probes after changes of view take at most one frame in this many ...
-    pub cut_probe_every: u64,
-    /// ... and cost over the candidates they left at most this share of the time.
-    pub probe_share: f64,
-    /// Steady frames are measured one in this many ([`Chooser::times`]).
-    pub time_every: u64,
-}
-
-impl Default for Params {
-    fn default() -> Self {
-        Params {
-            margin: 0.065,
-            confirm: 3,
-            dwell: 8,
-            probe_every: 30,
-            stale: 90,
-            plausible: 1.3,
-            forced: 600,
-            decay: 0.93,
-            view_change: 3.0,
-            cut_probe_every: 5,
-            probe_share: 0.04,
-            time_every: 4,
         }
     }
 }
@@ -566,7 +523,7 @@ impl Chooser {
         // predicted cheapest whose estimate is from another view is
         // probed, as the probes' spend allows.
         let occluding = |i: usize| self.loads[i] == Load::Occluded;
-        if !occluding(current) && self.spend.within(p.probe_share) {
+        if self.spend.within(p.probe_share, 0.0) {
             let paced = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].cold as u64).saturating_mul(p.cut_probe_every) <= since;
             let cut = |i: usize| self.measured[i].is_some_and(|m| self.last_cut.is_some_and(|c| m < c));
             // Within a view (no cut since), a method whose frame drawing
@@ -577,7 +534,24 @@ impl Chooser {
                 let (a, b) = (frustum.max(1.0), self.measured_frustum[i].max(1.0));
                 a.max(b) > p.view_change * a.min(b) && self.intercept(i, k) < predictions[current].0
             };
-            let due = (0..n).filter(|&i| occluding(i) && self.measured[i].is_some() && paced(i) && (cut(i) || reframed(i)));
+            // After a change of the frustum, the probe's warm-up from
+            // nothing (at what one cost before, else at twice its steady
+            // frame) fits the probes' share too.
+            let affordable = |i: usize| {
+                let warm_ms = self.switch_ms[i][0].unwrap_or(predictions[i].0);
+                self.spend.within(p.probe_share, self.warm[i].cold as f64 * warm_ms)
+            };
+            let due = (0..n).filter(|&i| {
+                let after = match (occluding(current), occluding(i)) {
+                    (false, true) => cut(i) || (reframed(i) && affordable(i)),
+                    // While an occlusion method runs, `vfc` or `noc`
+                    // measured before a cut: their estimates hold that
+                    // view's own cost.
+                    (true, false) => cut(i) && plausible(i),
+                    _ => false,
+                };
+                after && self.measured[i].is_some() && paced(i)
+            });
             if let Some(i) = due.min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)) {
                 return self.start_probe(frame, i, current);
             }

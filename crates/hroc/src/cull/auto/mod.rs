@@ -29,9 +29,11 @@
 mod chooser;
 mod fit;
 mod load;
+mod params;
 mod spend;
 
-pub use chooser::{Chooser, Decision, Load, Observation, Params, WarmUp};
+pub use chooser::{Chooser, Decision, Load, Observation, WarmUp};
+pub use params::Params;
 
 use std::collections::VecDeque;
 

@@ -41,9 +41,10 @@ impl Spend {
         }
     }
 
-    /// The probes' excess is within `share` of the time measured.
-    pub(super) fn within(&self, share: f64) -> bool {
-        self.excess_ms <= share * self.total_ms
+    /// The probes' excess, and `next_ms` more, is within `share` of the
+    /// time measured.
+    pub(super) fn within(&self, share: f64, next_ms: f64) -> bool {
+        self.excess_ms + next_ms <= share * self.total_ms
     }
 }
 
@@ -63,7 +64,9 @@ mod tests {
         s.probe(11, 10.0);
         s.measured(10, 14.0);
         s.measured(11, 8.0);
-        assert!(s.within(0.04) && !s.within(0.03));
+        assert!(s.within(0.04, 0.0) && !s.within(0.03, 0.0));
+        // A probe expected to cost 2 ms more does not fit 4 %.
+        assert!(!s.within(0.04, 2.0));
         // A frame measured after three unmeasured stands for four.
         let before = s.total_ms;
         s.measured(15, 10.0);

@@ -343,3 +343,43 @@ fn an_occlusion_method_running_through_a_cut_prices_it_as_a_cold_start() {
     let predicted = c.predict(3, 5e5, 1e6).0;
     assert!(predicted > steady + 0.1, "{predicted} against {steady}");
 }
+
+#[test]
+fn a_cut_has_vfc_probed_while_an_occlusion_method_runs() {
+    // hroc (3) a little cheaper than vfc (1) until a cut at frame 100,
+    // after which vfc costs 3 ms and hroc 8: vfc's estimate holds the
+    // view before the cut, and only a probe finds it cheap.
+    let cost = |i: usize, f: u64| if f < 100 { [40.0, 12.0, 16.0, 10.0][i] } else { [40.0, 3.0, 10.0, 8.0][i] };
+    let vfc_after = |params: Params| {
+        let mut c = chooser();
+        c.set_params(params);
+        let ds = decisions_in(&mut c, 180, 2, cost, |i, _| [1e6, 5e5, 5e4, 5e4][i], |_| 5e5, 1e6, |f| f == 100);
+        assert!(share(&ds[50..100], 3) > 0.9, "{}", share(&ds[50..100], 3));
+        share(&ds[120..], 1)
+    };
+    assert!(vfc_after(Params::default()) > 0.9, "{}", vfc_after(Params::default()));
+    let never = Params { cut_probe_every: u64::MAX, ..Params::default() };
+    assert!(vfc_after(never) < 0.5, "{}", vfc_after(never));
+}
+
+#[test]
+fn a_probe_after_the_frustum_fills_waits_until_its_warm_up_fits_the_probes_share() {
+    // A small scene: vfc (1) cheapest while hroc (3) draws most of the
+    // frustum; at frame 41 the frustum holds four times the triangles,
+    // of which hroc draws a tenth, and it is then the cheaper. Its share
+    // learnt before predicts it dear; its probe (two cold frames) waits
+    // until 4 % of the time spent covers it, then finds it.
+    let frustum = |f: u64| if f < 41 { 1000.0 } else { 4000.0 };
+    let draws = move |i: usize, f: u64| match i {
+        0 => 8000.0,
+        1 => frustum(f),
+        _ if f < 41 => 0.9 * frustum(f),
+        _ => 0.1 * frustum(f),
+    };
+    let cost = move |i: usize, f: u64| [2.0, 2.0, 5.0, 4.0][i] + 2e-3 * draws(i, f);
+    let mut c = chooser();
+    let ds = decisions_in(&mut c, 300, 2, cost, draws, frustum, 8000.0, |_| false);
+    let ran: Vec<usize> = ds.iter().map(|d| d.candidate).collect();
+    assert!(ran[20..60].iter().all(|&i| i == 1), "{ran:?}");
+    assert!(share(&ds[200..], 3) > 0.9, "{ran:?}");
+}
