@@ -279,17 +279,25 @@ fn a_cut_has_an_occlusion_method_probed_while_vfc_runs() {
     // costs half of it; nothing else tells the chooser.
     let cost = |i: usize, f: u64| if f < 200 { [40.0, 10.0, 16.0, 14.0][i] } else { [40.0, 10.0, 7.0, 5.0][i] };
     let draws = |i: usize, _| [1e6, 5e5, 5e4, 5e4][i];
-    let hroc_after = |params: Params| {
+    assert_probed_after_cut(cost, draws, 300, 200, 1, 3);
+}
+
+/// In a world of `cost` and `draws` (frustum 5e5 of 1e6 triangles) with
+/// a camera cut at frame `cut`: candidate `before` runs from frame 50 to
+/// the cut and `after` from 20 frames after it on, which without probes
+/// after cuts it does not (the estimate from before the cut holds on).
+fn assert_probed_after_cut(cost: impl Fn(usize, u64) -> f64 + Copy, draws: impl Fn(usize, u64) -> f64 + Copy, frames: u64, cut: u64, before: usize, after: usize) {
+    let share_after = |params: Params| {
         let mut c = chooser();
         c.set_params(params);
-        let ds = decisions_in(&mut c, 300, 2, cost, draws, |_| 5e5, 1e6, |f| f == 200);
-        assert!(share(&ds[50..200], 1) > 0.9, "{}", share(&ds[50..200], 1));
-        share(&ds[220..], 3)
+        let ds = decisions_in(&mut c, frames, 2, cost, draws, |_| 5e5, 1e6, |f| f == cut);
+        let ran = (cut - 50) as usize..cut as usize;
+        assert!(share(&ds[ran.clone()], before) > 0.9, "{}", share(&ds[ran], before));
+        share(&ds[(cut + 20) as usize..], after)
     };
-    assert!(hroc_after(Params::default()) > 0.9, "{}", hroc_after(Params::default()));
-    // Without probes after cuts, the stale estimate holds on.
+    assert!(share_after(Params::default()) > 0.9, "{}", share_after(Params::default()));
     let never = Params { cut_probe_every: u64::MAX, ..Params::default() };
-    assert!(hroc_after(never) < 0.5, "{}", hroc_after(never));
+    assert!(share_after(never) < 0.5, "{}", share_after(never));
 }
 
 #[test]
@@ -350,16 +358,7 @@ fn a_cut_has_vfc_probed_while_an_occlusion_method_runs() {
     // after which vfc costs 3 ms and hroc 8: vfc's estimate holds the
     // view before the cut, and only a probe finds it cheap.
     let cost = |i: usize, f: u64| if f < 100 { [40.0, 12.0, 16.0, 10.0][i] } else { [40.0, 3.0, 10.0, 8.0][i] };
-    let vfc_after = |params: Params| {
-        let mut c = chooser();
-        c.set_params(params);
-        let ds = decisions_in(&mut c, 180, 2, cost, |i, _| [1e6, 5e5, 5e4, 5e4][i], |_| 5e5, 1e6, |f| f == 100);
-        assert!(share(&ds[50..100], 3) > 0.9, "{}", share(&ds[50..100], 3));
-        share(&ds[120..], 1)
-    };
-    assert!(vfc_after(Params::default()) > 0.9, "{}", vfc_after(Params::default()));
-    let never = Params { cut_probe_every: u64::MAX, ..Params::default() };
-    assert!(vfc_after(never) < 0.5, "{}", vfc_after(never));
+    assert_probed_after_cut(cost, |i, _| [1e6, 5e5, 5e4, 5e4][i], 180, 100, 3, 1);
 }
 
 #[test]
