@@ -13,7 +13,12 @@
 //! every prediction as far as the frames show triangles to cost. An
 //! occlusion method's frames after a camera cut are its warm-up from
 //! nothing: left out of its estimate, they price a cut, and the recent rate
-//! of cuts adds them to its prediction. Frames are measured by GPU
+//! of cuts adds them to its prediction. A view's cost is more than its
+//! triangles (the eye inside a box, every candidate costs 200 ms; out of
+//! it, HROC costs 10), so an isolated camera cut starts each candidate's
+//! estimate anew with its first steady frame after the cut, and until
+//! then a warm-up frame of the new view bounds it from above (a warm-up
+//! costs no less than a steady frame). Frames are measured by GPU
 //! timestamps read back without a stall (or, without them, the CPU clock's
 //! frame period).
 //!
@@ -82,10 +87,6 @@ use super::spend::Spend;
 /// holds three); one lost is not waited for longer. Also the oldest
 /// visible set a candidate taking over starts from.
 const ARRIVAL: u64 = 8;
-
-/// Standard errors taken off the fitted ms per triangle
-/// ([`Chooser::triangle_ms`]).
-const SLOPE_ERRORS: f64 = 1.0;
 
 /// What a candidate draws, for predicting frames it does not run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -208,6 +209,10 @@ pub struct Chooser {
     /// one would (the whole frustum for `vfc`, everything for `noc`): an
     /// upper bound of its cost, used until it is measured itself.
     bound_ms: Vec<Option<f64>>,
+    /// The last warm-up frame of each candidate measured after its last
+    /// steady frame, and its cost: an upper bound of its steady cost in
+    /// that frame's view.
+    warm_ms: Vec<Option<(u64, f64)>>,
     /// The frame of the first decision.
     first_frame: Option<u64>,
     /// A camera cut came since the last decision; the frame of the last.
@@ -251,6 +256,7 @@ impl Chooser {
             probe_frames: 0,
             switch_ms: vec![[None; 2]; n],
             bound_ms: vec![None; n],
+            warm_ms: vec![None; n],
             first_frame: None,
             calibration_frames: 0,
             cut_seen: false,
@@ -264,7 +270,12 @@ impl Chooser {
     /// candidates' count; frames in any order). A steady frame's cost counts up to twice the candidate's prediction
     /// (a camera jump's spike moves the estimate, but not as far as one
     /// frame would pull a mean); a warm-up frame's excess over the
-    /// prediction is what a switch to the candidate costs.
+    /// prediction is what a switch to the candidate costs, and bounds its
+    /// prediction from above until a steady frame after it is measured or
+    /// a camera cut comes (a warm-up frame costs no less than a steady
+    /// one, and after a cut the estimate is from another view). After an
+    /// isolated cut ([`Params::isolated_cuts`]) the first steady frame
+    /// starts the candidate's estimate anew.
     pub fn observe(&mut self, o: &Observation) {
         if !o.cost_ms.is_finite() || o.cost_ms < 0.0 {
             return;
@@ -273,20 +284,39 @@ impl Chooser {
             self.spend.measured(o.frame, o.cost_ms);
         }
         let i = o.candidate;
-        let (predicted, measured) = self.steady(i, o.frustum_triangles, f64::INFINITY);
+        let (predicted, measured) = self.model(i, o.frustum_triangles, f64::INFINITY);
         if o.warm_up {
             if measured {
                 let excess = (o.cost_ms - predicted).max(0.0);
                 let e = &mut self.switch_ms[i][o.handed as usize];
                 *e = Some(e.map_or(excess, |e| 0.5 * (e + excess)));
             }
+            let after = |f: Option<u64>| f.is_none_or(|f| o.frame > f);
+            if after(self.measured[i]) && after(self.warm_ms[i].map(|w| w.0)) {
+                self.warm_ms[i] = Some((o.frame, o.cost_ms));
+            }
             return;
         }
-        let cost_ms = if measured && self.loads[i] != Load::All { o.cost_ms.min(2.0 * predicted) } else { o.cost_ms };
+        // An isolated camera cut starts the estimate anew with the first
+        // steady frame after it: frames of another view weigh on a fit
+        // for dozens of frames, and a view's cost is more than its
+        // triangles (the eye inside a box, every candidate costs 200 ms;
+        // out of it, HROC 10). On a path of cuts, one view is as good a
+        // guide to the next as any.
+        let before_cut = |f: Option<u64>| self.last_cut.is_some_and(|c| f.is_none_or(|f| f < c));
+        if before_cut(Some(o.frame)) && !before_cut(self.measured[i]) {
+            return;
+        }
+        let anew = before_cut(self.measured[i]) && !before_cut(Some(o.frame)) && self.cut_rate < self.params.isolated_cuts;
+        if anew {
+            self.fits[i] = Fit::default();
+        }
+        let cost_ms = if measured && !anew && self.loads[i] != Load::All { o.cost_ms.min(2.0 * predicted) } else { o.cost_ms };
         self.fits[i].add(&Observation { cost_ms, ..*o }, self.params.decay);
         if self.measured[i].is_none_or(|m| o.frame >= m) {
             self.measured[i] = Some(o.frame);
             self.measured_frustum[i] = o.frustum_triangles;
+            self.warm_ms[i] = self.warm_ms[i].filter(|w| w.0 > o.frame);
         }
     }
 
@@ -301,119 +331,6 @@ impl Chooser {
                 self.bound(b, o.cost_ms);
             }
         }
-    }
-
-    /// ms per drawn triangle, clamped to `[0, least mean cost per mean
-    /// triangle]`: that bound until the frames can fit a slope (a
-    /// candidate measured twice, triangles that vary within a
-    /// candidate); then the within-candidate least-squares slope less
-    /// [`SLOPE_ERRORS`] standard errors (decayed frames, less one per
-    /// candidate and one for the slope, are its degrees of freedom). Frame
-    /// times vary from frame to frame more than a small change of
-    /// triangles explains, and a slope the frames do not establish
-    /// would have a change of view move every prediction: on a small
-    /// scene, whose frame is its passes and its pixels, a fuller frustum
-    /// made HROC look cheaper than `vfc` and had it probed.
-    pub fn triangle_ms(&self) -> f64 {
-        // Sums over candidates of (t - mean t)(c - mean c), (t - mean t)²
-        // and (c - mean c)², and the residual's degrees of freedom.
-        let (mut tc, mut tt, mut cc, mut dof, mut scale) = (0.0, 0.0, 0.0, -1.0, 0.0);
-        let mut bound = f64::INFINITY;
-        for f in self.fits.iter().filter(|f| f.n > 0.0) {
-            scale += f.tt;
-            if f.t > 0.0 {
-                bound = bound.min(f.c / f.t);
-            }
-            if f.n > 1.0 {
-                tc += f.tc - f.t * f.c / f.n;
-                tt += f.tt - f.t * f.t / f.n;
-                cc += f.cc - f.c * f.c / f.n;
-                dof += f.n - 1.0;
-            }
-        }
-        let bound = if bound.is_finite() { bound } else { 0.0 };
-        if tt <= 1e-4 * scale || dof <= 0.0 {
-            return bound;
-        }
-        let slope = tc / tt;
-        let residual = (cc - slope * tc).max(0.0) / dof;
-        (slope - SLOPE_ERRORS * (residual / tt).sqrt()).clamp(0.0, bound)
-    }
-
-    /// The highest ms per drawn triangle any candidate's frames could
-    /// have: the least of their mean cost over mean triangles.
-    fn highest_triangle_ms(&self) -> f64 {
-        self.fits.iter().filter(|f| f.n > 0.0 && f.t > 0.0).map(|f| f.c / f.t).fold(f64::INFINITY, f64::min).min(f64::MAX)
-    }
-
-    /// Triangles candidate `i` would draw now.
-    /// The frustum's count is an estimate: `vfc` draws the share of it
-    /// its frames drew, as an occlusion method does.
-    fn load(&self, i: usize, frustum: f64, all: f64) -> f64 {
-        match self.loads[i] {
-            Load::All => all,
-            Load::Frustum | Load::Occluded => self.fits[i].share * frustum,
-        }
-    }
-
-    /// Takes a frame of another candidate that drew what candidate `i`
-    /// would, costing `cost_ms`: an upper bound of `i`'s cost, which
-    /// predicts it until `i` is measured (no fit, no staleness changes).
-    pub fn bound(&mut self, i: usize, cost_ms: f64) {
-        if cost_ms.is_finite() && cost_ms >= 0.0 {
-            self.bound_ms[i] = Some(self.bound_ms[i].map_or(cost_ms, |b| b.min(cost_ms)));
-        }
-    }
-
-    /// Predicted ms of candidate `i` now, and whether it was measured.
-    /// Before it was: 0 (untried, so tried), except for drawing every
-    /// object, which costs what drawing the frustum does plus the rest at
-    /// the highest cost per triangle measured (a guess on the high side:
-    /// at 20k objects, `noc` is never tried).
-    pub fn predict(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
-        let (ms, measured) = self.steady(i, frustum, all);
-        (ms + if measured { self.cut_ms(i) } else { 0.0 }, measured)
-    }
-
-    /// What camera cuts add to a frame of candidate `i` at the recent rate
-    /// of cuts: an occlusion method's frames after a cut are its warm-up
-    /// from nothing, priced as a cold take-over is.
-    fn cut_ms(&self, i: usize) -> f64 {
-        match (self.loads[i], self.switch_ms[i][0]) {
-            (Load::Occluded, Some(ms)) => self.cut_rate * self.warm[i].cold as f64 * ms,
-            _ => 0.0,
-        }
-    }
-
-    /// [`Chooser::predict`] without the cuts: its steady frame.
-    fn steady(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
-        let k = self.triangle_ms();
-        let f = &self.fits[i];
-        if f.n == 0.0 {
-            if let Some(b) = self.bound_ms[i] {
-                return (b, true);
-            }
-            let frustum_cost = match self.loads[i] {
-                Load::All => self.with_load(Load::Frustum).map(|v| self.predict(v, frustum, all)).filter(|p| p.1),
-                _ => None,
-            };
-            return match frustum_cost {
-                Some((vfc, _)) => (vfc + self.highest_triangle_ms() * (all - frustum).max(0.0), false),
-                None => (0.0, false),
-            };
-        }
-        (self.intercept(i, k) + k * self.load(i, frustum, all), true)
-    }
-
-    /// Candidate `i`'s `a_i` at `k` ms per triangle: what its frames cost
-    /// drawing nothing (its own passes and the frame's), 0 before it was
-    /// measured.
-    fn intercept(&self, i: usize, k: f64) -> f64 {
-        let f = &self.fits[i];
-        if f.n == 0.0 {
-            return 0.0;
-        }
-        ((f.c - k * f.t) / f.n).max(0.0)
     }
 
     /// The candidate to run at `frame`, with `frustum` of `all` triangles
@@ -664,6 +581,8 @@ impl Chooser {
         self.params = params;
     }
 }
+
+mod predict;
 
 #[cfg(test)]
 mod replay;

@@ -26,6 +26,9 @@ pub struct Params {
     pub cut_probe_every: u64,
     /// ... and cost over the candidates they left at most this share of the time.
     pub probe_share: f64,
+    /// A camera cut while the recent rate of cuts (decayed as the fits
+    /// are) is below this starts each candidate's estimate anew.
+    pub isolated_cuts: f64,
     /// Steady frames are measured one in this many ([`Chooser::times`](super::Chooser::times)).
     pub time_every: u64,
 }
@@ -44,6 +47,7 @@ impl Default for Params {
             view_change: 3.0,
             cut_probe_every: 5,
             probe_share: 0.04,
+            isolated_cuts: 0.2,
             time_every: 4,
         }
     }

@@ -160,6 +160,7 @@ fn recorded_runs() {
             "view_change" => params.view_change = v,
             "cut_probe_every" => params.cut_probe_every = v as u64,
             "probe_share" => params.probe_share = v,
+            "isolated_cuts" => params.isolated_cuts = v,
             "time_every" => params.time_every = v as u64,
             _ => panic!("no constant {k}"),
         }

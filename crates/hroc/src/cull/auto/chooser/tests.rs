@@ -382,3 +382,31 @@ fn a_probe_after_the_frustum_fills_waits_until_its_warm_up_fits_the_probes_share
     assert!(ran[20..60].iter().all(|&i| i == 1), "{ran:?}");
     assert!(share(&ds[200..], 3) > 0.9, "{ran:?}");
 }
+
+#[test]
+fn an_isolated_cut_starts_the_estimates_anew() {
+    // The eye inside a box until a cut at frame 100: every candidate
+    // draws nearly everything at about 200 ms, hroc (3) a little less.
+    // After the cut hroc costs 10 ms and hzb 11, vfc 50 and noc 60; the
+    // triangles drawn do not change, the pixels do.
+    let cost = |i: usize, f: u64| if f < 100 { [200.0, 195.0, 180.0, 170.0][i] } else { [60.0, 50.0, 11.0, 10.0][i] };
+    let draws = |i: usize, _| [2e6, 2e6, 1.5e6, 1.3e6][i];
+    let occluding_after = |params: Params| {
+        let mut c = chooser();
+        c.set_params(params);
+        let ds = decisions_in(&mut c, 200, 2, cost, draws, |_| 2e6, 2e6, |f| f == 100);
+        assert!(share(&ds[60..100], 3) > 0.9);
+        share(&ds[120..], 3) + share(&ds[120..], 2)
+    };
+    assert!(occluding_after(Params::default()) > 0.9, "{}", occluding_after(Params::default()));
+    // Estimates carried across the cut settle on vfc at five times the cost.
+    let carried = Params { isolated_cuts: 0.0, ..Params::default() };
+    assert!(occluding_after(carried) < 0.5, "{}", occluding_after(carried));
+    // At the cut vfc is probed, then hroc's frame 101 is a warm-up from
+    // nothing: measured two frames late, its 10 ms bounds hroc's estimate
+    // before any steady frame of the new view is.
+    let mut c = chooser();
+    let ds = decisions_in(&mut c, 104, 2, cost, draws, |_| 2e6, 2e6, |f| f == 100);
+    assert!(ds[101].candidate == 3 && !ds[101].measured, "{:?}", &ds[99..]);
+    assert_eq!(c.steady(3, 2e6, 2e6), (10.0, true));
+}

@@ -1,0 +1,138 @@
+//! What each candidate of `chooser.rs` is predicted to cost: the cost
+//! model (an intercept per candidate and a triangle cost shared by all,
+//! fitted within candidates), the bounds that stand in before it is
+//! measured or where its estimate is from another view, and the price of
+//! camera cuts.
+
+use super::{Chooser, Load};
+
+/// Standard errors taken off the fitted ms per triangle
+/// ([`Chooser::triangle_ms`]).
+const SLOPE_ERRORS: f64 = 1.0;
+
+impl Chooser {
+    /// ms per drawn triangle, clamped to `[0, least mean cost per mean
+    /// triangle]`: that bound until the frames can fit a slope (a
+    /// candidate measured twice, triangles that vary within a
+    /// candidate); then the within-candidate least-squares slope less
+    /// [`SLOPE_ERRORS`] standard errors (decayed frames, less one per
+    /// candidate and one for the slope, are its degrees of freedom). Frame
+    /// times vary from frame to frame more than a small change of
+    /// triangles explains, and a slope the frames do not establish
+    /// would have a change of view move every prediction: on a small
+    /// scene, whose frame is its passes and its pixels, a fuller frustum
+    /// made HROC look cheaper than `vfc` and had it probed.
+    pub fn triangle_ms(&self) -> f64 {
+        // Sums over candidates of (t - mean t)(c - mean c), (t - mean t)²
+        // and (c - mean c)², and the residual's degrees of freedom.
+        let (mut tc, mut tt, mut cc, mut dof, mut scale) = (0.0, 0.0, 0.0, -1.0, 0.0);
+        let mut bound = f64::INFINITY;
+        for f in self.fits.iter().filter(|f| f.n > 0.0) {
+            scale += f.tt;
+            if f.t > 0.0 {
+                bound = bound.min(f.c / f.t);
+            }
+            if f.n > 1.0 {
+                tc += f.tc - f.t * f.c / f.n;
+                tt += f.tt - f.t * f.t / f.n;
+                cc += f.cc - f.c * f.c / f.n;
+                dof += f.n - 1.0;
+            }
+        }
+        let bound = if bound.is_finite() { bound } else { 0.0 };
+        if tt <= 1e-4 * scale || dof <= 0.0 {
+            return bound;
+        }
+        let slope = tc / tt;
+        let residual = (cc - slope * tc).max(0.0) / dof;
+        (slope - SLOPE_ERRORS * (residual / tt).sqrt()).clamp(0.0, bound)
+    }
+
+    /// The highest ms per drawn triangle any candidate's frames could
+    /// have: the least of their mean cost over mean triangles.
+    pub(super) fn highest_triangle_ms(&self) -> f64 {
+        self.fits.iter().filter(|f| f.n > 0.0 && f.t > 0.0).map(|f| f.c / f.t).fold(f64::INFINITY, f64::min).min(f64::MAX)
+    }
+
+    /// Triangles candidate `i` would draw now.
+    /// The frustum's count is an estimate: `vfc` draws the share of it
+    /// its frames drew, as an occlusion method does.
+    pub(super) fn load(&self, i: usize, frustum: f64, all: f64) -> f64 {
+        match self.loads[i] {
+            Load::All => all,
+            Load::Frustum | Load::Occluded => self.fits[i].share * frustum,
+        }
+    }
+
+    /// Takes a frame of another candidate that drew what candidate `i`
+    /// would, costing `cost_ms`: an upper bound of `i`'s cost, which
+    /// predicts it until `i` is measured (no fit, no staleness changes).
+    pub fn bound(&mut self, i: usize, cost_ms: f64) {
+        if cost_ms.is_finite() && cost_ms >= 0.0 {
+            self.bound_ms[i] = Some(self.bound_ms[i].map_or(cost_ms, |b| b.min(cost_ms)));
+        }
+    }
+
+    /// Predicted ms of candidate `i` now, and whether it was measured.
+    /// Before it was: 0 (untried, so tried), except for drawing every
+    /// object, which costs what drawing the frustum does plus the rest at
+    /// the highest cost per triangle measured (a guess on the high side:
+    /// at 20k objects, `noc` is never tried).
+    pub fn predict(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
+        let (ms, measured) = self.steady(i, frustum, all);
+        (ms + if measured { self.cut_ms(i) } else { 0.0 }, measured)
+    }
+
+    /// What camera cuts add to a frame of candidate `i` at the recent rate
+    /// of cuts: an occlusion method's frames after a cut are its warm-up
+    /// from nothing, priced as a cold take-over is.
+    pub(super) fn cut_ms(&self, i: usize) -> f64 {
+        match (self.loads[i], self.switch_ms[i][0]) {
+            (Load::Occluded, Some(ms)) => self.cut_rate * self.warm[i].cold as f64 * ms,
+            _ => 0.0,
+        }
+    }
+
+    /// [`Chooser::predict`] without the cuts: its steady frame, the
+    /// model's, bounded by a warm-up frame measured since its last steady
+    /// frame in the same view (no camera cut between).
+    pub(super) fn steady(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
+        let (ms, measured) = self.model(i, frustum, all);
+        match self.warm_ms[i] {
+            Some((f, warm)) if (!measured || warm < ms) && self.last_cut.is_none_or(|c| f >= c) => (warm, true),
+            _ => (ms, measured),
+        }
+    }
+
+    /// The cost model's steady frame of candidate `i`, and whether it was
+    /// measured.
+    pub(super) fn model(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
+        let k = self.triangle_ms();
+        let f = &self.fits[i];
+        if f.n == 0.0 {
+            if let Some(b) = self.bound_ms[i] {
+                return (b, true);
+            }
+            let frustum_cost = match self.loads[i] {
+                Load::All => self.with_load(Load::Frustum).map(|v| self.predict(v, frustum, all)).filter(|p| p.1),
+                _ => None,
+            };
+            return match frustum_cost {
+                Some((vfc, _)) => (vfc + self.highest_triangle_ms() * (all - frustum).max(0.0), false),
+                None => (0.0, false),
+            };
+        }
+        (self.intercept(i, k) + k * self.load(i, frustum, all), true)
+    }
+
+    /// Candidate `i`'s `a_i` at `k` ms per triangle: what its frames cost
+    /// drawing nothing (its own passes and the frame's), 0 before it was
+    /// measured.
+    pub(super) fn intercept(&self, i: usize, k: f64) -> f64 {
+        let f = &self.fits[i];
+        if f.n == 0.0 {
+            return 0.0;
+        }
+        ((f.c - k * f.t) / f.n).max(0.0)
+    }
+}
