@@ -45,7 +45,9 @@
 //! - **Probes.** After the calibration, at most one frame in
 //!   `probe_every` probes: the candidate measured longest ago (past
 //!   `stale` frames, or `probe_every` where its estimate is one frame), if
-//!   plausible, runs for its warm-up frames and one more. A candidate that keeps
+//!   plausible (an estimate of one frame, a spike maybe, within
+//!   [`Params::plausible_once`] times the best), runs for its warm-up
+//!   frames and one more. A candidate that keeps
 //!   state between frames takes frames after taking over to reach its
 //!   steady cost (`auto` gives `hzb` and HROC two: HROC's first is the
 //!   cut's seeded frame, `hzb`'s draws what its stale visible set and an
@@ -426,7 +428,9 @@ impl Chooser {
             // Candidates that never ran (not plausible) are not forced.
             let age = |i: usize| self.measured[i].or(self.ran[i]).map(|m| frame.saturating_sub(m));
             let stale_at = |i: usize| if self.fits[i].n < 1.5 { p.probe_every } else { p.stale };
-            let due = |i: usize| age(i).is_some_and(|a| (a >= stale_at(i) && plausible(i)) || a >= p.forced);
+            let due = |i: usize| {
+                age(i).is_some_and(|a| (a >= stale_at(i) && (plausible(i) || (self.fits[i].n < 1.5 && predictions[i].0 <= p.plausible_once * measured_best))) || a >= p.forced)
+            };
             let stale = (0..n).filter(|&i| i != current && budget(i) && due(i)).max_by_key(|&i| age(i));
             if let Some(i) = stale {
                 return self.start_probe(frame, i, current);

@@ -13,8 +13,10 @@ pub struct Params {
     pub probe_every: u64,
     /// A candidate is probed once its last measurement is this old.
     pub stale: u64,
-    /// ... and its prediction within this factor of the best.
+    /// ... and its prediction within this factor of the best ...
     pub plausible: f64,
+    /// ... or, where the estimate is of one frame (a spike, maybe), this one.
+    pub plausible_once: f64,
     /// Any candidate not measured for this many frames is probed.
     pub forced: u64,
     /// Weight of an observation in a candidate's fit, per frame of its age.
@@ -42,6 +44,7 @@ impl Default for Params {
             probe_every: 30,
             stale: 90,
             plausible: 1.3,
+            plausible_once: 1.6,
             forced: 600,
             decay: 0.93,
             view_change: 3.0,

@@ -155,6 +155,7 @@ fn recorded_runs() {
             "probe_every" => params.probe_every = v as u64,
             "stale" => params.stale = v as u64,
             "plausible" => params.plausible = v,
+            "plausible_once" => params.plausible_once = v,
             "forced" => params.forced = v as u64,
             "decay" => params.decay = v,
             "view_change" => params.view_change = v,

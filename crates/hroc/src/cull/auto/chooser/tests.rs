@@ -296,7 +296,9 @@ fn assert_probed_after_cut(cost: impl Fn(usize, u64) -> f64 + Copy, draws: impl 
         share(&ds[(cut + 20) as usize..], after)
     };
     assert!(share_after(Params::default()) > 0.9, "{}", share_after(Params::default()));
-    let never = Params { cut_probe_every: u64::MAX, ..Params::default() };
+    // Without probes after cuts (nor the stale estimate's probe after
+    // `probe_every` frames, which finds it in the end).
+    let never = Params { cut_probe_every: u64::MAX, probe_every: 1000, ..Params::default() };
     assert!(share_after(never) < 0.5, "{}", share_after(never));
 }
 
@@ -409,4 +411,22 @@ fn an_isolated_cut_starts_the_estimates_anew() {
     let ds = decisions_in(&mut c, 104, 2, cost, draws, |_| 2e6, 2e6, |f| f == 100);
     assert!(ds[101].candidate == 3 && !ds[101].measured, "{:?}", &ds[99..]);
     assert_eq!(c.steady(3, 2e6, 2e6), (10.0, true));
+}
+
+#[test]
+fn an_estimate_of_one_spiky_frame_is_probed_again() {
+    // vfc (1) costs 5 ms, but its one measured frame in the calibration
+    // (measurements a frame late) spiked to 12: past `plausible` times
+    // hroc's 8, it was not probed again.
+    let cost = |i: usize, f: u64| if i == 1 && f < 10 { 12.0 } else { [40.0, 5.0, 9.0, 8.0][i] };
+    let vfc_after = |params: Params| {
+        let mut c = chooser();
+        c.set_params(params);
+        let ds = decisions_in(&mut c, 300, 1, cost, |i, _| [1e6, 5e5, 5e4, 3e4][i], |_| 5e5, 1e6, |_| false);
+        assert_eq!(ds.iter().take(10).filter(|d| d.candidate == 1 && !d.first).count(), 1);
+        share(&ds[100..], 1)
+    };
+    assert!(vfc_after(Params::default()) > 0.9, "{}", vfc_after(Params::default()));
+    let once = Params { plausible_once: Params::default().plausible, ..Params::default() };
+    assert!(vfc_after(once) < 0.1, "{}", vfc_after(once));
 }
