@@ -25,8 +25,8 @@
 //! The choice:
 //! - **Calibration.** Every candidate runs before any is chosen, the last
 //!   given first (the one that culls most), unless a prediction of it is
-//!   past [`Params::plausible`] times the best: at 20k objects `noc` and
-//!   `vfc` never run. A frame of any candidate that drew the whole
+//!   past [`Params::plausible`] times the best: on radial-city's own path
+//!   at 20k objects `noc` never runs. A frame of any candidate that drew the whole
 //!   frustum, or every object, is an upper bound of what `vfc`, or `noc`,
 //!   costs: the caller observes it for them too (`hzb` taking over cold draws
 //!   the frustum). The last runs on until the measurements arrive, and

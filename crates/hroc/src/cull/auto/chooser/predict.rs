@@ -77,7 +77,7 @@ impl Chooser {
     /// Before it was: 0 (untried, so tried), except for drawing every
     /// object, which costs what drawing the frustum does plus the rest at
     /// the highest cost per triangle measured (a guess on the high side:
-    /// at 20k objects, `noc` is never tried).
+    /// on radial-city's own path at 20k objects, `noc` is never tried).
     pub fn predict(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
         let (ms, measured) = self.steady(i, frustum, all);
         (ms + if measured { self.cut_ms(i) } else { 0.0 }, measured)
