@@ -72,7 +72,10 @@
 //!   triangles, and HROC's probe there cost more than its passes could
 //!   save. While an occlusion method runs, `vfc` or `noc` measured before
 //!   a cut is probed (if plausible): its estimate holds the view's own
-//!   cost from before.
+//!   cost from before. So is `vfc` while `noc` runs (it draws no more
+//!   than `noc`): with the eye inside boxes, where every candidate draws
+//!   the whole scene and `noc` is cheapest, its estimate says nothing of
+//!   the view after the cut.
 //!
 //! A candidate taking over (`fresh`) starts from the visible set of the
 //! last candidate that keeps one (`hzb` and HROC do) if that one ran
@@ -469,6 +472,11 @@ impl Chooser {
                     // measured before a cut: their estimates hold that
                     // view's own cost.
                     (true, false) => cut(i) && plausible(i),
+                    // While `noc` runs, `vfc` measured before a cut: its
+                    // frame draws no more than `noc`'s (the eye inside
+                    // boxes, where `noc` was cheapest, draws the whole
+                    // scene either way; out of them `vfc` draws a part).
+                    (false, false) => cut(i) && self.loads[current] == Load::All && self.loads[i] == Load::Frustum,
                     _ => false,
                 };
                 after && self.measured[i].is_some() && paced(i)

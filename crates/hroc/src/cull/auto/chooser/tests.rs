@@ -430,3 +430,32 @@ fn an_estimate_of_one_spiky_frame_is_probed_again() {
     let once = Params { plausible_once: Params::default().plausible, ..Params::default() };
     assert!(vfc_after(once) < 0.1, "{}", vfc_after(once));
 }
+
+#[test]
+fn a_cut_has_vfc_probed_while_noc_runs() {
+    // The eye inside boxes until a cut at frame 60: the frustum holds
+    // most of the scene, every candidate draws it, and what a frame costs
+    // is its pixels, not its triangles; `noc` (0) is cheapest. After the
+    // cut the frustum holds a fifth of the scene, `vfc` (1) costs a sixth
+    // of `noc` and the occlusion methods more than `noc`: only a probe of
+    // `vfc` finds it cheap (its estimate holds the boxes' view).
+    let frustum = |f: u64| match f {
+        0..60 if f % 2 == 0 => 1e6,
+        0..60 => 8e5,
+        _ => 2e5,
+    };
+    let draws = move |i: usize, f: u64| if i == 0 { 1e6 } else { frustum(f) };
+    let cost = |i: usize, f: u64| if f < 60 { [40.0, 42.0, 60.0, 65.0][i] } else { [18.0, 3.0, 30.0, 30.0][i] };
+    let vfc_after = |params: Params| {
+        let mut c = chooser();
+        c.set_params(params);
+        let ds = decisions_in(&mut c, 96, 2, cost, draws, frustum, 1e6, |f| f == 60);
+        assert!(share(&ds[20..60], 0) > 0.9, "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
+        share(&ds[75..], 1)
+    };
+    assert!(vfc_after(Params::default()) > 0.9, "{}", vfc_after(Params::default()));
+    // Without probes after cuts (nor the probe of a one-frame estimate
+    // after `probe_every` frames).
+    let never = Params { cut_probe_every: u64::MAX, probe_every: 1000, ..Params::default() };
+    assert!(vfc_after(never) < 0.1, "{}", vfc_after(never));
+}
