@@ -88,6 +88,16 @@ impl Compactor {
         }
     }
 
+    /// Binds `job` to each of the three pipelines with no work
+    /// ([`crate::cull::CullMethod::warm`]).
+    pub fn warm(&self, pass: &mut wgpu::ComputePass<'_>, job: &CompactJob) {
+        pass.set_bind_group(0, &job.bind, &[]);
+        for p in [&self.block_sum, &self.scan_blocks, &self.scatter] {
+            pass.set_pipeline(p);
+            pass.dispatch_workgroups(0, 0, 0);
+        }
+    }
+
     /// Records the compaction of `job` (one compute pass, three dispatches),
     /// counted in `count`.
     pub fn record(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount, job: &CompactJob) {

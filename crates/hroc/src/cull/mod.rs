@@ -46,6 +46,16 @@ pub trait CullMethod: Any {
     /// culled as a first frame. Every method with temporal state overrides it.
     fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}
 
+    /// Records each of the method's compute pipelines once, bound as its
+    /// frames bind it, with no work (zero workgroups): drivers that
+    /// compile a pipeline on first use (llvmpipe and lavapipe, some GL
+    /// drivers) compile it now, not in the frame the method first runs.
+    /// `auto` warms its candidates in its first frame, so that a candidate
+    /// it switches to later does not pay for it (on lavapipe `vfc`'s
+    /// first frame cost 3-8 ms more than its next). The default records
+    /// nothing.
+    fn warm(&self, _enc: &mut wgpu::CommandEncoder) {}
+
     /// The objects the method's last frame found visible, as a temporal
     /// method keeps them for its next frame: one `u32` per object, nonzero
     /// where visible (`hzb`'s and HROC's V). `None` for methods that keep

@@ -59,4 +59,12 @@ impl CullMethod for FrustumCuller {
         f.draw(Phase::Visible, &self.list, None);
         Ok(())
     }
+
+    fn warm(&self, enc: &mut wgpu::CommandEncoder) {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("vfc warm"), timestamp_writes: None });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.bind, &[]);
+        pass.dispatch_workgroups(0, 0, 0);
+        self.compactor.warm(&mut pass, &self.job);
+    }
 }

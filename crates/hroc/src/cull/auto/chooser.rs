@@ -547,9 +547,12 @@ impl Chooser {
         self.holder.filter(|&(_, f)| frame <= f.saturating_add(ARRIVAL)).map(|(c, _)| c)
     }
 
-    /// A candidate's first frame ever, left out of its estimate: it pays
-    /// for lazy set-up in drivers (on lavapipe, `hzb`'s took 14 ms against
-    /// 9 ms next at 16k objects; `vfc`'s 5.3 ms against 2.0 at 300).
+    /// A candidate's first frame ever, left out of its estimate: it may pay
+    /// for lazy set-up in drivers that [`crate::cull::CullMethod::warm`]
+    /// does not reach (first touches of its buffers; HROC's pipelines), and
+    /// with frame times as noisy as lavapipe's, the calibration's second
+    /// frame of each candidate keeps one spike from deciding (measuring the
+    /// first frame of a warmed `vfc` made the replays 0.4-4 % dearer).
     fn first(&self, i: usize) -> bool {
         self.ran[i].is_none()
     }

@@ -126,6 +126,15 @@ impl Pyramid {
         }
     }
 
+    /// Binds each pipeline with no work ([`crate::cull::CullMethod::warm`]).
+    pub fn warm(&self, pass: &mut wgpu::ComputePass<'_>) {
+        pass.set_bind_group(0, &self.binds[0], &[]);
+        for p in [&self.from_depth, &self.reduce, &self.reduce_tail] {
+            pass.set_pipeline(p);
+            pass.dispatch_workgroups(0, 0, 0);
+        }
+    }
+
     /// Every level, read back (tests).
     pub fn read(&self, gpu: &Gpu) -> Result<Vec<f32>> {
         let texels = self.mips.last().map_or(1, |m| m.offset + 1);
@@ -168,6 +177,13 @@ impl HizTest {
             pass.set_bind_group(0, &self.bind, &[]);
             pass.dispatch_workgroups(x, y, 1);
         });
+    }
+
+    /// Binds the pipeline with no work ([`crate::cull::CullMethod::warm`]).
+    pub(crate) fn warm(&self, pass: &mut wgpu::ComputePass<'_>) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &self.bind, &[]);
+        pass.dispatch_workgroups(0, 0, 0);
     }
 
     /// (tested, near-plane) of the last test.
@@ -228,6 +244,13 @@ impl CullMethod for Hzb {
 
     fn visible_set(&self) -> Option<&wgpu::Buffer> {
         Some(&self.visible)
+    }
+
+    fn warm(&self, enc: &mut wgpu::CommandEncoder) {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hzb warm"), timestamp_writes: None });
+        self.pyramid.warm(&mut pass);
+        self.test.warm(&mut pass);
+        self.compactor.warm(&mut pass, &self.v_job);
     }
 
     fn take_over(&mut self, enc: &mut wgpu::CommandEncoder, visible: Option<&wgpu::Buffer>) {
