@@ -29,7 +29,8 @@
 //!   at 20k objects `noc` never runs. A frame of any candidate that drew the whole
 //!   frustum, or every object, is an upper bound of what `vfc`, or `noc`,
 //!   costs: the caller observes it for them too (`hzb` taking over cold draws
-//!   the frustum). The last runs on until the measurements arrive, and
+//!   the frustum). After a camera cut, such a frame of the new view also
+//!   bounds an estimate of them from before the cut. The last runs on until the measurements arrive, and
 //!   the calibration ends with a switch to the best.
 //! - **Hysteresis.** A switch needs the best prediction below
 //!   `1 - margin` times the current one (`1 - 2 · margin` from one
@@ -211,9 +212,10 @@ pub struct Chooser {
     /// ms: starting cold, and from a visible set handed over.
     switch_ms: Vec<[Option<f64>; 2]>,
     /// The least cost of a frame of another candidate that drew what this
-    /// one would (the whole frustum for `vfc`, everything for `noc`): an
-    /// upper bound of its cost, used until it is measured itself.
-    bound_ms: Vec<Option<f64>>,
+    /// one would (the whole frustum for `vfc`, everything for `noc`) since
+    /// the last cut, and the last such frame: an upper bound of its cost,
+    /// used until it is measured itself, or again after a cut.
+    bound_ms: Vec<Option<(u64, f64)>>,
     /// The last warm-up frame of each candidate measured after its last
     /// steady frame, and its cost: an upper bound of its steady cost in
     /// that frame's view.
@@ -333,7 +335,7 @@ impl Chooser {
         self.observe(o);
         for (load, drew) in [(Load::Frustum, o.triangles >= 0.95 * o.frustum_triangles), (Load::All, o.triangles >= 0.95 * all)] {
             if let Some(b) = self.with_load(load).filter(|&b| drew && b != o.candidate) {
-                self.bound(b, o.cost_ms);
+                self.bound(b, o.frame, o.cost_ms);
             }
         }
     }

@@ -64,13 +64,23 @@ impl Chooser {
         }
     }
 
-    /// Takes a frame of another candidate that drew what candidate `i`
-    /// would, costing `cost_ms`: an upper bound of `i`'s cost, which
-    /// predicts it until `i` is measured (no fit, no staleness changes).
-    pub fn bound(&mut self, i: usize, cost_ms: f64) {
-        if cost_ms.is_finite() && cost_ms >= 0.0 {
-            self.bound_ms[i] = Some(self.bound_ms[i].map_or(cost_ms, |b| b.min(cost_ms)));
+    /// Takes frame `frame` of another candidate that drew what candidate
+    /// `i` would, costing `cost_ms`: an upper bound of `i`'s cost in that
+    /// frame's view, which predicts it until `i` is measured (no fit, no
+    /// staleness changes), and after a camera cut bounds an estimate of
+    /// `i` from before the cut until `i` is measured again. The least of
+    /// the bounds since the last cut is kept.
+    pub fn bound(&mut self, i: usize, frame: u64, cost_ms: f64) {
+        if !cost_ms.is_finite() || cost_ms < 0.0 {
+            return;
         }
+        let view = |f: u64| self.last_cut.is_none_or(|c| f >= c);
+        self.bound_ms[i] = match self.bound_ms[i] {
+            Some((f, b)) if view(f) == view(frame) => Some((f.max(frame), b.min(cost_ms))),
+            // A frame from before the cut arriving late.
+            Some(kept) if view(kept.0) => Some(kept),
+            _ => Some((frame, cost_ms)),
+        };
     }
 
     /// Predicted ms of candidate `i` now, and whether it was measured.
@@ -95,9 +105,18 @@ impl Chooser {
 
     /// [`Chooser::predict`] without the cuts: its steady frame, the
     /// model's, bounded by a warm-up frame measured since its last steady
-    /// frame in the same view (no camera cut between).
+    /// frame in the same view (no camera cut between), and an estimate
+    /// from before a camera cut by a frame since that drew what it would
+    /// ([`Chooser::bound`]: inside boxes every candidate draws the whole
+    /// scene, and `vfc`'s one frame there cost 33 ms; out of them `hzb`,
+    /// drawing the whole frustum, 5).
     pub(super) fn steady(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
         let (ms, measured) = self.model(i, frustum, all);
+        let view = |f: u64| self.last_cut.is_none_or(|c| f >= c);
+        let ms = match (self.bound_ms[i], self.measured[i]) {
+            (Some((f, b)), Some(m)) if view(f) && !view(m) => ms.min(b),
+            _ => ms,
+        };
         match self.warm_ms[i] {
             Some((f, warm)) if (!measured || warm < ms) && self.last_cut.is_none_or(|c| f >= c) => (warm, true),
             _ => (ms, measured),
@@ -110,7 +129,7 @@ impl Chooser {
         let k = self.triangle_ms();
         let f = &self.fits[i];
         if f.n == 0.0 {
-            if let Some(b) = self.bound_ms[i] {
+            if let Some((_, b)) = self.bound_ms[i] {
                 return (b, true);
             }
             let frustum_cost = match self.loads[i] {

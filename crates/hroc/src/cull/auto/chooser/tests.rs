@@ -40,7 +40,7 @@ fn decisions_in(
         if f >= late {
             let d = ran[(f - late) as usize];
             let g = f - late;
-            c.observe(&Observation {
+            let o = Observation {
                 candidate: d.candidate,
                 frame: g,
                 cost_ms: cost(d.candidate, g),
@@ -48,7 +48,8 @@ fn decisions_in(
                 frustum_triangles: frustum(g),
                 warm_up: !d.measured,
                 handed: d.from.is_some(),
-            });
+            };
+            c.observe_frame(&o, all);
         }
         if cut(f) {
             c.cut();
@@ -129,7 +130,7 @@ fn it_follows_a_change_and_does_not_oscillate_between_equals() {
 fn bounds_predict_until_measured_and_unplausible_never_runs() {
     let mut c = chooser();
     // hzb's warm-up frames drew the frustum at 40 ms: vfc's bound.
-    c.bound(1, 40.0);
+    c.bound(1, 0, 40.0);
     assert_eq!(c.predict(1, 5e5, 1e7), (40.0, true));
     // vfc is cheaper (10 ms): with the bound alone it is still tried
     // (40 is within the plausible factor of hroc's 35) and then chosen.
@@ -458,4 +459,25 @@ fn a_cut_has_vfc_probed_while_noc_runs() {
     // after `probe_every` frames).
     let never = Params { cut_probe_every: u64::MAX, probe_every: 1000, ..Params::default() };
     assert!(vfc_after(never) < 0.1, "{}", vfc_after(never));
+}
+
+#[test]
+fn a_frame_drawing_the_frustum_after_a_cut_bounds_an_estimate_from_before() {
+    // The eye inside boxes until a cut at frame 60: every candidate draws
+    // the frustum, what a frame costs is its pixels, and `hzb` (2) is
+    // cheapest. After the cut the frustum holds a thousand triangles,
+    // `hzb` still draws all of it at 5 ms and `vfc` (1) would cost 2.7:
+    // `hzb`'s frames bound `vfc`'s estimate from the boxes (45 ms), so it
+    // is plausible, probed and chosen.
+    let frustum = |f: u64| match f {
+        0..60 if f % 2 == 0 => 1e6,
+        0..60 => 8e5,
+        _ => 1e3,
+    };
+    let draws = move |i: usize, f: u64| if i == 0 { 1e6 } else { frustum(f) };
+    let cost = |i: usize, f: u64| if f < 60 { [50.0, 45.0, 30.0, 35.0][i] } else { [20.0, 2.7, 5.0, 6.0][i] };
+    let mut c = chooser();
+    let ds = decisions_in(&mut c, 100, 2, cost, draws, frustum, 1e6, |f| f == 60);
+    assert!(share(&ds[20..60], 2) > 0.9, "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
+    assert!(share(&ds[80..], 1) > 0.9, "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
 }
