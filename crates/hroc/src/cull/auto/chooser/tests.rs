@@ -441,7 +441,7 @@ fn a_cut_has_vfc_probed_while_noc_runs() {
     // of `noc` and the occlusion methods more than `noc`: only a probe of
     // `vfc` finds it cheap (its estimate holds the boxes' view).
     let frustum = |f: u64| match f {
-        0..60 if f % 2 == 0 => 1e6,
+        0..60 if f.is_multiple_of(2) => 1e6,
         0..60 => 8e5,
         _ => 2e5,
     };
@@ -470,7 +470,7 @@ fn a_frame_drawing_the_frustum_after_a_cut_bounds_an_estimate_from_before() {
     // `hzb`'s frames bound `vfc`'s estimate from the boxes (45 ms), so it
     // is plausible, probed and chosen.
     let frustum = |f: u64| match f {
-        0..60 if f % 2 == 0 => 1e6,
+        0..60 if f.is_multiple_of(2) => 1e6,
         0..60 => 8e5,
         _ => 1e3,
     };
