@@ -392,7 +392,10 @@ impl Chooser {
         // Waiting, from when a candidate first ran, for its first measurement.
         let arriving = |i: usize| self.started[i].is_some_and(|r| frame < r.saturating_add(ARRIVAL)) && self.measured[i].is_none();
         let waiting = (0..n).any(arriving) || !measured_best.is_finite();
-        let untried = (0..n).rev().find(|&i| self.ran[i].is_none() && plausible(i)).filter(|_| !waiting);
+        // After it, `noc` is tried only while `vfc` runs: it differs from
+        // `vfc` by `vfc`'s passes and the triangles out of the frustum.
+        let against = |i: usize| self.switched_at.is_none() || self.loads[i] != Load::All || self.current.is_some_and(|c| self.loads[c] == Load::Frustum);
+        let untried = (0..n).rev().find(|&i| self.ran[i].is_none() && plausible(i) && against(i)).filter(|_| !waiting);
         // A probe under way runs to its end, then hands on to the
         // calibration's next, or back. The calibration's last probe runs
         // on while measurements are on their way, then the calibration

@@ -481,3 +481,18 @@ fn a_frame_drawing_the_frustum_after_a_cut_bounds_an_estimate_from_before() {
     assert!(share(&ds[20..60], 2) > 0.9, "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
     assert!(share(&ds[80..], 1) > 0.9, "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
 }
+
+#[test]
+fn on_a_small_scene_noc_is_tried_once_the_frames_fit_the_cost_of_a_triangle() {
+    // city300.glb's frame is its passes and pixels: `noc` (0) draws
+    // 5,562 triangles, `vfc` (1) the 600-900 in the frustum, and `noc`
+    // costs less (no culling pass). At the highest cost per triangle the
+    // frames allow, `noc` would cost seven times `vfc`; the slope `vfc`'s
+    // own frames fit (none) makes it plausible, and it is tried and kept.
+    let frustum = |f: u64| 600.0 + 300.0 * ((f % 7) as f64 / 6.0);
+    let draws = move |i: usize, f: u64| [5562.0, frustum(f), 0.3 * frustum(f), 0.2 * frustum(f)][i];
+    let cost = |i: usize, _| [4.0, 4.4, 7.5, 8.0][i];
+    let mut c = chooser();
+    let ds = decisions_in(&mut c, 300, 2, cost, draws, frustum, 5562.0, |_| false);
+    assert!(share(&ds[150..], 0) > 0.9, "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
+}
