@@ -432,6 +432,20 @@ fn an_estimate_of_one_spiky_frame_is_probed_again() {
     assert!(vfc_after(once) < 0.1, "{}", vfc_after(once));
 }
 
+/// The eye inside boxes until a camera cut at frame 60, `after`
+/// triangles in the frustum then: the frustum's triangles, and what each
+/// candidate draws (`noc` the scene's 1e6, the others the whole frustum).
+/// Inside the boxes the frustum holds 8e5 or 1e6 triangles, frame by
+/// frame, at the same cost: what a frame costs there is its pixels.
+fn boxes_until_a_cut(after: f64) -> (impl Fn(u64) -> f64 + Copy, impl Fn(usize, u64) -> f64 + Copy) {
+    let frustum = move |f: u64| match f {
+        0..60 if f.is_multiple_of(2) => 1e6,
+        0..60 => 8e5,
+        _ => after,
+    };
+    (frustum, move |i: usize, f: u64| if i == 0 { 1e6 } else { frustum(f) })
+}
+
 #[test]
 fn a_cut_has_vfc_probed_while_noc_runs() {
     // The eye inside boxes until a cut at frame 60: the frustum holds
@@ -440,12 +454,7 @@ fn a_cut_has_vfc_probed_while_noc_runs() {
     // cut the frustum holds a fifth of the scene, `vfc` (1) costs a sixth
     // of `noc` and the occlusion methods more than `noc`: only a probe of
     // `vfc` finds it cheap (its estimate holds the boxes' view).
-    let frustum = |f: u64| match f {
-        0..60 if f.is_multiple_of(2) => 1e6,
-        0..60 => 8e5,
-        _ => 2e5,
-    };
-    let draws = move |i: usize, f: u64| if i == 0 { 1e6 } else { frustum(f) };
+    let (frustum, draws) = boxes_until_a_cut(2e5);
     let cost = |i: usize, f: u64| if f < 60 { [40.0, 42.0, 60.0, 65.0][i] } else { [18.0, 3.0, 30.0, 30.0][i] };
     let vfc_after = |params: Params| {
         let mut c = chooser();
@@ -469,12 +478,7 @@ fn a_frame_drawing_the_frustum_after_a_cut_bounds_an_estimate_from_before() {
     // `hzb` still draws all of it at 5 ms and `vfc` (1) would cost 2.7:
     // `hzb`'s frames bound `vfc`'s estimate from the boxes (45 ms), so it
     // is plausible, probed and chosen.
-    let frustum = |f: u64| match f {
-        0..60 if f.is_multiple_of(2) => 1e6,
-        0..60 => 8e5,
-        _ => 1e3,
-    };
-    let draws = move |i: usize, f: u64| if i == 0 { 1e6 } else { frustum(f) };
+    let (frustum, draws) = boxes_until_a_cut(1e3);
     let cost = |i: usize, f: u64| if f < 60 { [50.0, 45.0, 30.0, 35.0][i] } else { [20.0, 2.7, 5.0, 6.0][i] };
     let mut c = chooser();
     let ds = decisions_in(&mut c, 100, 2, cost, draws, frustum, 1e6, |f| f == 60);
