@@ -310,7 +310,7 @@ impl Chooser {
         // triangles (the eye inside a box, every candidate costs 200 ms;
         // out of it, HROC 10). On a path of cuts, one view is as good a
         // guide to the next as any.
-        let before_cut = |f: Option<u64>| self.last_cut.is_some_and(|c| f.is_none_or(|f| f < c));
+        let before_cut = |f: Option<u64>| self.last_cut.is_some() && f.is_none_or(|f| !self.in_view(f));
         if before_cut(Some(o.frame)) && !before_cut(self.measured[i]) {
             return;
         }
@@ -454,7 +454,7 @@ impl Chooser {
         let occluding = |i: usize| self.loads[i] == Load::Occluded;
         if self.spend.within(p.probe_share, 0.0) {
             let paced = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].cold as u64).saturating_mul(p.cut_probe_every) <= since;
-            let cut = |i: usize| self.measured[i].is_some_and(|m| self.last_cut.is_some_and(|c| m < c));
+            let cut = |i: usize| self.measured[i].is_some_and(|m| !self.in_view(m));
             // Within a view (no cut since), a method whose frame drawing
             // nothing costs what the current one's whole frame does is
             // not cheaper with a fuller or emptier frustum.

@@ -48,6 +48,11 @@ impl Chooser {
         (slope - SLOPE_ERRORS * (residual / tt).sqrt()).clamp(0.0, bound)
     }
 
+    /// Frame `frame` is of the view now: no camera cut came after it.
+    pub(super) fn in_view(&self, frame: u64) -> bool {
+        self.last_cut.is_none_or(|c| frame >= c)
+    }
+
     /// Triangles candidate `i` would draw now.
     /// The frustum's count is an estimate: `vfc` draws the share of it
     /// its frames drew, as an occlusion method does.
@@ -68,11 +73,10 @@ impl Chooser {
         if !cost_ms.is_finite() || cost_ms < 0.0 {
             return;
         }
-        let view = |f: u64| self.last_cut.is_none_or(|c| f >= c);
         self.bound_ms[i] = match self.bound_ms[i] {
-            Some((f, b)) if view(f) == view(frame) => Some((f.max(frame), b.min(cost_ms))),
+            Some((f, b)) if self.in_view(f) == self.in_view(frame) => Some((f.max(frame), b.min(cost_ms))),
             // A frame from before the cut arriving late.
-            Some(kept) if view(kept.0) => Some(kept),
+            Some(kept) if self.in_view(kept.0) => Some(kept),
             _ => Some((frame, cost_ms)),
         };
     }
@@ -110,13 +114,12 @@ impl Chooser {
     /// drawing the whole frustum, 5).
     pub(super) fn steady(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
         let (ms, measured) = self.model(i, frustum, all);
-        let view = |f: u64| self.last_cut.is_none_or(|c| f >= c);
         let ms = match (self.bound_ms[i], self.measured[i]) {
-            (Some((f, b)), Some(m)) if view(f) && !view(m) => ms.min(b),
+            (Some((f, b)), Some(m)) if self.in_view(f) && !self.in_view(m) => ms.min(b),
             _ => ms,
         };
         match self.warm_ms[i] {
-            Some((f, warm)) if (!measured || warm < ms) && self.last_cut.is_none_or(|c| f >= c) => (warm, true),
+            Some((f, warm)) if (!measured || warm < ms) && self.in_view(f) => (warm, true),
             _ => (ms, measured),
         }
     }
