@@ -72,8 +72,8 @@ struct Pending {
 fn warm_up(m: Method) -> WarmUp {
     match m {
         Method::Noc | Method::Vfc => WarmUp::NONE,
-        Method::Hzb => WarmUp { cold: 2, handed: 0 },
-        _ => WarmUp { cold: 2, handed: 1 },
+        Method::Hzb => WarmUp { cold: 2, handed: 0, cold_frustum: true },
+        _ => WarmUp { cold: 2, handed: 1, cold_frustum: false },
     }
 }
 
@@ -135,9 +135,13 @@ impl Auto {
         let (chooser, timed, all) = (&mut self.chooser, self.timed, self.load.all);
         let mut observe = |p: &Pending, cost_ms: f64, triangles: f64| {
             let o = Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles, warm_up: p.left_out, handed: p.handed };
-            // A first frame ever pays for lazy set-up besides.
             if !p.first {
                 chooser.observe_frame(&o, all);
+            } else {
+                // A first frame ever pays for lazy set-up besides: a warm-up
+                // frame of its own candidate, it bounds that one's steady
+                // cost from above, and no other's.
+                chooser.observe(&Observation { warm_up: true, ..o });
             }
         };
         // Without timestamps, the period since the last frame began is the

@@ -92,15 +92,60 @@ impl Chooser {
     /// less; the highest cost put it at seven times `vfc`'s).
     pub fn predict(&self, i: usize, frustum: f64, all: f64) -> (f64, bool) {
         let (ms, measured) = self.steady(i, frustum, all);
-        (ms + if measured { self.cut_ms(i) } else { 0.0 }, measured)
+        (ms + if measured { self.cut_ms(i, frustum, all) } else { 0.0 }, measured)
     }
 
     /// What camera cuts add to a frame of candidate `i` at the recent rate
     /// of cuts: an occlusion method's frames after a cut are its warm-up
-    /// from nothing, priced as a cold take-over is.
-    pub(super) fn cut_ms(&self, i: usize) -> f64 {
-        match (self.loads[i], self.switch_ms[i][0]) {
-            (Load::Occluded, Some(ms)) => self.cut_rate * self.warm[i].cold as f64 * ms,
+    /// from nothing, priced by [`Chooser::cold_ms`] (as measured, else
+    /// bounded below where they draw the frustum: a known cost of HROC's
+    /// cold frames made it dearer than `hzb`, whose cold frames cost more
+    /// but were not yet measured).
+    pub(super) fn cut_ms(&self, i: usize, frustum: f64, all: f64) -> f64 {
+        match self.loads[i] {
+            Load::Occluded => self.cut_rate * self.warm[i].cold as f64 * self.cold_ms(i, frustum, all),
+            _ => 0.0,
+        }
+    }
+
+    /// At a camera cut, while occlusion method `current` runs (the
+    /// calibration over) and cuts are isolated ([`Params::isolated_cuts`]):
+    /// the occlusion method to take over, if not `current`. Whichever
+    /// runs now starts from nothing, so a switch costs no warm-up of its
+    /// own: the one whose cold frames and first steady frame cost least,
+    /// by [`Chooser::cold_ms`], by more than the margin, takes over. Only
+    /// from a candidate whose cold frames draw the whole frustum
+    /// ([`WarmUp::cold_frustum`](super::WarmUp::cold_frustum)) to one whose do not: there the
+    /// difference is known before either ran through a cut (radial-city's
+    /// own path at 20k objects: `hzb` through the cut 50 and 43 ms, HROC,
+    /// reseeded, 27 and 15, at equal steady cost); between others, estimates
+    /// from another view would decide.
+    pub(super) fn cut_takeover(&self, frame: u64, current: usize, predictions: &[(f64, bool)], frustum: f64, all: f64) -> Option<usize> {
+        let occluding = |i: usize| self.loads[i] == Load::Occluded;
+        if self.last_cut != Some(frame) || self.switched_at.is_none() || !occluding(current) || self.cut_rate >= self.params.isolated_cuts {
+            return None;
+        }
+        let cost = |i: usize| {
+            let cold = self.warm[i].cold as f64;
+            cold * (self.cold_ms(i, frustum, all) + predictions[i].0) + predictions[i].0
+        };
+        (0..predictions.len())
+            .filter(|&i| occluding(i) && predictions[i].1 && self.warm[current].cold_frustum && !self.warm[i].cold_frustum)
+            .min_by(|&a, &b| cost(a).total_cmp(&cost(b)))
+            .filter(|&b| cost(current) - cost(b) > self.params.margin * cost(current))
+    }
+
+    /// What a frame of occlusion method `i` from nothing costs over its
+    /// steady frame: as measured ([`Chooser::observe`]), else, where its
+    /// cold frames draw the whole frustum, at least `vfc`'s frame over its
+    /// steady one, else 0 (not known, so not held against it).
+    pub(super) fn cold_ms(&self, i: usize, frustum: f64, all: f64) -> f64 {
+        if let Some(ms) = self.switch_ms[i][0] {
+            return ms;
+        }
+        let vfc = self.with_load(Load::Frustum).map(|v| self.steady(v, frustum, all)).filter(|p| p.1);
+        match vfc {
+            Some((vfc, _)) if self.warm[i].cold_frustum => (vfc - self.steady(i, frustum, all).0).max(0.0),
             _ => 0.0,
         }
     }

@@ -5,7 +5,7 @@ use super::*;
 
 /// noc, vfc, hzb, hroc.
 fn chooser() -> Chooser {
-    let warm = WarmUp { cold: 2, handed: 1 };
+    let warm = WarmUp { cold: 2, handed: 1, cold_frustum: false };
     Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], vec![WarmUp::NONE, WarmUp::NONE, warm, warm], Params::default())
 }
 
