@@ -52,8 +52,11 @@
 //!   state between frames takes frames after taking over to reach its
 //!   steady cost (`auto` gives `hzb` and HROC two: HROC's first is the
 //!   cut's seeded frame, `hzb`'s draws what its stale visible set and an
-//!   empty pyramid pass); those are left out of its estimate, and so is a candidate's
-//!   first frame ever (lazy set-up in drivers). A probe of every candidate
+//!   empty pyramid pass); those are left out of its estimate, and so is a
+//!   candidate's first frame ever (lazy set-up in drivers), which like a
+//!   warm-up frame bounds its estimate from above (a stateless
+//!   candidate's of one frame too: one spike of `vfc` in the calibration
+//!   had a small scene on HROC for thirty frames). A probe of every candidate
 //!   at least every `forced` frames keeps an unlucky estimate from sticking.
 //! - **Probes after a change of view.** An occlusion method's share of the
 //!   frustum holds for the view it was learnt on: after a camera cut, or
@@ -77,6 +80,12 @@
 //!   than `noc`): with the eye inside boxes, where every candidate draws
 //!   the whole scene and `noc` is cheapest, its estimate says nothing of
 //!   the view after the cut.
+//!
+//! - **Camera cuts.** At an isolated cut, the occlusion method running
+//!   starts from nothing as another would, so a switch there costs no
+//!   warm-up of its own: `hzb`, whose frames from nothing draw the whole
+//!   frustum, hands over to HROC, reseeded by rays, where HROC's cold
+//!   frames and first steady frame cost less ([`Chooser::cold_ms`]).
 //!
 //! A candidate taking over (`fresh`) starts from the visible set of the
 //! last candidate that keeps one (`hzb` and HROC do) if that one ran

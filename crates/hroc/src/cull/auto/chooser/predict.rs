@@ -109,7 +109,7 @@ impl Chooser {
     }
 
     /// At a camera cut, while occlusion method `current` runs (the
-    /// calibration over) and cuts are isolated ([`Params::isolated_cuts`]):
+    /// calibration over) and cuts are isolated ([`Params::isolated_cuts`](super::Params::isolated_cuts)):
     /// the occlusion method to take over, if not `current`. Whichever
     /// runs now starts from nothing, so a switch costs no warm-up of its
     /// own: the one whose cold frames and first steady frame cost least,

@@ -49,7 +49,13 @@ fn decisions_in(
                 warm_up: !d.measured,
                 handed: d.from.is_some(),
             };
-            c.observe_frame(&o, all);
+            // As `auto` takes them: a first frame ever is a warm-up of its
+            // own candidate and bounds no other.
+            if d.first {
+                c.observe(&Observation { warm_up: true, ..o });
+            } else {
+                c.observe_frame(&o, all);
+            }
         }
         if cut(f) {
             c.cut();
@@ -499,4 +505,47 @@ fn on_a_small_scene_noc_is_tried_once_the_frames_fit_the_cost_of_a_triangle() {
     let mut c = chooser();
     let ds = decisions_in(&mut c, 300, 2, cost, draws, frustum, 5562.0, |_| false);
     assert!(share(&ds[150..], 0) > 0.9, "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
+}
+
+#[test]
+fn at_an_isolated_cut_hzb_hands_over_to_hroc_whose_cold_frames_draw_less() {
+    // hzb (2) 18 % cheaper than hroc (3) until a cut at frame 100; `vfc`
+    // (1) three times hzb. hzb's frames from nothing draw the whole
+    // frustum (35 ms, two of them); hroc's, reseeded, cost 15 and 12.
+    let warm = vec![WarmUp::NONE, WarmUp::NONE, WarmUp { cold: 2, handed: 0, cold_frustum: true }, WarmUp { cold: 2, handed: 1, cold_frustum: false }];
+    let cost = |i: usize, f: u64| match (i, f) {
+        (2, 100..=101) => 35.0,
+        (3, 100) => 15.0,
+        (3, 101) => 12.0,
+        _ => [60.0, 30.0, 9.0, 11.0][i],
+    };
+    let draws = |i: usize, _| [1e6, 5e5, 6e4, 5e4][i];
+    let at_cut = |cuts: &dyn Fn(u64) -> bool| {
+        let mut c = Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], warm.clone(), Params::default());
+        let ds = decisions_in(&mut c, 104, 2, cost, draws, |_| 5e5, 1e6, cuts);
+        assert!(ds[96..100].iter().all(|d| d.candidate == 2), "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
+        ds[100]
+    };
+    // At the cut both start from nothing: hroc takes over, cold.
+    let d = at_cut(&|f| f == 100);
+    assert!(d.candidate == 3 && d.fresh && d.from.is_none(), "{d:?}");
+    // Without a cut hzb stays.
+    assert_eq!(at_cut(&|_| false).candidate, 2);
+}
+
+#[test]
+fn a_spiky_frame_of_vfc_is_bounded_by_its_first() {
+    // A small scene: vfc (1) cheapest at 4 ms, hzb (2) 7, hroc (3) 8;
+    // vfc's one measured frame in the calibration spikes to 9 ms. Its
+    // first frame ever (4 ms), a warm-up of vfc alone, bounds it: the
+    // calibration ends on vfc or noc, not on hzb for thirty frames.
+    let flat = |i: usize, _| [4.2, 4.0, 7.0, 8.0][i];
+    let draws = |i: usize, _| [5600.0, 800.0, 300.0, 120.0][i];
+    let vfc_frames: Vec<usize> =
+        decisions_in(&mut chooser(), 12, 1, flat, draws, |_| 800.0, 5600.0, |_| false).iter().enumerate().filter(|(_, d)| d.candidate == 1).map(|(f, _)| f).collect();
+    let spike = vfc_frames[1] as u64;
+    let cost = |i: usize, f: u64| if i == 1 && f == spike { 9.0 } else { flat(i, f) };
+    let ds = decisions_in(&mut chooser(), 40, 1, cost, draws, |_| 800.0, 5600.0, |_| false);
+    let end = vfc_frames[0] + 3;
+    assert!(ds[end..].iter().all(|d| d.candidate <= 1), "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
 }
