@@ -199,6 +199,8 @@ pub struct Chooser {
     holder: Option<(usize, u64)>,
     /// Warm-up frames left of the candidate running.
     warming: u32,
+    /// ... from nothing (not from a visible set handed over).
+    warming_cold: bool,
     fits: Vec<Fit>,
     /// The frame each candidate last ran, first ran, and last was measured.
     ran: Vec<Option<u64>>,
@@ -259,6 +261,7 @@ impl Chooser {
             last: None,
             holder: None,
             warming: 0,
+            warming_cold: false,
             fits: vec![Fit::default(); n],
             ran: vec![None; n],
             started: vec![None; n],
@@ -376,16 +379,23 @@ impl Chooser {
         if d.fresh {
             // A candidate's first frames ever also pay for lazy set-up.
             self.warming = self.warm[d.candidate].frames(d.from.is_some()).max(self.first(d.candidate) as u32);
+            self.warming_cold = d.from.is_none();
         } else if cut && self.switched_at.is_some() && self.loads[d.candidate] == Load::Occluded {
             // An occlusion method running through a cut starts from
             // nothing: its frames until it settles price the cut, not its
             // steady cost (they made HROC look cheap on a path of cuts,
             // its reseeded frames read as triangles).
             self.warming = self.warming.max(self.warm[d.candidate].cold);
+            self.warming_cold = true;
         }
         self.last = Some(d.candidate);
         if self.loads[d.candidate] == Load::Occluded {
-            self.holder = Some((d.candidate, frame));
+            // A frame from nothing that draws the whole frustum (`hzb`'s)
+            // leaves a visible set of the frustum: handed to HROC it had
+            // HROC draw the frustum (38.8 ms, where HROC from nothing,
+            // reseeded, takes 13); the next to take over starts cold.
+            let frustum_set = self.warming > 0 && self.warming_cold && self.warm[d.candidate].cold_frustum;
+            self.holder = if frustum_set { None } else { Some((d.candidate, frame)) };
         }
         d.measured = self.warming == 0;
         d.first = self.first(d.candidate);

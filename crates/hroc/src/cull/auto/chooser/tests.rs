@@ -9,6 +9,13 @@ fn chooser() -> Chooser {
     Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], vec![WarmUp::NONE, WarmUp::NONE, warm, warm], Params::default())
 }
 
+/// noc, vfc, hzb, hroc with `auto`'s warm-ups: `hzb`'s frames from
+/// nothing draw the frustum, HROC's are reseeded.
+fn chooser_as_auto() -> Chooser {
+    let warm = vec![WarmUp::NONE, WarmUp::NONE, WarmUp { cold: 2, handed: 0, cold_frustum: true }, WarmUp { cold: 2, handed: 1, cold_frustum: false }];
+    Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], warm, Params::default())
+}
+
 /// Runs `frames` frames of a world where candidate i costs `cost(i,
 /// frame)` and draws `draws(i)` triangles, measurements arriving
 /// `late` frames after; returns the candidate of every frame.
@@ -222,6 +229,21 @@ fn a_candidate_taking_over_starts_from_the_last_visible_set_unless_a_cut_came() 
     assert!(ds.iter().any(|d| d.from.is_some_and(|h| h != d.candidate)));
     assert!(ds.iter().any(|d| d.from == Some(d.candidate)));
     assert!(ds.iter().skip(1).any(|d| d.fresh && d.candidate >= 2 && d.from.is_none()));
+}
+
+#[test]
+fn hzb_from_nothing_hands_over_no_visible_set() {
+    // hzb (2) runs; at a cut at frame 100 its frames from nothing draw
+    // the frustum at `vfc`'s 30 ms, which prices cuts into its prediction,
+    // and hroc (3) is checked by a probe a frame later, while hzb still
+    // warms up (the switch at the cut itself left out). hzb's set then is
+    // the whole frustum: hroc starts from nothing, reseeded.
+    let mut c = chooser_as_auto();
+    c.set_params(Params { margin: 0.05, confirm: 2, dwell: 0, isolated_cuts: 0.0, ..Params::default() });
+    let cost = |i: usize, f: u64| if i == 2 && (100..102).contains(&f) { 30.0 } else { [60.0, 30.0, 10.0, 11.0][i] };
+    let ds = decisions_in(&mut c, 104, 1, cost, |i, _| [1e6, 5e5, 5e4, 6e4][i], |_| 5e5, 1e6, |f| f == 100);
+    assert!(ds[90..101].iter().all(|d| d.candidate == 2), "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
+    assert!(ds[101].candidate == 3 && ds[101].fresh && ds[101].from.is_none(), "{:?}", &ds[100..]);
 }
 
 #[test]
@@ -512,7 +534,6 @@ fn at_an_isolated_cut_hzb_hands_over_to_hroc_whose_cold_frames_draw_less() {
     // hzb (2) 18 % cheaper than hroc (3) until a cut at frame 100; `vfc`
     // (1) three times hzb. hzb's frames from nothing draw the whole
     // frustum (35 ms, two of them); hroc's, reseeded, cost 15 and 12.
-    let warm = vec![WarmUp::NONE, WarmUp::NONE, WarmUp { cold: 2, handed: 0, cold_frustum: true }, WarmUp { cold: 2, handed: 1, cold_frustum: false }];
     let cost = |i: usize, f: u64| match (i, f) {
         (2, 100..=101) => 35.0,
         (3, 100) => 15.0,
@@ -521,7 +542,7 @@ fn at_an_isolated_cut_hzb_hands_over_to_hroc_whose_cold_frames_draw_less() {
     };
     let draws = |i: usize, _| [1e6, 5e5, 6e4, 5e4][i];
     let at_cut = |cuts: &dyn Fn(u64) -> bool| {
-        let mut c = Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], warm.clone(), Params::default());
+        let mut c = chooser_as_auto();
         let ds = decisions_in(&mut c, 104, 2, cost, draws, |_| 5e5, 1e6, cuts);
         assert!(ds[96..100].iter().all(|d| d.candidate == 2), "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
         ds[100]
