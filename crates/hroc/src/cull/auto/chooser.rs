@@ -80,7 +80,6 @@
 //!   than `noc`): with the eye inside boxes, where every candidate draws
 //!   the whole scene and `noc` is cheapest, its estimate says nothing of
 //!   the view after the cut.
-//!
 //! - **Camera cuts.** At an isolated cut, the occlusion method running
 //!   starts from nothing as another would, so a switch there costs no
 //!   warm-up of its own: `hzb`, whose frames from nothing draw the whole
@@ -349,8 +348,14 @@ impl Chooser {
     /// Takes a measured frame ([`Chooser::observe`]) of a view holding
     /// `all` triangles; a frame that drew the whole frustum (or every
     /// object) bounds what `vfc` (or `noc`) costs from above
-    /// ([`Chooser::bound`]).
-    pub fn observe_frame(&mut self, o: &Observation, all: f64) {
+    /// ([`Chooser::bound`]). A candidate's `first` frame ever pays for
+    /// lazy set-up besides: a warm-up frame of its own, it bounds that
+    /// candidate's cost and no other's.
+    pub fn observe_frame(&mut self, o: &Observation, all: f64, first: bool) {
+        if first {
+            self.observe(&Observation { warm_up: true, ..*o });
+            return;
+        }
         self.observe(o);
         for (load, drew) in [(Load::Frustum, o.triangles >= 0.95 * o.frustum_triangles), (Load::All, o.triangles >= 0.95 * all)] {
             if let Some(b) = self.with_load(load).filter(|&b| drew && b != o.candidate) {

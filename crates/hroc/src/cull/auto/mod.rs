@@ -135,14 +135,7 @@ impl Auto {
         let (chooser, timed, all) = (&mut self.chooser, self.timed, self.load.all);
         let mut observe = |p: &Pending, cost_ms: f64, triangles: f64| {
             let o = Observation { candidate: p.candidate, frame: p.frame, cost_ms, triangles, frustum_triangles: p.frustum_triangles, warm_up: p.left_out, handed: p.handed };
-            if !p.first {
-                chooser.observe_frame(&o, all);
-            } else {
-                // A first frame ever pays for lazy set-up besides: a warm-up
-                // frame of its own candidate, it bounds that one's steady
-                // cost from above, and no other's.
-                chooser.observe(&Observation { warm_up: true, ..o });
-            }
+            chooser.observe_frame(&o, all, p.first);
         };
         // Without timestamps, the period since the last frame began is the
         // last frame's cost.

@@ -122,7 +122,7 @@ impl Chooser {
     /// from another view would decide.
     pub(super) fn cut_takeover(&self, frame: u64, current: usize, predictions: &[(f64, bool)], frustum: f64, all: f64) -> Option<usize> {
         let occluding = |i: usize| self.loads[i] == Load::Occluded;
-        if self.last_cut != Some(frame) || self.switched_at.is_none() || !occluding(current) || self.cut_rate >= self.params.isolated_cuts {
+        if self.last_cut != Some(frame) || self.switched_at.is_none() || !occluding(current) || !self.warm[current].cold_frustum || self.cut_rate >= self.params.isolated_cuts {
             return None;
         }
         let cost = |i: usize| {
@@ -130,7 +130,7 @@ impl Chooser {
             cold * (self.cold_ms(i, frustum, all) + predictions[i].0) + predictions[i].0
         };
         (0..predictions.len())
-            .filter(|&i| occluding(i) && predictions[i].1 && self.warm[current].cold_frustum && !self.warm[i].cold_frustum)
+            .filter(|&i| occluding(i) && predictions[i].1 && !self.warm[i].cold_frustum)
             .min_by(|&a, &b| cost(a).total_cmp(&cost(b)))
             .filter(|&b| cost(current) - cost(b) > self.params.margin * cost(current))
     }

@@ -72,7 +72,6 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
         if let Some(&(d, cost, tri, timed)) = f.checked_sub(1).and_then(|g| ran.get(g)) {
             let g = f - 1;
             let frustum = r.tri[g][1];
-            // A first frame ever, as `auto` takes it, is a warm-up frame.
             if timed {
                 let o = Observation {
                     candidate: d.candidate,
@@ -80,14 +79,10 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
                     cost_ms: cost,
                     triangles: tri,
                     frustum_triangles: frustum,
-                    warm_up: !d.measured || d.first,
+                    warm_up: !d.measured,
                     handed: d.from.is_some(),
                 };
-                if d.first {
-                    c.observe(&o);
-                } else {
-                    c.observe_frame(&o, r.tri[g][0]);
-                }
+                c.observe_frame(&o, r.tri[g][0], d.first);
             }
         }
         if r.cut[f] {

@@ -56,13 +56,7 @@ fn decisions_in(
                 warm_up: !d.measured,
                 handed: d.from.is_some(),
             };
-            // As `auto` takes them: a first frame ever is a warm-up of its
-            // own candidate and bounds no other.
-            if d.first {
-                c.observe(&Observation { warm_up: true, ..o });
-            } else {
-                c.observe_frame(&o, all);
-            }
+            c.observe_frame(&o, all, d.first);
         }
         if cut(f) {
             c.cut();
