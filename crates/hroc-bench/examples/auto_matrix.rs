@@ -24,8 +24,6 @@
 //! at 60 frames per path second a run covers the path's first S seconds
 //! (default 4: 241 frames).
 
-use std::path::Path;
-
 use hroc_bench::bench::{self, BenchOptions, BenchReport, MethodRow};
 use hroc_bench::cull::Method;
 use hroc_bench::gpu::Headless;
@@ -84,12 +82,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     if only.as_ref().is_some_and(|o| !label.contains(o.as_str())) {
                         continue;
                     }
-                    let o = BenchOptions { fps: Some(fps), ..BenchOptions::new(scene_key, Some(n), methods.clone()) };
-                    let (scene, _) = bench::load_inputs(&o)?;
-                    let path = match path_name {
-                        "own" => scene.path.clone(),
-                        spec => bench::load_path(&scene, Path::new(spec))?,
-                    };
+                    let camera_path = (path_name != "own").then(|| path_name.into());
+                    let o = BenchOptions { fps: Some(fps), camera_path, ..BenchOptions::new(scene_key, Some(n), methods.clone()) };
+                    let (scene, path) = bench::load_inputs(&o)?;
+                    let path = path.unwrap_or_else(|| scene.path.clone());
                     let path = if fps > 30.0 { first_seconds(&path, seconds) } else { path };
                     let r = bench::run_scene(&gpu, &o, scene.clone(), Some(path.clone()))?;
                     for x in &r.rows {

@@ -193,14 +193,16 @@ fn a_candidate_taking_over_starts_from_the_last_visible_set_unless_a_cut_came() 
         ..Params::default()
     });
     let cost = |i: usize, f: u64| [14.0, 12.0, 11.0, 10.0][i] * (1.0 + 0.3 * ((f * 7919 % 13) as f64 / 13.0));
-    let (mut holder, mut ds): (Option<(usize, u64)>, Vec<Decision>) = (None, Vec::new());
+    // hzb (2) draws twice hroc's (3) share: hroc resumes from its own set.
+    let draws = |i: usize| [1e5, 1e5, 2e4, 1e4][i];
+    let (mut sets, mut ds): ([Option<u64>; 4], Vec<Decision>) = ([None; 4], Vec::new());
     for f in 0..300u64 {
         if let Some(d) = f.checked_sub(1).map(|g| ds[g as usize]) {
             let o = Observation {
                 candidate: d.candidate,
                 frame: f - 1,
                 cost_ms: cost(d.candidate, f - 1),
-                triangles: 1e4,
+                triangles: draws(d.candidate),
                 frustum_triangles: 1e5,
                 warm_up: !d.measured,
                 handed: d.from.is_some(),
@@ -209,13 +211,16 @@ fn a_candidate_taking_over_starts_from_the_last_visible_set_unless_a_cut_came() 
         }
         if f % 37 == 36 {
             c.cut();
-            holder = None;
+            sets = [None; 4];
         }
         let d = c.decide(f, 1e5, 2e5);
-        let want = holder.filter(|&(_, h)| d.fresh && d.candidate >= 2 && f <= h + ARRIVAL).map(|(h, _)| h);
+        let recent = |i: usize| sets[i].filter(|&h| f <= h + ARRIVAL);
+        let last = (2..4).filter_map(|i| recent(i).map(|h| (h, i))).max().map(|(_, i)| i);
+        let own = (d.candidate == 3 && recent(3).is_some()).then_some(3);
+        let want = own.or(last).filter(|_| d.fresh && d.candidate >= 2);
         assert_eq!(d.from, want, "frame {f}: {d:?}");
         if d.candidate >= 2 {
-            holder = Some((d.candidate, f));
+            sets[d.candidate] = Some(f);
         }
         ds.push(d);
     }
@@ -223,6 +228,22 @@ fn a_candidate_taking_over_starts_from_the_last_visible_set_unless_a_cut_came() 
     assert!(ds.iter().any(|d| d.from.is_some_and(|h| h != d.candidate)));
     assert!(ds.iter().any(|d| d.from == Some(d.candidate)));
     assert!(ds.iter().skip(1).any(|d| d.fresh && d.candidate >= 2 && d.from.is_none()));
+}
+
+#[test]
+fn a_candidate_resumes_from_its_own_set_where_the_one_handed_is_larger() {
+    // hroc (3) runs, drawing a fifth of hzb's (2) share; probes of hzb
+    // (every 30 frames) start from hroc's set, and hroc, back after each,
+    // from its own: hzb's set would have it draw what it culled.
+    let mut c = chooser_as_auto();
+    let cost = |i: usize, _| [40.0, 30.0, 11.0, 10.0][i];
+    let ds = decisions(&mut c, 400, 2, cost, |i| [1e6, 5e5, 5e4, 1e4][i], 5e5, 1e6);
+    let ds = &ds;
+    let after = |m: usize| (100..400).filter(move |&f| ds[f].fresh && ds[f].candidate == m && ds[f - 1].candidate != m);
+    let (hzb, hroc): (Vec<usize>, Vec<usize>) = (after(2).collect(), after(3).filter(|&f| ds[f - 1].candidate == 2).collect());
+    assert!(!hzb.is_empty() && !hroc.is_empty(), "{:?}", ds.iter().map(|d| d.candidate).collect::<Vec<_>>());
+    assert!(hzb.iter().all(|&f| ds[f].from == Some(3)), "{:?}", hzb.iter().map(|&f| ds[f]).collect::<Vec<_>>());
+    assert!(hroc.iter().all(|&f| ds[f].from == Some(3)), "{:?}", hroc.iter().map(|&f| ds[f]).collect::<Vec<_>>());
 }
 
 #[test]
