@@ -591,7 +591,7 @@ impl Chooser {
     /// the last, or `c`'s own where it drew a smaller share of the
     /// frustum. A set larger than its own has a candidate draw what it
     /// would have culled: HROC resuming from `hzb`'s set after a probe of
-    /// `hzb` cost 1.22 × its frame (median over five matrices), from its
+    /// `hzb` cost 1.21 × its frame (median over five matrices), from its
     /// own after a probe of `vfc` 1.04 ×, and `hzb` from HROC's set 0.95 ×.
     fn source(&self, frame: u64, c: usize) -> Option<usize> {
         let recent = |i: usize| self.sets[i].filter(|&f| frame <= f.saturating_add(ARRIVAL));
