@@ -19,8 +19,8 @@
 //!    visible set of the last `hzb` or HROC frame, if one ran in the last
 //!    few frames ([`CullMethod::take_over`]; its own set after a probe of
 //!    `vfc` or `noc`, or of a method whose set is larger), as from its
-//!    own last frame; else, and after a
-//!    camera cut, it culls as after a cut (HROC reseeds). The one handing
+//!    own last frame; else, and after a camera cut, it culls as after a
+//!    cut (HROC reseeds). The one handing
 //!    over keeps its read-backs in flight (the stall-free counters take
 //!    them when it runs again). The first frame also warms the other
 //!    candidates' pipelines ([`CullMethod::warm`]): on lavapipe, `vfc`
