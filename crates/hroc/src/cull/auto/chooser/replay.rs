@@ -7,7 +7,10 @@
 //! one). Deterministic, so variants of the chooser compare without the
 //! noise of a run; what it leaves out (lazy set-up, hand-over costs)
 //! makes it a little optimistic. It reports `auto`'s mean and p95 over
-//! the best fixed candidate's.
+//! the best fixed candidate's, and a floor on the same frames: `auto`'s
+//! calibration as it ran, then the run's best fixed candidate (known only
+//! in hindsight). What `auto` costs over the floor is its choices after
+//! the calibration; what the floor costs over 1, the calibration.
 //!
 //! `recorded.txt`: the 27 runs at 5 frames per path second of one matrix
 //! run on lavapipe (radial-city, factory, satellites at 1k, 5k, 20k
@@ -59,6 +62,11 @@ struct Replayed {
     p95_ratio: f64,
     /// The candidate of every frame.
     ran: Vec<usize>,
+    /// A chooser's floor on the same frames: `auto`'s calibration as it
+    /// ran, then the run's best fixed candidate (known only in hindsight),
+    /// its mean ms and 95th percentile over the best's.
+    floor_ms: f64,
+    floor_p95_ratio: f64,
 }
 
 /// Replays `r` through a chooser with `params` (`show`: print each frame).
@@ -67,6 +75,8 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
     let mut c = Chooser::new(vec![Load::All, Load::Frustum, Load::Occluded, Load::Occluded], warm, params);
     let n = r.ms.len();
     let mut ran: Vec<(Decision, f64, f64, bool)> = Vec::new();
+    // The frame the calibration ended (switched to its choice).
+    let mut calibrated = n;
     for f in 0..n {
         // Last frame's measurement arrives (as on lavapipe).
         if let Some(&(d, cost, tri, timed)) = f.checked_sub(1).and_then(|g| ran.get(g)) {
@@ -89,6 +99,9 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
             c.cut();
         }
         let d = c.decide(f as u64, r.tri[f][1], r.tri[f][0]);
+        if calibrated == n && c.switched_at.is_some() {
+            calibrated = f;
+        }
         let m = d.candidate;
         // An occlusion method taking over cold draws the frustum first
         // (at a camera cut, the recording's frame is its cold one).
@@ -108,8 +121,17 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
     let timed = (n - w) as f64;
     let auto_ms = ran[w..].iter().map(|x| x.1).sum::<f64>() / timed;
     let best = (0..4).min_by(|&a, &b| fixed_ms(r, a).total_cmp(&fixed_ms(r, b))).unwrap_or(0);
-    let p95_ratio = p95(&ran[w..].iter().map(|x| x.1).collect::<Vec<_>>()) / p95(&r.ms[w..].iter().map(|x| x[best]).collect::<Vec<_>>());
-    Replayed { auto_ms, best_ms: fixed_ms(r, best), p95_ratio, ran: ran.iter().map(|x| x.0.candidate).collect() }
+    let best_p95 = p95(&r.ms[w..].iter().map(|x| x[best]).collect::<Vec<_>>());
+    let p95_ratio = p95(&ran[w..].iter().map(|x| x.1).collect::<Vec<_>>()) / best_p95;
+    let floor: Vec<f64> = (w..n).map(|f| if f < calibrated { ran[f].1 } else { r.ms[f][best] }).collect();
+    Replayed {
+        auto_ms,
+        best_ms: fixed_ms(r, best),
+        p95_ratio,
+        ran: ran.iter().map(|x| x.0.candidate).collect(),
+        floor_ms: floor.iter().sum::<f64>() / timed,
+        floor_p95_ratio: p95(&floor) / best_p95,
+    }
 }
 
 /// The nearest-rank 95th percentile (as the benchmark's).
@@ -186,11 +208,27 @@ fn recorded_runs() {
     let mut by: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
     let mut worst = (0.0f64, String::new());
     let mut worst_p95 = (0.0f64, String::new());
+    let (mut floors, mut floor_worst, mut floor_p95) = (Vec::new(), (0.0f64, String::new()), (0.0f64, String::new()));
     for r in &runs {
         let x = replay(r, params, show.as_ref().is_some_and(|l| r.label.contains(l.as_str())));
         let ratio = x.auto_ms / x.best_ms;
         if !quiet {
-            println!("{:32} {ratio:.3} p95 {:.3}  {}", r.label, x.p95_ratio, x.ran.iter().map(|&m| LETTERS[m]).collect::<String>());
+            println!(
+                "{:32} {ratio:.3} p95 {:.3} (floor {:.3} p95 {:.3})  {}",
+                r.label,
+                x.p95_ratio,
+                x.floor_ms / x.best_ms,
+                x.floor_p95_ratio,
+                x.ran.iter().map(|&m| LETTERS[m]).collect::<String>()
+            );
+        }
+        let floor = x.floor_ms / x.best_ms;
+        floors.push(floor);
+        if floor > floor_worst.0 {
+            floor_worst = (floor, r.label.clone());
+        }
+        if x.floor_p95_ratio > floor_p95.0 {
+            floor_p95 = (x.floor_p95_ratio, r.label.clone());
         }
         if x.p95_ratio > worst_p95.0 {
             worst_p95 = (x.p95_ratio, r.label.clone());
@@ -208,4 +246,12 @@ fn recorded_runs() {
     }
     println!("worst {:.3} ({})", worst.0, worst.1);
     println!("worst p95 {:.3} ({})", worst_p95.0, worst_p95.1);
+    println!(
+        "floor (the calibration, then the best fixed candidate): geometric mean {:.3}; worst {:.3} ({}); worst p95 {:.3} ({})",
+        geometric_mean(&floors),
+        floor_worst.0,
+        floor_worst.1,
+        floor_p95.0,
+        floor_p95.1
+    );
 }
