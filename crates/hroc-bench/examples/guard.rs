@@ -33,6 +33,11 @@ fn row(r: &BenchReport, method: Method) -> &MethodRow {
     r.rows.iter().find(|row| row.method == method).unwrap_or_else(|| panic!("no {method} row"))
 }
 
+/// HROC's row of a run.
+fn hroc(r: &BenchReport) -> &MethodRow {
+    row(r, Method::HROC)
+}
+
 /// One figure against its limit.
 struct Guard {
     failed: usize,
@@ -135,9 +140,6 @@ fn main() {
         g.conservative_over(&format!("moving {moving} %"), &runs, cmd);
     }
     let of = |f: &dyn Fn(&[BenchReport; 3]) -> f64| motion.iter().map(f).collect::<Vec<_>>();
-    fn hroc(r: &BenchReport) -> &MethodRow {
-        row(r, Method::HROC)
-    }
     g.check_median("moving 10 %: hroc (frame + update) / static frame", of(&|m| (hroc(&m[1]).ms_mean + m[1].update_ms_mean) / hroc(&m[0]).ms_mean), Limit::AtMost(1.2), cmd);
     g.check_median("moving 10 %: hroc p95 / static p95", of(&|m| hroc(&m[1]).ms_p95 / hroc(&m[0]).ms_p95), Limit::AtMost(1.5), cmd);
     g.check_median("moving 100 %: hroc ms / roc ms", of(&|m| hroc(&m[2]).ms_mean / row(&m[2], Method::Roc).ms_mean), Limit::AtMost(1.0), cmd);

@@ -206,9 +206,14 @@ fn recorded_runs() {
     let show = std::env::var("HROC_REPLAY_SHOW").ok();
     let quiet = std::env::var("HROC_REPLAY_QUIET").is_ok();
     let mut by: std::collections::BTreeMap<String, Vec<f64>> = Default::default();
-    let mut worst = (0.0f64, String::new());
-    let mut worst_p95 = (0.0f64, String::new());
-    let (mut floors, mut floor_worst, mut floor_p95) = (Vec::new(), (0.0f64, String::new()), (0.0f64, String::new()));
+    // The worst of each figure over the runs, and its run.
+    let (mut worst, mut worst_p95, mut floor_worst, mut floor_p95) = Default::default();
+    let keep = |w: &mut (f64, String), x: f64, label: &str| {
+        if x > w.0 {
+            *w = (x, label.to_string());
+        }
+    };
+    let mut floors = Vec::new();
     for r in &runs {
         let x = replay(r, params, show.as_ref().is_some_and(|l| r.label.contains(l.as_str())));
         let ratio = x.auto_ms / x.best_ms;
@@ -224,21 +229,13 @@ fn recorded_runs() {
         }
         let floor = x.floor_ms / x.best_ms;
         floors.push(floor);
-        if floor > floor_worst.0 {
-            floor_worst = (floor, r.label.clone());
-        }
-        if x.floor_p95_ratio > floor_p95.0 {
-            floor_p95 = (x.floor_p95_ratio, r.label.clone());
-        }
-        if x.p95_ratio > worst_p95.0 {
-            worst_p95 = (x.p95_ratio, r.label.clone());
-        }
+        keep(&mut worst, ratio, &r.label);
+        keep(&mut worst_p95, x.p95_ratio, &r.label);
+        keep(&mut floor_worst, floor, &r.label);
+        keep(&mut floor_p95, x.floor_p95_ratio, &r.label);
         let words: Vec<&str> = r.label.split(' ').collect();
         for key in ["all".to_string(), format!("path {}", words.get(2).unwrap_or(&"")), format!("fps {}", words.get(3).unwrap_or(&""))] {
             by.entry(key).or_default().push(ratio);
-        }
-        if ratio > worst.0 {
-            worst = (ratio, r.label.clone());
         }
     }
     for (k, v) in &by {
