@@ -8,7 +8,8 @@
 //! `--repeat` runs each run a second time and prints the spread of
 //! repeated runs: the best fixed method's mean and p95 in the second run
 //! over the first, and auto's (the margins auto is held to cannot be
-//! finer than these).
+//! finer than these); then the second runs' own figures, and how far one
+//! run's `auto` / best ratio varies from run to run.
 //!
 //! `--record FILE` writes every fixed method's ms and triangles in every
 //! frame, for replaying the chooser against them on the CPU
@@ -71,6 +72,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|{}", if repeat { "---|---|---|" } else { "" });
     let mut spreads: Vec<(f64, f64, String)> = Vec::new();
     let mut auto_spreads: Vec<f64> = Vec::new();
+    // The second runs' `auto` over their own best fixed method: mean and p95.
+    let mut second_runs: Vec<(f64, f64, String)> = Vec::new();
     let (mut logs, mut worst, mut p95_worst) = (Vec::new(), (0.0f64, String::new()), (0.0f64, String::new()));
     let mut reports = Vec::new();
     let mut recorded = String::new();
@@ -101,6 +104,8 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         let (b2, a2) = (row(&r2, best.method), row(&r2, Method::Auto));
                         spreads.push((b2.ms_mean / best.ms_mean, b2.ms_p95 / best.ms_p95, label.clone()));
                         auto_spreads.push(a2.ms_mean / auto.ms_mean);
+                        let best2 = FIXED.iter().map(|&m| row(&r2, m)).min_by(|a, b| a.ms_mean.total_cmp(&b.ms_mean)).expect("fixed methods");
+                        second_runs.push((a2.ms_mean / best2.ms_mean, a2.ms_p95 / best2.ms_p95, label.clone()));
                         format!(" {:.3} | {:.3} | {:.3} |", b2.ms_mean / best.ms_mean, b2.ms_p95 / best.ms_p95, a2.ms_mean / auto.ms_mean)
                     } else {
                         String::new()
@@ -128,6 +133,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
+    let firsts = logs.clone();
     let geo = (logs.iter().sum::<f64>() / logs.len() as f64).exp();
     println!(
         "\nauto over the best fixed method: geometric mean {geo:.3} over {} runs; worst {:.3} ({}); worst p95 ratio {:.3} ({})",
@@ -145,6 +151,22 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         let ((mean_far, mean_at), (p95_far, p95_at)) = (far(|s| s.0), far(|s| s.1));
         let auto_far = auto_spreads.iter().map(|&x| x.max(1.0 / x)).fold(1.0, f64::max);
         println!("spread of repeated runs (the best fixed method again / first): geometric mean {geo:.3}; farthest {mean_far:.3} ({mean_at}); farthest p95 {p95_far:.3} ({p95_at}); auto again / first: farthest {auto_far:.3}");
+        // The same figures over the second runs, and the noise of one
+        // run's ratio: the standard deviation of ln(second / first) over √2.
+        let geo2 = (second_runs.iter().map(|s| s.0.ln()).sum::<f64>() / second_runs.len() as f64).exp();
+        let worst2 = second_runs.iter().max_by(|a, b| a.0.total_cmp(&b.0)).map(|s| (s.0, s.2.clone())).unwrap_or_default();
+        let p95_2 = second_runs.iter().max_by(|a, b| a.1.total_cmp(&b.1)).map(|s| (s.1, s.2.clone())).unwrap_or_default();
+        let d: Vec<f64> = second_runs.iter().zip(&firsts).map(|(s, f)| s.0.ln() - f).collect();
+        let mean = d.iter().sum::<f64>() / d.len() as f64;
+        let sd = (d.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (d.len().max(2) - 1) as f64).sqrt();
+        println!(
+            "second runs: geometric mean {geo2:.3}; worst {:.3} ({}); worst p95 ratio {:.3} ({}); a run's auto / best varies by {:.3} (standard deviation of its logarithm)",
+            worst2.0,
+            worst2.1,
+            p95_2.0,
+            p95_2.1,
+            sd / std::f64::consts::SQRT_2
+        );
     }
     if let Some(file) = value("--record") {
         std::fs::write(file, recorded)?;

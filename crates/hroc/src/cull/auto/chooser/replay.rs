@@ -10,7 +10,10 @@
 //! the best fixed candidate's, and a floor on the same frames: `auto`'s
 //! calibration as it ran, then the run's best fixed candidate (known only
 //! in hindsight). What `auto` costs over the floor is its choices after
-//! the calibration; what the floor costs over 1, the calibration.
+//! the calibration; what the floor costs over 1, the calibration. Beside
+//! them, two references with switches free: a chooser that saw every
+//! candidate's past frames, and one that sees only what it runs but has
+//! no cost model ([`references`]).
 //!
 //! `recorded.txt`: the 27 runs at 5 frames per path second of one matrix
 //! run on lavapipe (radial-city, factory, satellites at 1k, 5k, 20k
@@ -134,6 +137,49 @@ fn replay(r: &Recorded, params: Params, show: bool) -> Replayed {
     }
 }
 
+/// Two references on the same frames, each with switches free (no
+/// warm-up), so optimistic for its kind: what a chooser that saw every
+/// candidate's past frames would run (the least mean of its frames, each
+/// weighted `decay` per frame of age), and what one that sees only the
+/// candidate it runs, without a cost model, would: the least mean of its
+/// own frames (weighed 0.5 per frame), the others tried in turn one frame
+/// in ten. `auto` sees only what it runs, and prices the rest by its model.
+/// Each: the mean ms of the timed frames over the best fixed candidate's.
+fn references(r: &Recorded, decay: f64) -> (f64, f64) {
+    let n = r.ms.len();
+    let w = r.warmup.min(n.saturating_sub(1));
+    let least = |v: &[Option<f64>; 4]| (0..4).filter_map(|i| v[i].map(|e| (e, i))).min_by(|a, b| a.0.total_cmp(&b.0)).map_or(3, |x| x.1);
+    // Every candidate seen.
+    let mut seen = [None; 4];
+    let mut leader = Vec::with_capacity(n);
+    for f in 0..n {
+        leader.push(r.ms[f][least(&seen)]);
+        for (m, e) in seen.iter_mut().enumerate() {
+            *e = Some(e.map_or(r.ms[f][m], |e: f64| decay * e + (1.0 - decay) * r.ms[f][m]));
+        }
+    }
+    // Only the candidate run seen: each tried once first (HROC, `hzb`,
+    // `vfc`, `noc`), then the least estimate, another in turn every tenth frame.
+    let (mut own, mut turn, mut current) = ([None; 4], 0, 3);
+    let mut bandit = Vec::with_capacity(n);
+    for f in 0..n {
+        let m = if f < 4 {
+            3 - f
+        } else if f % 10 == 0 {
+            turn += 1;
+            (current + turn % 3 + 1) % 4
+        } else {
+            current
+        };
+        bandit.push(r.ms[f][m]);
+        own[m] = Some(own[m].map_or(r.ms[f][m], |e: f64| 0.5 * e + 0.5 * r.ms[f][m]));
+        current = least(&own);
+    }
+    let best = (0..4).map(|m| fixed_ms(r, m)).fold(f64::INFINITY, f64::min);
+    let mean = |v: &[f64]| v[w..].iter().sum::<f64>() / (n - w) as f64 / best;
+    (mean(&leader), mean(&bandit))
+}
+
 /// The nearest-rank 95th percentile (as the benchmark's).
 fn p95(v: &[f64]) -> f64 {
     let mut s = v.to_vec();
@@ -213,8 +259,11 @@ fn recorded_runs() {
             *w = (x, label.to_string());
         }
     };
-    let mut floors = Vec::new();
+    let (mut floors, mut leaders, mut bandits) = (Vec::new(), Vec::new(), Vec::new());
     for r in &runs {
+        let (leader, bandit) = references(r, params.decay);
+        leaders.push(leader);
+        bandits.push(bandit);
         let x = replay(r, params, show.as_ref().is_some_and(|l| r.label.contains(l.as_str())));
         let ratio = x.auto_ms / x.best_ms;
         if !quiet {
@@ -250,5 +299,13 @@ fn recorded_runs() {
         floor_worst.1,
         floor_p95.0,
         floor_p95.1
+    );
+    let worst_of = |v: &[f64]| v.iter().cloned().fold(0.0, f64::max);
+    println!(
+        "every candidate's past frames seen (switches free): geometric mean {:.3}, worst {:.3}; the run candidate's alone, no model: {:.3}, worst {:.3}",
+        geometric_mean(&leaders),
+        worst_of(&leaders),
+        geometric_mean(&bandits),
+        worst_of(&bandits)
     );
 }
