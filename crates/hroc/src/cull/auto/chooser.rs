@@ -43,7 +43,7 @@
 //!   and an estimate of the best measured within `dwell` frames: an older
 //!   one is first checked by a probe (a heavier view raises every
 //!   candidate's cost, but only the running one's estimate sees it).
-//! - **Probes.** After the calibration, at most one frame in
+//! - **Probes** (`probes.rs`). After the calibration, at most one frame in
 //!   `probe_every` probes: the candidate measured longest ago (past
 //!   `stale` frames, or `probe_every` where its estimate is one frame), if
 //!   plausible (an estimate of one frame, a spike maybe, within
@@ -418,8 +418,8 @@ impl Chooser {
         let p = self.params;
         let n = self.loads.len();
         let predictions: Vec<(f64, bool)> = (0..n).map(|i| self.predict(i, frustum, all)).collect();
-        let measured_best = (0..n).filter(|&i| predictions[i].1).map(|i| predictions[i].0).fold(f64::INFINITY, f64::min);
-        let plausible = |i: usize| !measured_best.is_finite() || predictions[i].0 <= p.plausible * measured_best;
+        let measured_best = measured_best(&predictions);
+        let plausible = |i: usize| self.plausible(i, &predictions);
         // Calibration: every plausible candidate runs, one after another,
         // each judged once the measurements before it arrived.
         // Waiting, from when a candidate first ran, for its first measurement.
@@ -468,69 +468,12 @@ impl Chooser {
             self.switched_at = Some(frame);
             return Decision { candidate: b, fresh: true, probe: false, measured: true, first: false, from: None };
         }
-        // Probes of stale estimates.
-        let since = frame - self.first_frame.unwrap_or(frame);
-        if frame >= self.last_probe.saturating_add(p.probe_every) {
-            let handed = |i: usize| self.source(frame, i).is_some();
-            let budget = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].frames(handed(i)) as u64).saturating_mul(p.probe_every) <= since;
-            // Candidates that never ran (not plausible) are not forced.
-            let age = |i: usize| self.measured[i].or(self.ran[i]).map(|m| frame.saturating_sub(m));
-            let stale_at = |i: usize| if self.fits[i].n < 1.5 { p.probe_every } else { p.stale };
-            let due = |i: usize| {
-                age(i).is_some_and(|a| (a >= stale_at(i) && (plausible(i) || (self.fits[i].n < 1.5 && predictions[i].0 <= p.plausible_once * measured_best))) || a >= p.forced)
-            };
-            let stale = (0..n).filter(|&i| i != current && budget(i) && due(i)).max_by_key(|&i| age(i));
-            if let Some(i) = stale {
-                return self.start_probe(frame, i, current);
-            }
-        }
-        // Probes after a change of view: an occlusion method's share of
-        // the frustum was learnt on another view when it was measured
-        // before a camera cut, or with `view_change` times fewer or more
-        // triangles in the frustum (and a cut left any occlusion method
-        // cold). So while a stateless candidate runs, the occlusion method
-        // predicted cheapest whose estimate is from another view is
-        // probed, as the probes' spend allows.
-        let occluding = |i: usize| self.loads[i] == Load::Occluded;
-        if self.spend.within(p.probe_share, 0.0) {
-            let paced = |i: usize| (self.probe_frames - self.calibration_frames + 1 + self.warm[i].cold as u64).saturating_mul(p.cut_probe_every) <= since;
-            let cut = |i: usize| self.measured[i].is_some_and(|m| !self.in_view(m));
-            // Within a view (no cut since), a method whose frame drawing
-            // nothing costs what the current one's whole frame does is
-            // not cheaper with a fuller or emptier frustum.
-            let k = self.triangle_ms();
-            let reframed = |i: usize| {
-                let (a, b) = (frustum.max(1.0), self.measured_frustum[i].max(1.0));
-                a.max(b) > p.view_change * a.min(b) && self.intercept(i, k) < predictions[current].0
-            };
-            // After a change of the frustum, the probe's warm-up from
-            // nothing (at what one cost before, else at twice its steady
-            // frame) fits the probes' share too.
-            let affordable = |i: usize| {
-                let warm_ms = self.switch_ms[i][0].unwrap_or(predictions[i].0);
-                self.spend.within(p.probe_share, self.warm[i].cold as f64 * warm_ms)
-            };
-            let due = (0..n).filter(|&i| {
-                let after = match (occluding(current), occluding(i)) {
-                    (false, true) => cut(i) || (reframed(i) && affordable(i)),
-                    // While an occlusion method runs, `vfc` or `noc`
-                    // measured before a cut: their estimates hold that
-                    // view's own cost.
-                    (true, false) => cut(i) && plausible(i),
-                    // While `noc` runs, `vfc` measured before a cut: its
-                    // frame draws no more than `noc`'s (the eye inside
-                    // boxes, where `noc` was cheapest, draws the whole
-                    // scene either way; out of them `vfc` draws a part).
-                    (false, false) => cut(i) && self.loads[current] == Load::All && self.loads[i] == Load::Frustum,
-                    _ => false,
-                };
-                after && self.measured[i].is_some() && paced(i)
-            });
-            if let Some(i) = due.min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)) {
-                return self.start_probe(frame, i, current);
-            }
+        // Probes: of a stale estimate, else of one from another view.
+        if let Some(i) = self.stale_probe(frame, current, &predictions).or_else(|| self.view_probe(frame, current, &predictions, frustum)) {
+            return self.start_probe(frame, i, current);
         }
         // The choice, with hysteresis.
+        let occluding = |i: usize| self.loads[i] == Load::Occluded;
         let best = (0..n).filter(|&i| predictions[i].1).min_by(|&a, &b| predictions[a].0.total_cmp(&predictions[b].0)).unwrap_or(current);
         // The calibration's end: straight to the best, or, where that is
         // an occlusion method, to the one of them within twice the margin
@@ -651,6 +594,8 @@ impl Chooser {
 }
 
 mod predict;
+use predict::measured_best;
+mod probes;
 
 #[cfg(test)]
 mod replay;

@@ -201,3 +201,18 @@ impl Chooser {
         ((f.c - k * f.t) / f.n).max(0.0)
     }
 }
+
+/// The least prediction of a measured candidate (infinite before any
+/// was measured).
+pub(super) fn measured_best(predictions: &[(f64, bool)]) -> f64 {
+    predictions.iter().filter(|p| p.1).map(|p| p.0).fold(f64::INFINITY, f64::min)
+}
+
+impl Chooser {
+    /// Candidate `i`'s prediction is within [`Params::plausible`](super::Params::plausible)
+    /// times the best measured one (every candidate is, before any was measured).
+    pub(super) fn plausible(&self, i: usize, predictions: &[(f64, bool)]) -> bool {
+        let best = measured_best(predictions);
+        !best.is_finite() || predictions[i].0 <= self.params.plausible * best
+    }
+}
