@@ -49,6 +49,12 @@ fn record(out: &mut String, label: &str, r: &BenchReport) {
     }
 }
 
+/// The geometric mean of `v` (not empty).
+fn geometric_mean(v: impl ExactSizeIterator<Item = f64>) -> f64 {
+    let n = v.len() as f64;
+    (v.map(f64::ln).sum::<f64>() / n).exp()
+}
+
 /// The path's first `seconds`.
 fn first_seconds(path: &CameraPath, seconds: f32) -> CameraPath {
     let t0 = path.keys.first().map_or(0.0, |k| k.t);
@@ -133,7 +139,6 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             }
         }
     }
-    let firsts = logs.clone();
     let geo = (logs.iter().sum::<f64>() / logs.len() as f64).exp();
     println!(
         "\nauto over the best fixed method: geometric mean {geo:.3} over {} runs; worst {:.3} ({}); worst p95 ratio {:.3} ({})",
@@ -144,7 +149,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         p95_worst.1
     );
     if !spreads.is_empty() {
-        let geo = (spreads.iter().map(|s| s.0.ln()).sum::<f64>() / spreads.len() as f64).exp();
+        let geo = geometric_mean(spreads.iter().map(|s| s.0));
         let far = |f: fn(&(f64, f64, String)) -> f64| {
             spreads.iter().map(|s| (f(s).max(1.0 / f(s)), &s.2)).max_by(|a, b| a.0.total_cmp(&b.0)).map(|(x, l)| (x, l.clone())).unwrap_or_default()
         };
@@ -153,10 +158,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         println!("spread of repeated runs (the best fixed method again / first): geometric mean {geo:.3}; farthest {mean_far:.3} ({mean_at}); farthest p95 {p95_far:.3} ({p95_at}); auto again / first: farthest {auto_far:.3}");
         // The same figures over the second runs, and the noise of one
         // run's ratio: the standard deviation of ln(second / first) over √2.
-        let geo2 = (second_runs.iter().map(|s| s.0.ln()).sum::<f64>() / second_runs.len() as f64).exp();
+        let geo2 = geometric_mean(second_runs.iter().map(|s| s.0));
         let worst2 = second_runs.iter().max_by(|a, b| a.0.total_cmp(&b.0)).map(|s| (s.0, s.2.clone())).unwrap_or_default();
         let p95_2 = second_runs.iter().max_by(|a, b| a.1.total_cmp(&b.1)).map(|s| (s.1, s.2.clone())).unwrap_or_default();
-        let d: Vec<f64> = second_runs.iter().zip(&firsts).map(|(s, f)| s.0.ln() - f).collect();
+        let d: Vec<f64> = second_runs.iter().zip(&logs).map(|(s, f)| s.0.ln() - f).collect();
         let mean = d.iter().sum::<f64>() / d.len() as f64;
         let sd = (d.iter().map(|x| (x - mean) * (x - mean)).sum::<f64>() / (d.len().max(2) - 1) as f64).sqrt();
         println!(
