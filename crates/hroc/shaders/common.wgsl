@@ -128,6 +128,13 @@ struct DrawCommand {
 
 // Flat invocation index of a 1D launch spread over a 2D grid of workgroups
 // (gpu::dispatch_size), so more than 65535 * 256 items fit.
+// The pixel at the centre of `cell` of a grid of `cells` (columns, rows)
+// over a viewport of `size` pixels.
+fn grid_cell_pixel(cell: u32, cells: vec2<u32>, size: vec2<f32>) -> vec2<i32> {
+    let uv = vec2<f32>((f32(cell % cells.x) + 0.5) / f32(cells.x), (f32(cell / cells.x) + 0.5) / f32(cells.y));
+    return min(vec2<i32>(uv * size), vec2<i32>(size) - 1);
+}
+
 fn flat_id(wid: vec3<u32>, nwg: vec3<u32>, lid: u32, size: u32) -> u32 {
     return (wid.y * nwg.x + wid.x) * size + lid;
 }

@@ -108,3 +108,23 @@ fn scatter(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
         }
     }
 }
+
+// The whole compaction in one workgroup, when the items fit one block
+// (`blocks` is 1): the block's scan gives each thread its offset and the
+// count, so no block sums are written or scanned.
+@compute @workgroup_size(256)
+fn compact_block(@builtin(local_invocation_index) lid: u32) {
+    let first = lid * ITEMS;
+    let c = run_count(first);
+    let inclusive = workgroup_scan(lid, c);
+    var out = inclusive - c;
+    for (var k = 0u; k < ITEMS; k++) {
+        if flag(first + k) == 1u {
+            dst[out] = src[first + k];
+            out += 1u;
+        }
+    }
+    if lid == WG - 1u {
+        count[0] = inclusive;
+    }
+}

@@ -1,18 +1,19 @@
 // HROC step 2, the occludee groups (Lee et al. 2021 §3.2; Lee's thesis
-// III.3), in work that scales with the occluders rather than the scene:
-// walk_size — one thread sizes the walk to V's packed list and the objects
-//             step 1's refill drew, and empties the list of candidates;
-// extract   — one thread per object of those walks the BVH bottom-up from
-//             each effective occluder; a walk that first marks a sibling
-//             unknown lists it as a candidate;
+// III.3), in one compute pass with step 1's refill before it:
+// extract   — one thread per object walks the BVH bottom-up from each
+//             effective occluder (V's that drew, and the refill's); a walk
+//             that first marks a sibling unknown lists it as a candidate,
+//             and sizes the collection's launch;
 // alone     — one thread per object, only when some objects are tested
 //             alone (§6's hybrid: DYNAMIC objects and those not in the
 //             tree): each becomes an occludee group of its own;
-// collect   — one thread per candidate (and one for the root) gathers the
-//             occludee groups (nodes still unknown), frustum-culls them
-//             and splits those that cross the near plane.
+// collect   — one thread per candidate (and one for the root), launched
+//             from what the walks wrote, gathers the occludee groups
+//             (nodes still unknown), frustum-culls them and splits those
+//             that cross the near plane.
 // Its bindings are numbered as hroc_next.wgsl's and hroc_seed.wgsl's: the
-// three share one list of resources.
+// three share one list of resources. The end of the frame
+// (hroc_next.wgsl) resets the walk's counts and launch for the next.
 
 const NIL: u32 = 0u;
 const UNKNOWN: u32 = 1u;
@@ -26,25 +27,18 @@ const VISIBLE: u32 = 2u;
 @group(0) @binding(5) var<storage, read_write> groups: array<DrawArgs>;
 @group(0) @binding(6) var<storage, read_write> group_count: array<atomic<u32>>;
 @group(0) @binding(7) var<storage, read_write> occludees: array<u32>; // U marks
-@group(0) @binding(8) var<storage, read> drawn: array<u32>;           // D marks
 @group(0) @binding(11) var<storage, read> bounds: array<ObjectBounds>;
-@group(0) @binding(18) var<storage, read> v_list: array<DrawCommand>;  // V, packed
-@group(0) @binding(19) var<storage, read> v_count: array<u32>;         // |V|
-// What step 1's refill drew where V left holes: occluders (in O), not in
-// V's list.
-@group(0) @binding(21) var<storage, read> refill_list: array<DrawCommand>;
-@group(0) @binding(22) var<storage, read> refill_count: array<u32>;
-// The walk's and the collection's workgroups (x, y, 1), each copied from
-// here to the buffer it is dispatched from, and their items:
-// [0..4)  the walk's workgroups, and the objects it walks from;
-// [4..8)  the collection's workgroups, and the candidate count;
-// [8]     |V|: the walk's objects are V's, then the refill's;
-// [9..)   the candidate nodes.
-@group(0) @binding(20) var<storage, read_write> work: array<atomic<u32>>;
-const WALK: u32 = 0u;
-const COLLECT: u32 = 4u;
-const V_COUNT: u32 = 8u;
-const CANDIDATES: u32 = 9u;
+// The collection's workgroups (x, y, 1), which the walks raise: the
+// collection is dispatched from here.
+@group(0) @binding(18) var<storage, read_write> collect_launch: array<atomic<u32>>;
+// The walk's counts and the candidates:
+// [0]  objects walked from;
+// [1]  candidates;
+// [2..) the candidate nodes.
+@group(0) @binding(19) var<storage, read_write> work: array<atomic<u32>>;
+const WALKED: u32 = 0u;
+const COUNT: u32 = 1u;
+const CANDIDATES: u32 = 2u;
 
 // Pixels per side of the occlusion test's blocks (hroc_test.wgsl): groups
 // are padded, frustum-culled and split at the near plane as the test pads them.
@@ -68,41 +62,15 @@ fn launched_id(wid: vec3<u32>, lid: u32) -> u32 {
     return (wid.y * 65535u + wid.x) * 256u + lid;
 }
 
-@compute @workgroup_size(1)
-fn walk_size() {
-    let v = v_count[0];
-    let objects = v + refill_count[0];
-    let walk = select(vec2<u32>(0u, 1u), launch(objects), objects > 0u);
-    atomicStore(&work[WALK], walk.x);
-    atomicStore(&work[WALK + 1u], walk.y);
-    atomicStore(&work[WALK + 2u], 1u);
-    atomicStore(&work[WALK + 3u], objects);
-    atomicStore(&work[V_COUNT], v);
-    // The root's thread runs even when no walk lists a candidate.
-    atomicStore(&work[COLLECT], 1u);
-    atomicStore(&work[COLLECT + 1u], 1u);
-    atomicStore(&work[COLLECT + 2u], 1u);
-    atomicStore(&work[COLLECT + 3u], 0u);
-}
-
 @compute @workgroup_size(256)
-fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let k = launched_id(wid, lid);
-    if k >= atomicLoad(&work[WALK + 3u]) {
-        return;
-    }
-    let v = atomicLoad(&work[V_COUNT]);
-    var i = 0u;
-    if k < v {
-        i = v_list[k].first_instance;
-    } else {
-        i = refill_list[k - v].first_instance;
-    }
+fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = flat_id(wid, nwg, lid, 256u);
     // Only effective occluders walk; objects tested alone are groups of
     // their own (`alone`), visible untested when they occlude.
-    if occluders[i] == 0u || (bounds[i].flags & (REMOVED | ALONE)) != 0u {
+    if i >= frame.object_count || occluders[i] == 0u || (bounds[i].flags & (REMOVED | ALONE)) != 0u {
         return;
     }
+    atomicAdd(&work[WALKED], 1u);
     // Atomic max makes the result independent of thread order: a node
     // marked unknown by its sibling's walk becomes visible by its own.
     var n = leaf_of_object[i];
@@ -121,11 +89,11 @@ fn extract(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_inde
 // Lists node `n` for `collect`, whose thread 0 is the root's: the
 // candidate in slot c is thread c + 1's.
 fn add_candidate(n: u32) {
-    let c = atomicAdd(&work[COLLECT + 3u], 1u);
+    let c = atomicAdd(&work[COUNT], 1u);
     atomicStore(&work[CANDIDATES + c], n);
     let threads = launch(c + 2u);
-    atomicMax(&work[COLLECT], threads.x);
-    atomicMax(&work[COLLECT + 1u], threads.y);
+    atomicMax(&collect_launch[0], threads.x);
+    atomicMax(&collect_launch[1], threads.y);
 }
 
 @compute @workgroup_size(256)
@@ -158,7 +126,7 @@ fn emit_group(n: u32) {
 @compute @workgroup_size(256)
 fn collect(@builtin(workgroup_id) wid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let t = launched_id(wid, lid);
-    if t > atomicLoad(&work[COLLECT + 3u]) || frame.node_count == 0u {
+    if t > atomicLoad(&work[COUNT]) || frame.node_count == 0u {
         return;
     }
     // Thread 0: with no occluder at all, the root is the one group.

@@ -1,6 +1,7 @@
 // HROC's occluder seed from a coarse grid of rays: V after a camera cut
-// (step 0, `seed`), where V's depth left holes (step 1, `refill_holes`),
-// and the cells the frame's final depth covers (`cover`).
+// (step 0, `seed`), and where V's depth left holes (step 1,
+// `refill_holes`, against the cells the last frame's depth covered, which
+// hroc_next.wgsl records).
 // Bindings as in hroc_groups.wgsl, and 12-17 of the refill's own.
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -67,9 +68,7 @@ fn seed(@builtin(global_invocation_id) gid: vec3<u32>) {
 
 // The pixel at the centre of `cell`.
 fn cell_pixel(cell: u32) -> vec2<i32> {
-    let size = vec2<f32>(frame.viewport.xy);
-    let uv = vec2<f32>((f32(cell % SEED_COLS) + 0.5) / f32(SEED_COLS), (f32(cell / SEED_COLS) + 0.5) / f32(SEED_ROWS));
-    return min(vec2<i32>(uv * size), vec2<i32>(size) - 1);
+    return grid_cell_pixel(cell, vec2<u32>(SEED_COLS, SEED_ROWS), frame.viewport.xy);
 }
 
 // No collapse: V may be too weak to cull (the eye just left the building
@@ -94,17 +93,6 @@ fn refill_holes(@builtin(global_invocation_id) gid: vec3<u32>) {
         occluders[hit] = 1u;
         refill[atomicAdd(&refill_count, 1u)] = commands[hit];
     }
-}
-
-// End of the frame: which cells the final depth covers (for the next
-// frame's refill).
-@compute @workgroup_size(64)
-fn cover(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let cell = gid.x;
-    if cell >= SEED_COLS * SEED_ROWS {
-        return;
-    }
-    covered[cell] = u32(farthest_host_depth(depth, cell_pixel(cell), frame.reversed) < 1.0);
 }
 
 const NO_HIT: u32 = 0xffffffffu;

@@ -1,6 +1,8 @@
 //! GPU ordered compaction: `flags[i] != 0` (or `flags[i] == select`) selects command i; the survivors
 //! are packed in order and their number written to a count buffer that the
 //! multi-draw-indirect-count reads (HROC §4.1, the prefix-sum packing of Lee's thesis).
+//! Lists of at most one block (2,048 items) are packed by one workgroup in
+//! one dispatch; longer ones in three (block sums, their scan, scatter).
 
 use crate::contract::DrawList;
 use crate::gpu::{dispatch_size, Gpu, PassCount};
@@ -20,6 +22,8 @@ pub struct Compactor {
     block_sum: wgpu::ComputePipeline,
     scan_blocks: wgpu::ComputePipeline,
     scatter: wgpu::ComputePipeline,
+    /// The whole compaction of a single block.
+    one_block: wgpu::ComputePipeline,
 }
 
 /// A compaction bound to its buffers, ready to record.
@@ -42,6 +46,7 @@ impl Compactor {
             block_sum: gpu.compute_pipeline(&module, "block_sum", Some(&pl), &[]),
             scan_blocks: gpu.compute_pipeline(&module, "scan_blocks", Some(&pl), &[]),
             scatter: gpu.compute_pipeline(&module, "scatter", Some(&pl), &[]),
+            one_block: gpu.compute_pipeline(&module, "compact_block", Some(&pl), &[]),
             params,
             block_sums,
             layout,
@@ -92,25 +97,41 @@ impl Compactor {
     /// ([`crate::cull::CullMethod::warm`]).
     pub fn warm(&self, pass: &mut wgpu::ComputePass<'_>, job: &CompactJob) {
         pass.set_bind_group(0, &job.bind, &[]);
-        for p in [&self.block_sum, &self.scan_blocks, &self.scatter] {
+        for p in self.pipelines() {
             pass.set_pipeline(p);
             pass.dispatch_workgroups(0, 0, 0);
         }
     }
 
-    /// Records the compaction of `job` (one compute pass, three dispatches),
-    /// counted in `count`.
+    /// The pipelines a compaction runs.
+    fn pipelines(&self) -> Vec<&wgpu::ComputePipeline> {
+        match self.blocks {
+            1 => vec![&self.one_block],
+            _ => vec![&self.block_sum, &self.scan_blocks, &self.scatter],
+        }
+    }
+
+    /// Records the compaction of `job` (one compute pass), counted in `count`.
     pub fn record(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount, job: &CompactJob) {
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compact"), timestamp_writes: None });
-        let (x, y) = dispatch_size(self.blocks, 1);
-        count.around(&mut pass, |pass| {
-            pass.set_bind_group(0, &job.bind, &[]);
-            pass.set_pipeline(&self.block_sum);
-            pass.dispatch_workgroups(x, y, 1);
-            pass.set_pipeline(&self.scan_blocks);
+        count.around(&mut pass, |pass| self.record_in(pass, job));
+    }
+
+    /// Records the compaction of `job` into an open compute pass: one
+    /// dispatch for a single block, else three.
+    pub fn record_in(&self, pass: &mut wgpu::ComputePass<'_>, job: &CompactJob) {
+        pass.set_bind_group(0, &job.bind, &[]);
+        if self.blocks == 1 {
+            pass.set_pipeline(&self.one_block);
             pass.dispatch_workgroups(1, 1, 1);
-            pass.set_pipeline(&self.scatter);
-            pass.dispatch_workgroups(x, y, 1);
-        });
+            return;
+        }
+        let (x, y) = dispatch_size(self.blocks, 1);
+        pass.set_pipeline(&self.block_sum);
+        pass.dispatch_workgroups(x, y, 1);
+        pass.set_pipeline(&self.scan_blocks);
+        pass.dispatch_workgroups(1, 1, 1);
+        pass.set_pipeline(&self.scatter);
+        pass.dispatch_workgroups(x, y, 1);
     }
 }

@@ -1,7 +1,6 @@
 //! [`ListPass`]: a compute pass run on one draw list at a time, its threads
-//! striding over the commands up to the list's bound: the per-list tally
-//! of what is drawn (`tally.wgsl`) and the zeroed tail of an emulated draw
-//! count (`tail.wgsl`).
+//! striding over the commands up to the list's bound: the zeroed tail of
+//! an emulated draw count (`tail.wgsl`).
 
 use std::collections::HashMap;
 

@@ -54,8 +54,6 @@ pub enum Layout {
     /// HROC's ray grid: the seed of V after a cut (step 0), the refill of
     /// V's holes (step 1), and the cells the frame's depth covers.
     HrocSeed,
-    /// HROC's step 2, the sizing of the walk up the BVH.
-    HrocWalkSize,
     /// HROC's step 2, the walk up the BVH from V's occluders.
     HrocWalk,
     /// HROC's step 2, the occludee groups: the walk's candidates and the
@@ -79,7 +77,7 @@ const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 24] = [
+    pub const ALL: [Layout; 23] = [
         Layout::Compact,
         Layout::Refit,
         Layout::FlagSplit,
@@ -95,7 +93,6 @@ impl Layout {
         Layout::Ioc,
         Layout::QueryBoxes,
         Layout::HrocSeed,
-        Layout::HrocWalkSize,
         Layout::HrocWalk,
         Layout::HrocGroups,
         Layout::HrocNext,
@@ -124,7 +121,6 @@ impl Layout {
             Layout::Ioc => "ioc",
             Layout::QueryBoxes => "query boxes",
             Layout::HrocSeed => "hroc seed",
-            Layout::HrocWalkSize => "hroc walk size",
             Layout::HrocWalk => "hroc walk",
             Layout::HrocGroups => "hroc groups",
             Layout::HrocNext => "hroc next occluders",
@@ -156,8 +152,7 @@ impl Layout {
             // which the queries never draw.
             Layout::QueryBoxes => &[("hroc_test.wgsl", &["box_vs"])],
             Layout::HrocSeed => &[("hroc_seed.wgsl", &[])],
-            // Three layouts of one pass, each within 8 storage buffers.
-            Layout::HrocWalkSize => &[("hroc_groups.wgsl", &["walk_size"])],
+            // Two layouts of one pass, each within 8 storage buffers.
             Layout::HrocWalk => &[("hroc_groups.wgsl", &["extract"])],
             Layout::HrocGroups => &[("hroc_groups.wgsl", &["alone", "collect"])],
             Layout::HrocNext => &[("hroc_next.wgsl", &[])],

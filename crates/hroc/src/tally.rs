@@ -1,5 +1,6 @@
 //! Objects and triangles drawn per frame, counted on the GPU from every
-//! list a view hands its host (`tally.wgsl`, one dispatch per list), and
+//! list a view hands its host (`tally.wgsl`: at the end of the frame, one
+//! compute pass, one dispatch per three lists), and
 //! `auto`'s frame GPU time (timestamps before the candidate's first pass
 //! and after the frame's last, where the device has `TIMESTAMP_QUERY`, in
 //! the frames `auto` asks to time), read back without waiting: the
@@ -7,10 +8,11 @@
 //! submitted and done, and tagged with the frame they describe
 //! ([`crate::View::frame_stats`]).
 
+use std::collections::HashMap;
+
 use crate::contract::DrawList;
-use crate::gpu::{Gpu, Readback, Uploads};
-use crate::list_pass::ListPass;
-use crate::reflect::Layout;
+use crate::gpu::{dispatch_size, Gpu, PassCount, Readback, Uploads};
+use crate::reflect::{pipeline_layout, Layout};
 
 /// Staging buffers in flight: counts arrive one to three frames late.
 const RING: usize = 3;
@@ -55,9 +57,29 @@ pub struct FrameStats {
 /// frame's first and last timestamps (u64 each).
 const STAGED: u64 = 24;
 
+/// Lists one dispatch of `tally.wgsl` counts.
+const LISTS: usize = 3;
+
+/// Most threads a dispatch launches: they stride over the commands, so a
+/// list of large capacity and few commands costs a few workgroups.
+const TALLY_THREADS: u32 = 4096;
+
+/// Bind groups kept for the triples of lists seen lately (lists are mostly
+/// the same buffers every frame).
+const BINDS: usize = 256;
+
+/// The lists of one dispatch: (commands, count) of each.
+type Batch = Vec<(wgpu::Buffer, wgpu::Buffer)>;
+
 /// Per-view counter of what its lists draw, and of its frames' GPU time.
 pub(crate) struct DrawTally {
-    pass: ListPass,
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    /// One `(max_count × 3, 0)` uniform per dispatch of a frame.
+    limits: Vec<wgpu::Buffer>,
+    binds: HashMap<Batch, wgpu::BindGroup>,
+    /// The lists handed to the host this frame, counted at its end.
+    pending: Vec<DrawList>,
     /// `[objects, triangles]` of the frame being recorded.
     totals: wgpu::Buffer,
     /// The frame's first and last timestamps, and where they resolve.
@@ -96,8 +118,15 @@ impl DrawTally {
             resolve: gpu.buffer("hroc frame clock", 16, U::QUERY_RESOLVE | U::COPY_SRC),
             period_ns: gpu.queue.get_timestamp_period() as f64,
         });
+        let module = gpu.shader("tally.wgsl", &crate::shaders::source("tally.wgsl"));
+        let layout = Layout::Tally.create(gpu);
+        let pipeline = gpu.compute_pipeline(&module, "tally", Some(&pipeline_layout(gpu, Layout::Tally.label(), &layout)), &[]);
         DrawTally {
-            pass: ListPass::new(gpu, Layout::Tally, "tally.wgsl", "tally", Some(totals.clone())),
+            pipeline,
+            layout,
+            limits: Vec::new(),
+            binds: HashMap::new(),
+            pending: Vec::new(),
             totals,
             clock,
             clocked: false,
@@ -112,6 +141,7 @@ impl DrawTally {
     pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder) {
         self.harvest(gpu);
         enc.clear_buffer(&self.totals, 0, None);
+        self.pending.clear();
         self.clocked = false;
     }
 
@@ -124,9 +154,63 @@ impl DrawTally {
         }
     }
 
-    /// Counts what `list` draws, after the host recorded its draw.
-    pub(crate) fn count(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, list: &DrawList) {
-        self.pass.record(gpu, enc, uploads, &list.commands, &list.count, list.max_count);
+    /// Counts what `list` draws, at the end of the frame ([`DrawTally::record`]):
+    /// the list must keep its commands and count until then.
+    pub(crate) fn count(&mut self, list: &DrawList) {
+        if list.max_count > 0 {
+            self.pending.push(list.clone());
+        }
+    }
+
+    /// Records the count of the frame's lists: one compute pass, a
+    /// dispatch per [`LISTS`] lists (a slot without a list binds the
+    /// first list with a bound of 0).
+    pub(crate) fn record(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, count: &PassCount) {
+        if self.pending.is_empty() {
+            return;
+        }
+        let batches: Vec<&[DrawList]> = self.pending.chunks(LISTS).collect();
+        while self.limits.len() < batches.len() {
+            self.limits.push(gpu.buffer("hroc tally limits", 16, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST));
+        }
+        if self.binds.len() > BINDS {
+            self.binds.clear();
+        }
+        let mut dispatches = Vec::with_capacity(batches.len());
+        for (k, lists) in batches.iter().enumerate() {
+            let mut limit = [0u32; 4];
+            let mut key: Batch = Vec::with_capacity(LISTS);
+            for slot in 0..LISTS {
+                let l = lists.get(slot).unwrap_or(&lists[0]);
+                limit[slot] = lists.get(slot).map_or(0, |l| l.max_count);
+                key.push((l.commands.clone(), l.count.clone()));
+            }
+            uploads.write(enc, &self.limits[k], 0, bytemuck::cast_slice(&limit));
+            let threads = lists.iter().map(|l| l.max_count).max().unwrap_or(0).min(TALLY_THREADS);
+            let (layout, totals, limits) = (&self.layout, &self.totals, &self.limits[k]);
+            let bind = self
+                .binds
+                .entry(key.iter().cloned().chain([(limits.clone(), limits.clone())]).collect())
+                .or_insert_with(|| {
+                    let mut resources = vec![(2, limits.as_entire_binding()), (3, totals.as_entire_binding())];
+                    for (slot, (c, n)) in key.iter().enumerate() {
+                        let at = [0, 4, 6][slot];
+                        resources.extend([(at, c.as_entire_binding()), (at + 1, n.as_entire_binding())]);
+                    }
+                    Layout::Tally.bind(gpu, layout, &resources)
+                })
+                .clone();
+            dispatches.push((bind, dispatch_size(threads, 64)));
+        }
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc tally"), timestamp_writes: None });
+        count.around(&mut pass, |pass| {
+            pass.set_pipeline(&self.pipeline);
+            for (bind, (x, y)) in &dispatches {
+                pass.set_bind_group(0, bind, &[]);
+                pass.dispatch_workgroups(*x, *y, 1);
+            }
+        });
+        self.pending.clear();
     }
 
     /// Ends a frame: copies the totals, with `stats` (the frame's number

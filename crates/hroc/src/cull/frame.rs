@@ -172,7 +172,7 @@ impl<'a> Frame<'a> {
             statistics,
         };
         self.host.draw(self.encoder, &draw);
-        self.tally.count(self.gpu, self.encoder, self.uploads, list);
+        self.tally.count(list);
     }
 
     /// How lists are drawn up to their GPU count.

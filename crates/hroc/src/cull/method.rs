@@ -212,7 +212,6 @@ impl Method {
             Method::Woc => &[Layout::WocWarp, Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
             Method::Hroc(_) => &[
                 Layout::HrocSeed,
-                Layout::HrocWalkSize,
                 Layout::HrocWalk,
                 Layout::HrocGroups,
                 Layout::HrocNext,

@@ -206,6 +206,7 @@ impl View {
             let list = s.finish(enc, &q);
             f.hand(Phase::NonOccluders, &list, None);
         }
+        f.tally.record(f.gpu, f.encoder, f.uploads, &crate::gpu::PassCount::NONE);
         if let Some(t) = f.timer.take() {
             t.end(f.encoder);
         }

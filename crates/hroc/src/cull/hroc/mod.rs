@@ -53,7 +53,7 @@ use crate::id_marks::MarkTarget;
 use crate::reflect::Layout;
 use crate::shaders::source_for as shader_source_for;
 use crate::shaders::BoxTarget;
-use stall_free::{Counted, StallFree};
+use stall_free::{Counted, Spill, StallFree};
 
 /// The deepest BVH HROC walks: its traversal stacks hold depth + 2
 /// entries ([`crate::shaders::STACK`]).
@@ -86,11 +86,16 @@ pub struct Hroc {
     state: wgpu::Buffer,
     visited: wgpu::Buffer,
     group_count: wgpu::Buffer,
-    /// Step 2's work: the walk's and the collection's workgroups and the candidates.
+    /// Step 2's counts and candidates (`work` in `hroc_groups.wgsl`).
     walk: wgpu::Buffer,
-    /// The workgroups copied from `walk` (a buffer cannot be both written
-    /// and read as workgroups in one dispatch).
-    walk_launch: wgpu::Buffer,
+    /// The collection's workgroups, which the walks write (a buffer cannot
+    /// be both written and read as workgroups in one dispatch).
+    collect_launch: wgpu::Buffer,
+    /// [`COLLECT_LAUNCH`], copied to `collect_launch` when a frame stopped
+    /// before step 5 reset it.
+    collect_init: wgpu::Buffer,
+    /// Step 2 ran and step 5 has not yet reset its counts.
+    walk_open: bool,
     ray_stats: wgpu::Buffer,
     v_list: DrawList,
     u_list: DrawList,
@@ -101,9 +106,8 @@ pub struct Hroc {
     marks_o: MarkTarget,
     marks_d: MarkTarget,
     test_bind: wgpu::BindGroup,
-    /// Step 2's passes: the walk's sizing, the walk up from V's occluders,
-    /// the objects tested alone, and the collection of the groups.
-    walk_size: Step,
+    /// Step 2's passes: the walk up from the effective occluders, the
+    /// objects tested alone, and the collection of the groups.
     extract: Step,
     alone: Step,
     collect: Step,
@@ -112,10 +116,9 @@ pub struct Hroc {
     /// One ID pixel read in every `filter_stride²` ([`MethodOptions::hroc_filter_stride`](super::MethodOptions)).
     filter_stride: u32,
     seed: Step,
-    /// Step 1's refill of V where its depth left holes, and the end of
-    /// the frame's record of the cells its depth covers.
+    /// Step 1's refill of V where its depth left holes (against the cells
+    /// the last frame covered, which step 5 records).
     refill: Step,
-    cover: Step,
     refill_list: DrawList,
     boxes: wgpu::RenderPipeline,
     /// With an emulated draw count: the group boxes' instanced draw.
@@ -157,11 +160,9 @@ enum Launch<'b> {
     Indirect(&'b wgpu::Buffer, u64),
 }
 
-impl From<(u32, u32)> for Launch<'_> {
-    fn from((x, y): (u32, u32)) -> Self {
-        Launch::Grid(x, y)
-    }
-}
+/// Step 2's counts and the collection's launch as step 5 leaves them for
+/// the next frame (`hroc_next.wgsl`): no candidate, the root's workgroup.
+const COLLECT_LAUNCH: [u32; 4] = [1, 1, 1, 0];
 
 /// A compute pass of HROC's frame: its pipeline and bindings.
 struct Step {
@@ -188,9 +189,11 @@ impl Hroc {
         let state = gpu.buffer("hroc node state", nodes as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let visited = gpu.buffer("hroc visited", nodes as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let group_count = gpu.buffer("hroc |G|", 4, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC);
-        // Step 2's dispatches (the walk's, the collection's) and the candidates (hroc_groups.wgsl).
-        let walk = gpu.buffer("hroc walk", (9 + nodes as u64) * 4, U::STORAGE | U::COPY_SRC);
-        let walk_launch = gpu.buffer("hroc walk workgroups", 32, U::INDIRECT | U::COPY_DST);
+        // Step 2's counts and candidates, and the collection's workgroups
+        // (hroc_groups.wgsl); step 5 resets both for the next frame.
+        let walk = gpu.buffer("hroc walk", (2 + nodes as u64) * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST);
+        let collect_launch = gpu.buffer_init("hroc collect workgroups", bytemuck::cast_slice(&COLLECT_LAUNCH), U::STORAGE | U::INDIRECT | U::COPY_DST);
+        let collect_init = gpu.buffer_init("hroc collect workgroups at rest", bytemuck::cast_slice(&COLLECT_LAUNCH), U::COPY_SRC);
         let ray_stats = gpu.buffer("hroc ray stats", STAT_SLOTS * 8, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         // A group per node, or per object tested alone (§6's hybrid).
         let groups = gpu.buffer("hroc groups", (nodes as u64 + n as u64) * 16, U::STORAGE | U::INDIRECT | U::COPY_SRC);
@@ -229,11 +232,8 @@ impl Hroc {
             (15, refill_list.count.as_entire_binding()),
             (16, covered.as_entire_binding()),
             (17, occluders.as_entire_binding()),
-            (18, v_list.commands.as_entire_binding()),
-            (19, v_list.count.as_entire_binding()),
-            (20, walk.as_entire_binding()),
-            (21, refill_list.commands.as_entire_binding()),
-            (22, refill_list.count.as_entire_binding()),
+            (18, collect_launch.as_entire_binding()),
+            (19, walk.as_entire_binding()),
         ]);
         let step = |layout: Layout, pass: &str, entry: &str, constants: &[(&str, f64)]| {
             let bind_layout = layout.create_for(gpu, samples);
@@ -245,13 +245,18 @@ impl Hroc {
         let grid = [("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)];
         let seed = step(Layout::HrocSeed, "hroc_seed.wgsl", "seed", &grid);
         let refill = step(Layout::HrocSeed, "hroc_seed.wgsl", "refill_holes", &grid);
-        let cover = step(Layout::HrocSeed, "hroc_seed.wgsl", "cover", &grid);
-        let walk_size = step(Layout::HrocWalkSize, "hroc_groups.wgsl", "walk_size", &[]);
         let extract = step(Layout::HrocWalk, "hroc_groups.wgsl", "extract", &[]);
         let alone = step(Layout::HrocGroups, "hroc_groups.wgsl", "alone", &test_scale);
         let collect = step(Layout::HrocGroups, "hroc_groups.wgsl", "collect", &test_scale);
-        let merge = step(Layout::HrocNext, "hroc_next.wgsl", "merge", &[]);
-        let filter = step(Layout::HrocNext, "hroc_next.wgsl", "filter_occluders", &[("FILTER_STRIDE", filter_stride as f64), ("FILTER_TILE", FILTER_TILE as f64)]);
+        // Step 5 records the covered cells where the refill reads them.
+        let cover = [("COVER", (cx.options.hroc_seed == Seed::Cuts) as u32 as f64), grid[0], grid[1]];
+        let merge = step(Layout::HrocNext, "hroc_next.wgsl", "merge", &cover);
+        let filter = step(
+            Layout::HrocNext,
+            "hroc_next.wgsl",
+            "filter_occluders",
+            &[cover[0], cover[1], cover[2], ("FILTER_STRIDE", filter_stride as f64), ("FILTER_TILE", FILTER_TILE as f64)],
+        );
 
         let test_layout = Layout::HrocTest.create(gpu);
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source_for("hroc_test.wgsl", samples));
@@ -323,18 +328,18 @@ impl Hroc {
             // O skips the test of what it marks: only V's own objects.
             marks_o: cx.mark_target(&occluders, Some(&visible)),
             marks_d: cx.mark_target(&drawn, None),
-            walk_size,
             extract,
             alone,
             collect,
             walk,
-            walk_launch,
+            collect_launch,
+            collect_init,
+            walk_open: false,
             merge,
             filter,
             filter_stride,
             seed,
             refill,
-            cover,
             refill_list,
             visible,
             occluders,
@@ -365,18 +370,40 @@ impl Hroc {
         })
     }
 
-    fn dispatch<'b>(&self, f: &mut Frame, label: &str, step: &Step, launch: impl Into<Launch<'b>>) {
-        let launch = launch.into();
+    /// Records `steps` in order into one compute pass named `label` (wgpu
+    /// orders each dispatch after the ones it depends on), then `spill`,
+    /// an overflow list's fill, whose count the steps made final.
+    fn compute(&self, f: &mut Frame, label: &str, steps: &[(&Step, Launch)], spill: Option<&Spill>) {
         let (enc, q) = f.counted();
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
-            pass.set_pipeline(&step.pipeline);
-            pass.set_bind_group(0, &step.bind, &[]);
-            match launch {
-                Launch::Grid(x, y) => pass.dispatch_workgroups(x, y, 1),
-                Launch::Indirect(args, offset) => pass.dispatch_workgroups_indirect(args, offset),
+            for (step, launch) in steps {
+                pass.set_pipeline(&step.pipeline);
+                pass.set_bind_group(0, &step.bind, &[]);
+                match *launch {
+                    Launch::Grid(x, y) => pass.dispatch_workgroups(x, y, 1),
+                    Launch::Indirect(args, offset) => pass.dispatch_workgroups_indirect(args, offset),
+                }
+            }
+            if let (Some(sf), Some(spill)) = (&self.sf, spill) {
+                sf.record(pass, spill);
             }
         });
+    }
+
+    /// Compacts `job`'s list and, with SF, fills the overflow of `which`
+    /// after it, in one compute pass; returns the overflow list.
+    fn compact(&self, f: &mut Frame, job: &CompactJob, which: Counted) -> Option<DrawList> {
+        let spill = self.sf.as_ref().and_then(|sf| sf.overflow(f, which));
+        let (enc, q) = f.counted();
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc compact"), timestamp_writes: None });
+        q.around(&mut pass, |pass| {
+            self.compactor.record_in(pass, job);
+            if let (Some(sf), Some((_, spill))) = (&self.sf, &spill) {
+                sf.record(pass, spill);
+            }
+        });
+        spill.map(|(list, _)| list)
     }
 
     /// `max_count` of a list: the read-back count with CR, the estimate
@@ -394,15 +421,19 @@ impl Hroc {
         }
     }
 
-    /// Hands `list` to the host, and with SF its overflow list after it.
-    /// With ID marks, one pass over the ID target marks both lists (none
-    /// without `marks`).
-    fn draw_list(&self, f: &mut Frame, phase: Phase, which: Counted, list: &DrawList, marks: Option<&MarkTarget>) {
-        // The overflow list holds the commands [estimate, count) of `list`,
-        // which its compaction wrote: it can be made before either is drawn.
-        let over = self.sf.as_ref().and_then(|sf| sf.overflow(f, which));
+    /// Hands `list` to the host, and with SF its overflow list `over`
+    /// ([`Hroc::compact`]) after it. With ID marks, one pass over the ID
+    /// target marks both lists (none without `marks`).
+    fn draw_list(&self, f: &mut Frame, phase: Phase, list: &DrawList, over: Option<DrawList>, marks: Option<&MarkTarget>) {
         let lists: Vec<&DrawList> = [(list.max_count > 0).then_some(list), over.as_ref()].into_iter().flatten().collect();
         f.draw_all(phase, &lists, marks);
+    }
+
+    /// Step 2's counts and the collection's launch back at rest, as step 5
+    /// leaves them.
+    fn reset_walk(&self, enc: &mut wgpu::CommandEncoder) {
+        enc.clear_buffer(&self.walk, 0, Some(8));
+        enc.copy_buffer_to_buffer(&self.collect_init, 0, &self.collect_launch, 0, Some(16));
     }
 
     /// Where step 4's lists mark D: nowhere with occluder filtering and ID
@@ -423,6 +454,7 @@ impl CullMethod for Hroc {
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
         enc.clear_buffer(&self.visible, 0, None);
+        self.reset_walk(enc);
         self.seed_next = true;
     }
 
@@ -446,6 +478,11 @@ impl CullMethod for Hroc {
         let (n, nodes) = (self.n, self.nodes);
         self.tree_nodes = f.uniform.node_count;
         let (ox, oy) = dispatch_size(n, 256);
+        let cells = SEED_GRID.0 * SEED_GRID.1;
+        if std::mem::take(&mut self.walk_open) {
+            // A frame stopped between its walk and step 5, which resets it.
+            self.reset_walk(f.encoder());
+        }
         // 0. After a cut V is stale or empty: seed it from a ray grid.
         self.seeded = match self.seed_mode {
             Seed::Cuts | Seed::CutsOnly => std::mem::take(&mut self.seed_next),
@@ -454,13 +491,11 @@ impl CullMethod for Hroc {
         };
         if self.seeded {
             f.stage(Stage::Seed);
-            self.dispatch(f, "hroc seed", &self.seed, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
+            self.compute(f, "hroc seed", &[(&self.seed, Launch::Grid(cells.div_ceil(64), 1))], None);
         }
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);
-        let (enc, q) = f.counted();
-        enc.clear_buffer(&self.occluders, 0, None);
-        self.compactor.record(enc, &q, &self.v_job);
+        f.encoder().clear_buffer(&self.occluders, 0, None);
         if let Some(sf) = self.sf.as_mut() {
             let bytes = sf.begin(f.gpu);
             f.count_async_read(bytes);
@@ -469,47 +504,55 @@ impl CullMethod for Hroc {
             r.clear(f.encoder());
             self.rounds(f, r, RoundsOf::Occluders)?;
         } else {
+            let over = self.compact(f, &self.v_job, Counted::V);
             self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
-            self.draw_list(f, Phase::Occluders, Counted::V, &self.v_list, Some(&self.marks_o));
+            self.draw_list(f, Phase::Occluders, &self.v_list, over, Some(&self.marks_o));
         }
-        // No collapse: where V left the map empty, the ray grid's first hits
-        // are drawn too (not after a seed, which cast the same rays).
-        f.encoder().clear_buffer(&self.refill_list.count, 0, None);
-        if !self.seeded && self.seed_mode == Seed::Cuts {
-            f.stage(Stage::Seed);
-            self.dispatch(f, "hroc refill holes", &self.refill, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
-            f.stage(Stage::OcclusionMap);
-            f.draw(Phase::Occluders, &self.refill_list, None);
-        }
-        // 2. Occludee groups.
+        // 1b and 2, one pass: where V left the map empty, the ray grid's
+        // first hits join the occluders (not after a seed, which cast the
+        // same rays; no collapse); the walk up from every effective
+        // occluder; the objects tested alone; the groups collected.
         f.stage(Stage::GroupExtraction);
+        let refill = !self.seeded && self.seed_mode == Seed::Cuts;
         let enc = f.encoder();
+        if refill {
+            enc.clear_buffer(&self.refill_list.count, 0, None);
+        }
         for b in [&self.state, &self.visited, &self.group_count, &self.occludees, &self.ray_stats] {
             enc.clear_buffer(b, 0, None);
         }
         if let Some(r) = &self.rounds {
             r.clear(enc);
         }
-        // The walk runs from V's occluders; objects tested alone, when the
-        // scene has any, and the walk's candidates are the groups.
-        self.dispatch(f, "hroc walk size", &self.walk_size, (1, 1));
-        f.encoder().copy_buffer_to_buffer(&self.walk, 0, &self.walk_launch, 0, Some(12));
-        self.dispatch(f, "hroc extract groups", &self.extract, Launch::Indirect(&self.walk_launch, 0));
-        if f.objects.alone > 0 {
-            self.dispatch(f, "hroc objects alone", &self.alone, (ox, oy));
+        self.walk_open = true;
+        let mut steps = Vec::with_capacity(4);
+        if refill {
+            steps.push((&self.refill, Launch::Grid(cells.div_ceil(64), 1)));
         }
-        f.encoder().copy_buffer_to_buffer(&self.walk, 16, &self.walk_launch, 16, Some(12));
-        self.dispatch(f, "hroc collect groups", &self.collect, Launch::Indirect(&self.walk_launch, 16));
+        steps.push((&self.extract, Launch::Grid(ox, oy)));
+        if f.objects.alone > 0 {
+            steps.push((&self.alone, Launch::Grid(ox, oy)));
+        }
+        steps.push((&self.collect, Launch::Indirect(&self.collect_launch, 0)));
         // The group boxes are drawn up to |G| by the indirect count (from a
         // bound: the capacity, CR's read-back or SF's estimate and its
         // overflow), or as one instanced draw of |G| instances.
+        let spill = match &self.group_args {
+            Some(_) => None,
+            None => self.sf.as_ref().and_then(|sf| sf.overflow(f, Counted::G)),
+        };
+        self.compute(f, "hroc groups", &steps, spill.as_ref().map(|(_, s)| s));
         let (max_groups, over) = match &self.group_args {
             Some(args) => {
                 f.encoder().copy_buffer_to_buffer(&self.group_count, 0, args, 4, Some(4));
                 (nodes + n, None)
             }
-            None => (self.max_count(f, Counted::G, &self.group_count, nodes + n, Stage::GroupExtraction)?, self.sf.as_ref().and_then(|sf| sf.overflow(f, Counted::G))),
+            None => (self.max_count(f, Counted::G, &self.group_count, nodes + n, Stage::GroupExtraction)?, spill.map(|(list, _)| list)),
         };
+        if refill {
+            f.stage(Stage::OcclusionMap);
+            f.draw(Phase::Occluders, &self.refill_list, None);
+        }
         // 3. Batch occlusion test against the occlusion map (read-only depth).
         f.stage(Stage::OcclusionTest);
         if max_groups > 0 || over.is_some() {
@@ -538,28 +581,30 @@ impl CullMethod for Hroc {
         }
         // 4. Occludee rendering.
         f.stage(Stage::OccludeeRendering);
-        let (enc, q) = f.counted();
-        enc.clear_buffer(&self.drawn, 0, None);
-        self.compactor.record(enc, &q, &self.u_job);
+        f.encoder().clear_buffer(&self.drawn, 0, None);
         if let Some(r) = &self.rounds {
             self.rounds(f, r, RoundsOf::Occludees)?;
         } else {
+            let over = self.compact(f, &self.u_job, Counted::U);
             self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
-            self.draw_list(f, Phase::Occludees, Counted::U, &self.u_list, self.d_marks());
+            self.draw_list(f, Phase::Occludees, &self.u_list, over, self.d_marks());
         }
-        // 5. Next frame's occluders (and the cells the depth covers, for the refill).
+        // 5. Next frame's occluders; the same threads record the cells the
+        // depth covers (for the refill) and reset step 2's counts.
         f.stage(Stage::Filtering);
-        if self.seed_mode == Seed::Cuts {
-            self.dispatch(f, "hroc covered cells", &self.cover, ((SEED_GRID.0 * SEED_GRID.1).div_ceil(64), 1));
-        }
+        let cover = if self.seed_mode == Seed::Cuts { cells } else { 1 };
         if self.variant.of {
             let (w, h) = f.size();
             f.encoder().clear_buffer(&self.visible, 0, None);
             let s = self.filter_stride * FILTER_TILE;
-            self.dispatch(f, "hroc occluder filtering", &self.filter, (w.div_ceil(s).div_ceil(16), h.div_ceil(s).div_ceil(16)));
+            let x = w.div_ceil(s).div_ceil(16);
+            let y = h.div_ceil(s).div_ceil(16).max(cover.div_ceil(x * 256));
+            self.compute(f, "hroc occluder filtering", &[(&self.filter, Launch::Grid(x, y))], None);
         } else {
-            self.dispatch(f, "hroc next occluders", &self.merge, (ox, oy));
+            let (x, y) = dispatch_size(n.max(cover), 256);
+            self.compute(f, "hroc next occluders", &[(&self.merge, Launch::Grid(x, y))], None);
         }
+        self.walk_open = false;
         if let Some(sf) = self.sf.as_mut() {
             let last = self.rounds.as_ref().map_or(&self.u_list, |r| &r.last.0);
             let v_rounds = self.occluder_rounds.as_ref().map(|r| (&r.fronts[0].0.count, &r.last.0.count));

@@ -52,6 +52,12 @@ const RING: usize = 3;
 /// what overflowed, so a list of large capacity costs a few workgroups.
 const OVERFLOW_THREADS: u32 = 4096;
 
+/// The dispatch that fills one overflow list ([`StallFree::overflow`]).
+pub struct Spill {
+    job: usize,
+    workgroups: (u32, u32),
+}
+
 struct Job {
     params: wgpu::Buffer,
     bind: wgpu::BindGroup,
@@ -134,11 +140,13 @@ impl StallFree {
         Some(self.estimates[which.index()])
     }
 
-    /// Records the overflow pass of `which` and returns the overflow list
-    /// (commands [estimate, count) at offset 0, or for G only the count),
-    /// `None` when the estimate is the capacity and nothing can overflow,
-    /// or the view has no such list.
-    pub fn overflow(&self, f: &mut Frame, which: Counted) -> Option<DrawList> {
+    /// Prepares the overflow of `which` and returns its list (commands
+    /// [estimate, count) at offset 0, or for G only the count) with the
+    /// dispatch that fills it ([`StallFree::record`], in a compute pass
+    /// after the list's count is final and before it is drawn); `None`
+    /// when the estimate is the capacity and nothing can overflow, or the
+    /// view has no such list.
+    pub fn overflow(&self, f: &mut Frame, which: Counted) -> Option<(DrawList, Spill)> {
         let k = which.index();
         let job = self.jobs.get(k)?.as_ref()?;
         let est = self.estimates[k];
@@ -147,16 +155,15 @@ impl StallFree {
         }
         f.write(&job.params, 0, bytemuck::cast_slice(&[est, job.stride, job.capacity, 0]));
         let threads = if job.stride > 0 { (job.capacity - est).min(OVERFLOW_THREADS) } else { 1 };
-        let (x, y) = dispatch_size(threads, 256);
-        let (enc, count) = f.counted();
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc overflow"), timestamp_writes: None });
-        count.around(&mut pass, |pass| {
-            pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, &job.bind, &[]);
-            pass.dispatch_workgroups(x, y, 1);
-        });
-        drop(pass);
-        Some(DrawList { max_count: job.capacity - est, ..job.list.clone() })
+        Some((DrawList { max_count: job.capacity - est, ..job.list.clone() }, Spill { job: k, workgroups: dispatch_size(threads, 256) }))
+    }
+
+    /// Records the dispatch that fills an overflow list into an open compute pass.
+    pub fn record(&self, pass: &mut wgpu::ComputePass<'_>, spill: &Spill) {
+        let Some(job) = self.jobs[spill.job].as_ref() else { return };
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &job.bind, &[]);
+        pass.dispatch_workgroups(spill.workgroups.0, spill.workgroups.1, 1);
     }
 
     /// Ends a frame: copies the counts (in [`Counted::index`] order, `None`
