@@ -473,12 +473,14 @@ fn pipeline_statistics_count_every_stage() {
         let ge = get(&r.invocations, Stage::GroupExtraction);
         let dbg = h.method_state::<Hroc>().unwrap().debug_state(s.gpu).unwrap();
         assert!(dbg.walked > 0 && dbg.candidates > 0, "frame {k}: {} walked, {} candidates", dbg.walked, dbg.candidates);
-        // wgpu checks each indirect dispatch's workgroups with one thread
-        // of its own where the instance validates indirect calls (its
-        // default).
-        let own = 1 + threads(dbg.walked) + threads(dbg.candidates + 1);
-        assert!((ge.vertex, ge.fragment) == (0, 0) && [own, own + 2].contains(&ge.compute), "frame {k}: {ge:?}, {own} expected");
-        assert!(ge.compute < threads(n) + threads(nodes), "frame {k}: {ge:?}");
+        // A view's first frame is seeded (no refill): a thread per object
+        // for the walk and one per candidate (and the root's) for the
+        // collection; wgpu checks the collection's indirect workgroups
+        // with one thread of its own where the instance validates indirect
+        // calls (its default).
+        let own = threads(n) + threads(dbg.candidates + 1);
+        assert!((ge.vertex, ge.fragment) == (0, 0) && [own, own + 1].contains(&ge.compute), "frame {k}: {ge:?}, {own} expected");
+        assert!(ge.compute <= threads(n) + threads(nodes) + 3, "frame {k}: {ge:?}");
         // Stages are listed in stage order, each once.
         let stages: Vec<Stage> = r.invocations.iter().map(|x| x.0).collect();
         assert!(stages.windows(2).all(|w| w[0] < w[1]), "{stages:?}");

@@ -34,11 +34,12 @@ const VISIBLE: u32 = 2u;
 // The walk's counts and the candidates:
 // [0]  objects walked from;
 // [1]  candidates;
-// [2..) the candidate nodes.
+// [2], [3]  the last frame's [0] and [1], which step 5 keeps as it resets them;
+// [4..) the candidate nodes.
 @group(0) @binding(19) var<storage, read_write> work: array<atomic<u32>>;
 const WALKED: u32 = 0u;
 const COUNT: u32 = 1u;
-const CANDIDATES: u32 = 2u;
+const CANDIDATES: u32 = 4u;
 
 // Pixels per side of the occlusion test's blocks (hroc_test.wgsl): groups
 // are padded, frustum-culled and split at the near plane as the test pads them.

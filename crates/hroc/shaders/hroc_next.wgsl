@@ -31,6 +31,9 @@ fn end_of_frame(t: u32) {
         collect_launch[0] = 1u;
         collect_launch[1] = 1u;
         collect_launch[2] = 1u;
+        // This frame's walk (objects walked from, candidates), kept for debugging.
+        work[2] = work[0];
+        work[3] = work[1];
         work[0] = 0u;
         work[1] = 0u;
     }

@@ -53,12 +53,16 @@ impl Hroc {
     }
 
     /// Debug read-back for the CPU references: node states, groups (sorted),
-    /// and the O and U marks of the last frame.
+    /// the O and U marks of the last frame, and the objects step 2 walked
+    /// from and the candidates it collected.
     pub fn debug_state(&self, gpu: &Gpu) -> Result<DebugState> {
         let g = gpu.read::<u32>(&self.group_count, 0, 1)?[0];
         let mut groups: Vec<u32> = gpu.read::<DrawArgs>(&self.groups, 0, g as u64)?.iter().map(|d| d.first_instance).collect();
         groups.sort_unstable();
+        let walk = gpu.read::<u32>(&self.walk, 2, 2)?;
         Ok(DebugState {
+            walked: walk[0],
+            candidates: walk[1],
             state: gpu.read(&self.state, 0, self.nodes.min(self.tree_nodes) as u64)?,
             groups,
             occluders: gpu.read::<u32>(&self.occluders, 0, self.n as u64)?.iter().map(|&x| x != 0).collect(),
@@ -122,4 +126,9 @@ pub struct DebugState {
     pub occluders: Vec<bool>,
     /// Per-object U marks (occludees), object order.
     pub occludees: Vec<bool>,
+    /// Objects step 2's walk ran from: the effective occluders (V's that
+    /// drew, and the refill's).
+    pub walked: u32,
+    /// Nodes the walks left unknown first: the collection's candidates.
+    pub candidates: u32,
 }

@@ -30,6 +30,16 @@
 //!    (`hroc_next.wgsl`).
 //!
 //! CR reads back |V|, |G|, |U| for `max_count` instead of N.
+//!
+//! The frame's own passes, as a GPU profiler shows them (a steady frame,
+//! one occludee round): `hroc compact` (V, and with SF its overflow) → the
+//! host draws V → `hroc groups` (the refill's rays, the walk, the objects
+//! alone, the collection, with SF G's overflow) → the host draws the
+//! refill → `hroc test blocks` (with a test scale above 1) and `hroc
+//! occlusion test` → `hroc compact` (U) → the host draws U → `hroc
+//! occluder filtering` (or `hroc next occluders`), whose threads also
+//! record the cells the depth covers and reset step 2's counts and launch,
+//! so no clear or copy prepares the next frame's walk.
 
 mod blocks;
 pub mod cpu;
@@ -191,7 +201,7 @@ impl Hroc {
         let group_count = gpu.buffer("hroc |G|", 4, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC);
         // Step 2's counts and candidates, and the collection's workgroups
         // (hroc_groups.wgsl); step 5 resets both for the next frame.
-        let walk = gpu.buffer("hroc walk", (2 + nodes as u64) * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST);
+        let walk = gpu.buffer("hroc walk", (4 + nodes as u64) * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST);
         let collect_launch = gpu.buffer_init("hroc collect workgroups", bytemuck::cast_slice(&COLLECT_LAUNCH), U::STORAGE | U::INDIRECT | U::COPY_DST);
         let collect_init = gpu.buffer_init("hroc collect workgroups at rest", bytemuck::cast_slice(&COLLECT_LAUNCH), U::COPY_SRC);
         let ray_stats = gpu.buffer("hroc ray stats", STAT_SLOTS * 8, U::STORAGE | U::COPY_DST | U::COPY_SRC);
@@ -392,9 +402,10 @@ impl Hroc {
     }
 
     /// Compacts `job`'s list and, with SF, fills the overflow of `which`
-    /// after it, in one compute pass; returns the overflow list.
-    fn compact(&self, f: &mut Frame, job: &CompactJob, which: Counted) -> Option<DrawList> {
-        let spill = self.sf.as_ref().and_then(|sf| sf.overflow(f, which));
+    /// (when it is drawn as it is) after it, in one compute pass; returns
+    /// the overflow list.
+    fn compact(&self, f: &mut Frame, job: &CompactJob, which: Option<Counted>) -> Option<DrawList> {
+        let spill = which.and_then(|w| self.sf.as_ref()?.overflow(f, w));
         let (enc, q) = f.counted();
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc compact"), timestamp_writes: None });
         q.around(&mut pass, |pass| {
@@ -500,11 +511,12 @@ impl CullMethod for Hroc {
             let bytes = sf.begin(f.gpu);
             f.count_async_read(bytes);
         }
+        // V's list instances the rounds' box passes when they draw it.
+        let over = self.compact(f, &self.v_job, self.occluder_rounds.is_none().then_some(Counted::V));
         if let Some(r) = &self.occluder_rounds {
             r.clear(f.encoder());
             self.rounds(f, r, RoundsOf::Occluders)?;
         } else {
-            let over = self.compact(f, &self.v_job, Counted::V);
             self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
             self.draw_list(f, Phase::Occluders, &self.v_list, over, Some(&self.marks_o));
         }
@@ -515,9 +527,7 @@ impl CullMethod for Hroc {
         f.stage(Stage::GroupExtraction);
         let refill = !self.seeded && self.seed_mode == Seed::Cuts;
         let enc = f.encoder();
-        if refill {
-            enc.clear_buffer(&self.refill_list.count, 0, None);
-        }
+        enc.clear_buffer(&self.refill_list.count, 0, None);
         for b in [&self.state, &self.visited, &self.group_count, &self.occludees, &self.ray_stats] {
             enc.clear_buffer(b, 0, None);
         }
@@ -582,10 +592,11 @@ impl CullMethod for Hroc {
         // 4. Occludee rendering.
         f.stage(Stage::OccludeeRendering);
         f.encoder().clear_buffer(&self.drawn, 0, None);
+        // U's list instances the rounds' box passes when they draw it.
+        let over = self.compact(f, &self.u_job, self.rounds.is_none().then_some(Counted::U));
         if let Some(r) = &self.rounds {
             self.rounds(f, r, RoundsOf::Occludees)?;
         } else {
-            let over = self.compact(f, &self.u_job, Counted::U);
             self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
             self.draw_list(f, Phase::Occludees, &self.u_list, over, self.d_marks());
         }
