@@ -180,9 +180,9 @@ impl DrawTally {
         for (k, lists) in batches.iter().enumerate() {
             let mut limit = [0u32; 4];
             let mut key: Batch = Vec::with_capacity(LISTS);
-            for slot in 0..LISTS {
+            for (slot, bound) in limit.iter_mut().take(LISTS).enumerate() {
                 let l = lists.get(slot).unwrap_or(&lists[0]);
-                limit[slot] = lists.get(slot).map_or(0, |l| l.max_count);
+                *bound = lists.get(slot).map_or(0, |l| l.max_count);
                 key.push((l.commands.clone(), l.count.clone()));
             }
             uploads.write(enc, &self.limits[k], 0, bytemuck::cast_slice(&limit));
