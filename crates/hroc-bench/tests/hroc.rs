@@ -390,7 +390,8 @@ fn cuts_are_detected_from_the_view() {
 /// draws exactly what hroc-na draws, with 0 false negatives.
 #[test]
 fn stall_free_overflow_draws_what_the_estimate_misses() {
-    let scene = hroc_bench::scene::load("radial-city", Some(2000), 4).unwrap();
+    // Every list above the 4,096 commands under which SF draws to the capacity.
+    let scene = hroc_bench::scene::load("radial-city", Some(4500), 4).unwrap();
     let path = paths::cut_path(&scene, 2);
     let mut s = Session::new(gpu(), scene, Some(path), 31, RES, Split::Sah).unwrap();
     let mut sf = s.create("hroc-sf".parse().unwrap()).unwrap();
@@ -418,7 +419,8 @@ fn stall_free_overflow_draws_what_the_estimate_misses() {
 /// it does not run).
 #[test]
 fn work_counters_count_submits_waits_and_bytes() {
-    let scene = hroc_bench::scene::load("radial-city", Some(1200), 3).unwrap();
+    // Every list above the 4,096 commands under which SF draws to the capacity.
+    let scene = hroc_bench::scene::load("radial-city", Some(4500), 3).unwrap();
     let mut s = Session::new(gpu(), scene, None, 8, RES, Split::Sah).unwrap();
     for (m, waits) in [("hroc-cr+of", 3.0), ("hroc-na", 0.0), ("hroc", 0.0)] {
         let mut v = s.create(m.parse().unwrap()).unwrap();

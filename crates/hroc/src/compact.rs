@@ -4,6 +4,7 @@
 //! Lists of at most one block (2,048 items) are packed by one workgroup in
 //! one dispatch; longer ones in three (block sums, their scan, scatter).
 
+use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::contract::DrawList;
 use crate::gpu::{dispatch_size, Gpu, PassCount};
 use crate::layout::{CompactParams, DrawCommand};
@@ -99,7 +100,7 @@ impl Compactor {
         pass.set_bind_group(0, &job.bind, &[]);
         for p in self.pipelines() {
             pass.set_pipeline(p);
-            pass.dispatch_workgroups(0, 0, 0);
+            pass.counted_dispatch(0, 0, 0);
         }
     }
 
@@ -113,7 +114,7 @@ impl Compactor {
 
     /// Records the compaction of `job` (one compute pass), counted in `count`.
     pub fn record(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount, job: &CompactJob) {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compact"), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("compact"), timestamp_writes: None });
         count.around(&mut pass, |pass| self.record_in(pass, job));
     }
 
@@ -123,15 +124,15 @@ impl Compactor {
         pass.set_bind_group(0, &job.bind, &[]);
         if self.blocks == 1 {
             pass.set_pipeline(&self.one_block);
-            pass.dispatch_workgroups(1, 1, 1);
+            pass.counted_dispatch(1, 1, 1);
             return;
         }
         let (x, y) = dispatch_size(self.blocks, 1);
         pass.set_pipeline(&self.block_sum);
-        pass.dispatch_workgroups(x, y, 1);
+        pass.counted_dispatch(x, y, 1);
         pass.set_pipeline(&self.scan_blocks);
-        pass.dispatch_workgroups(1, 1, 1);
+        pass.counted_dispatch(1, 1, 1);
         pass.set_pipeline(&self.scatter);
-        pass.dispatch_workgroups(x, y, 1);
+        pass.counted_dispatch(x, y, 1);
     }
 }

@@ -1,6 +1,7 @@
 //! [`FlagSplit`]: per-object flags applied to the lists a method hands
 //! the host.
 
+use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::compact::Compactor;
 use crate::contract::DrawList;
 use crate::gpu::{dispatch_size, Gpu, PassCount, Uploads};
@@ -39,7 +40,7 @@ impl FlagSplit {
 
     pub(super) fn begin(&mut self, enc: &mut wgpu::CommandEncoder, objects: &SharedObjects) {
         self.used = 0;
-        enc.copy_buffer_to_buffer(&objects.always_deferred, 0, &self.deferred, 0, objects.count as u64 * 4);
+        enc.counted_copy(&objects.always_deferred, 0, &self.deferred, 0, objects.count as u64 * 4);
     }
 
     pub(crate) fn split(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, bounds: &wgpu::Buffer, list: &DrawList, count: &PassCount) -> DrawList {
@@ -54,12 +55,12 @@ impl FlagSplit {
         self.used += 1;
         uploads.write(enc, &bound, 0, bytemuck::cast_slice(&[list.max_count, 0, 0, 0]));
         let bind = gpu.bind_buffers(&self.layout, &[bounds, &list.commands, &list.count, &dst, &self.deferred, &bound]);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc flag split"), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc flag split"), timestamp_writes: None });
         let (x, y) = dispatch_size(list.max_count, 256);
         count.around(&mut pass, |pass| {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(x, y, 1);
+            pass.counted_dispatch(x, y, 1);
         });
         drop(pass);
         DrawList { commands: dst, count: list.count.clone(), max_count: list.max_count }

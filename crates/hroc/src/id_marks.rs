@@ -18,6 +18,7 @@
 //!
 //! [`Marks::Ids`]: crate::Marks::Ids
 
+use crate::gpu::shape::{PassShape};
 use std::sync::{Arc, Mutex};
 
 use crate::gpu::Gpu;
@@ -71,7 +72,7 @@ impl IdPass {
     pub fn record<'p>(&self, pass: &mut wgpu::ComputePass<'p>) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind, &[]);
-        pass.dispatch_workgroups(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
+        pass.counted_dispatch(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
     }
 }
 

@@ -236,7 +236,7 @@
 //! - the draws handed to the host: [`Draw`], [`DrawHost`], [`DrawList`],
 //!   [`Phase`], [`marks_wgsl`], [`marks_layout`];
 //! - methods and statistics: [`Method`], [`MethodOptions`], [`Variant`],
-//!   [`Counters`], [`Seed`], [`Stage`], [`Stat`], [`FrameStats`],
+//!   [`Counters`], [`Seed`], [`Stage`], [`Stat`], [`FrameStats`], [`FrameShape`],
 //!   [`Invocations`];
 //! - the device: [`features`], [`limits`], [`Capabilities`], [`DrawCount`], [`Marks`],
 //!   [`REQUIRED_FEATURES`], [`FULL_FEATURES`], [`TIMESTAMP_FEATURES`],
@@ -280,7 +280,7 @@ pub use capabilities::{features, limits, Capabilities, DrawCount, Marks, FULL_FE
 pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Variant};
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc, ViewGeometry};
-pub use gpu::Invocations;
+pub use gpu::{FrameShape, Invocations};
 pub use host::{
     marks_layout, marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets,
     PIPELINE_STATISTICS_FEATURES, TIMESTAMP_FEATURES,

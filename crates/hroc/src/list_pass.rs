@@ -2,6 +2,7 @@
 //! striding over the commands up to the list's bound: the zeroed tail of
 //! an emulated draw count (`tail.wgsl`).
 
+use crate::gpu::shape::{EncoderShape, PassShape};
 use std::collections::HashMap;
 
 use crate::gpu::{dispatch_size, Gpu, Uploads};
@@ -57,9 +58,9 @@ impl ListPass {
             which.bind(gpu, layout, &resources)
         });
         let (x, y) = dispatch_size(max_count.min(LIST_THREADS), 64);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.which.label()), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.which.label()), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &*bind, &[]);
-        pass.dispatch_workgroups(x, y, 1);
+        pass.counted_dispatch(x, y, 1);
     }
 }

@@ -156,5 +156,30 @@ named_enum!(
         /// Passes over the object-ID target that mark the objects a list
         /// drew ([`crate::Marks::Ids`]; 0 with early-Z marks).
         IdPasses => "id_passes",
+        /// The frame's shape ([`crate::FrameShape`]): compute passes the culler opened.
+        ComputePasses => "compute_passes",
+        /// Render passes the culler opened (box tests, depth reductions).
+        RenderPasses => "render_passes",
+        /// Dispatches, direct and indirect.
+        Dispatches => "dispatches",
+        /// Of those, indirect.
+        IndirectDispatches => "indirect_dispatches",
+        /// Draw calls in the culler's own render passes.
+        OwnDraws => "own_draws",
+        /// Draw lists handed to the host.
+        Lists => "lists",
+        /// Buffer clears.
+        Clears => "clears",
+        /// Buffer copies, per-frame uploads among them.
+        Copies => "copies",
+        /// Timestamp and query writes, and query-set resolves.
+        QueryOps => "query_ops",
+        /// Bind groups and buffers created while recording.
+        Created => "created",
+        /// Buffers mapped for reading.
+        Maps => "maps",
+        /// CPU ms spent recording the frame (`View::cull`, the host's draw
+        /// callbacks included).
+        RecordMs => "record_ms",
     }
 );

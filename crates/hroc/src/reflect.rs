@@ -3,6 +3,7 @@
 //! read-write, texture kind) and the stages whose entry points use it, so
 //! no layout is typed beside the shader it describes.
 
+use crate::gpu::shape::{DeviceShape};
 use std::collections::{BTreeMap, HashMap};
 use std::sync::{Arc, Mutex, OnceLock};
 
@@ -197,7 +198,7 @@ impl Layout {
                 wgpu::BindGroupEntry { binding: e.binding, resource }
             })
             .collect();
-        gpu.device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some(self.label()), layout, entries: &entries })
+        gpu.device.counted_bind_group(&wgpu::BindGroupDescriptor { label: Some(self.label()), layout, entries: &entries })
     }
 
     /// Its storage buffers in the stage that sees the most of them: what

@@ -4,6 +4,7 @@
 //! targets): naga's GLSL back end cannot load from a `texture_depth_2d`. `tests/shaders.rs` validates each with naga and checks the
 //! Rust mirrors in [`crate::layout`] against the WGSL structs.
 
+use crate::gpu::shape::{EncoderShape};
 use crate::frustum::DepthRange;
 use crate::gpu::Gpu;
 
@@ -163,7 +164,7 @@ impl BoxTarget {
             resolve_target: None,
             ops: wgpu::Operations { load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT), store: wgpu::StoreOp::Discard },
         });
-        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        enc.counted_render_pass(&wgpu::RenderPassDescriptor {
             label: Some(label),
             color_attachments: if manual.is_some() { std::slice::from_ref(&manual) } else { &[] },
             depth_stencil_attachment: match manual {

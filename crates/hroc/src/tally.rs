@@ -8,6 +8,7 @@
 //! submitted and done, and tagged with the frame they describe
 //! ([`crate::View::frame_stats`]).
 
+use crate::gpu::shape::{EncoderShape, PassShape};
 use std::collections::HashMap;
 
 use crate::contract::DrawList;
@@ -43,6 +44,12 @@ pub struct FrameStats {
     /// Passes over the object-ID target that marked what a list drew
     /// ([`crate::Marks::Ids`]).
     pub id_passes: u64,
+    /// What the culler recorded in the frame: passes, dispatches, draws,
+    /// clears, copies, queries, objects created, submits and maps.
+    pub shape: crate::gpu::FrameShape,
+    /// CPU nanoseconds spent recording the frame: [`crate::View::cull`],
+    /// the host's draw callbacks included.
+    pub record_ns: u64,
     /// GPU nanoseconds from the frame's first pass to its last, the host's
     /// draws included, for the frames a view of [`crate::Method::Auto`]
     /// times (it chooses by them); `None` for other views and frames, where
@@ -104,7 +111,7 @@ struct FrameClock {
 impl FrameClock {
     fn stamp(&self, enc: &mut wgpu::CommandEncoder, index: u32) {
         let writes = wgpu::ComputePassTimestampWrites { query_set: &self.set, beginning_of_pass_write_index: Some(index), end_of_pass_write_index: None };
-        enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc frame clock"), timestamp_writes: Some(writes) });
+        enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc frame clock"), timestamp_writes: Some(writes) });
     }
 }
 
@@ -140,7 +147,7 @@ impl DrawTally {
     /// zeroes this frame's.
     pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder) {
         self.harvest(gpu);
-        enc.clear_buffer(&self.totals, 0, None);
+        enc.counted_clear(&self.totals, 0, None);
         self.pending.clear();
         self.clocked = false;
     }
@@ -202,12 +209,12 @@ impl DrawTally {
                 .clone();
             dispatches.push((bind, dispatch_size(threads, 64)));
         }
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc tally"), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc tally"), timestamp_writes: None });
         count.around(&mut pass, |pass| {
             pass.set_pipeline(&self.pipeline);
             for (bind, (x, y)) in &dispatches {
                 pass.set_bind_group(0, bind, &[]);
-                pass.dispatch_workgroups(*x, *y, 1);
+                pass.counted_dispatch(*x, *y, 1);
             }
         });
         self.pending.clear();
@@ -220,12 +227,12 @@ impl DrawTally {
         let clock = self.clock.as_ref().filter(|_| std::mem::take(&mut self.clocked));
         if let Some(c) = clock {
             c.stamp(enc, 1);
-            enc.resolve_query_set(&c.set, 0..2, &c.resolve, 0);
+            enc.counted_resolve(&c.set, 0..2, &c.resolve, 0);
         }
         if let Some((buf, slot)) = self.ring.iter_mut().find(|(_, s)| s.is_free()) {
-            enc.copy_buffer_to_buffer(&self.totals, 0, buf, 0, Some(8));
+            enc.counted_copy(&self.totals, 0, buf, 0, Some(8));
             if let Some(c) = clock {
-                enc.copy_buffer_to_buffer(&c.resolve, 0, buf, 8, Some(16));
+                enc.counted_copy(&c.resolve, 0, buf, 8, Some(16));
             }
             // `Some` marks a timed frame until its stamps arrive.
             *slot = Readback::request(enc, buf, FrameStats { gpu_ns: clock.map(|_| 0), ..stats });

@@ -1,6 +1,7 @@
 //! [`Frame`]: what a method records into, and the context it is built
 //! from.
 
+use crate::gpu::shape::{EncoderShape, QueueShape};
 use super::*;
 use crate::bvh::Bvh;
 use crate::capabilities::DrawCount;
@@ -129,7 +130,7 @@ impl<'a> Frame<'a> {
             if !lists.is_empty() {
                 self.work.id_passes += 1;
                 let (enc, q) = self.counted();
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc id marks"), timestamp_writes: None });
+                let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc id marks"), timestamp_writes: None });
                 q.around(&mut pass, |pass| ids.record(pass));
             }
         }
@@ -154,6 +155,7 @@ impl<'a> Frame<'a> {
     /// tallied after.
     pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) {
         self.work.command_slots += list.max_count as u64;
+        crate::gpu::shape::count(|s| s.lists += 1);
         if let Some(tail) = self.tail.as_deref_mut() {
             tail.record(self.gpu, self.encoder, self.uploads, &list.commands, &list.count, list.max_count);
         }
@@ -200,7 +202,7 @@ impl<'a> Frame<'a> {
         self.end_group();
         let enc = std::mem::replace(self.encoder, self.gpu.encoder("hroc frame"));
         self.uploads.close(&enc);
-        self.gpu.queue.submit([enc.finish()]);
+        self.gpu.queue.counted_submit([enc.finish()]);
         self.work.submits += 1;
         if open {
             self.encoder.push_debug_group(self.current.name());

@@ -20,7 +20,9 @@ pub enum Counters {
     /// whatever overflows the estimate, its count (count − estimate, at
     /// least 0) computed on the GPU, so nothing is dropped. With an
     /// emulated draw count ([`crate::DrawCount::Emulated`]) every list is
-    /// drawn to its capacity anyway, and this runs as [`Counters::Capacity`].
+    /// drawn to its capacity anyway, and this runs as [`Counters::Capacity`];
+    /// so are lists of at most 4,096 commands, where the overflow's pass
+    /// costs more than the bound saves.
     StallFree,
 }
 

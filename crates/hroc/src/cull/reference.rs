@@ -2,6 +2,7 @@
 //! a pixel in `noc`'s ID target; like the paper's REF the list is prepared
 //! before the frame (outside the timed region) and multi-drawn in one batch.
 
+use crate::gpu::shape::{QueueShape};
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
 use crate::contract::Phase;
 use crate::cull::DrawList;
@@ -43,7 +44,7 @@ impl CullMethod for Reference {
             gpu.queue.write_buffer(&self.list.commands, 0, bytemuck::cast_slice(&packed));
         }
         gpu.queue.write_buffer(&self.list.count, 0, bytemuck::bytes_of(&(packed.len() as u32)));
-        gpu.queue.submit([]);
+        gpu.queue.counted_submit([]);
         gpu.wait()
     }
     fn frame(&mut self, f: &mut Frame) -> Result<()> {

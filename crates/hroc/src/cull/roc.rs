@@ -29,6 +29,7 @@
 //! in front of (or on) the depth of V there, so the box fragment passes
 //! `LessEqual` with the bias.
 
+use crate::gpu::shape::{EncoderShape, PassShape, RenderShape};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
@@ -97,8 +98,8 @@ impl BoxPass {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, bind, &[]);
             match count {
-                BoxCount::Indirect(args) => pass.draw_indirect(args, 0),
-                BoxCount::Direct(n) => pass.draw(0..36, 0..n),
+                BoxCount::Indirect(args) => pass.counted_draw_indirect(args, 0),
+                BoxCount::Direct(n) => pass.counted_draw(0..36, 0..n),
             }
         });
     }
@@ -173,11 +174,11 @@ impl Roc {
     fn dispatch(&self, f: &mut Frame, label: &str, pipeline: &wgpu::ComputePipeline) {
         let (x, y) = dispatch_size(self.n, 256);
         let (enc, q) = f.counted();
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind, &[]);
-            pass.dispatch_workgroups(x, y, 1);
+            pass.counted_dispatch(x, y, 1);
         });
     }
 
@@ -200,7 +201,7 @@ impl CullMethod for Roc {
     }
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
-        enc.clear_buffer(&self.visible, 0, None);
+        enc.counted_clear(&self.visible, 0, None);
     }
 
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
@@ -209,14 +210,14 @@ impl CullMethod for Roc {
         let (enc, q) = f.counted();
         self.compactor.record(enc, &q, &self.v_job);
         if !self.all {
-            enc.clear_buffer(&self.next, 0, None);
+            enc.counted_clear(&self.next, 0, None);
         }
         f.draw(Phase::Occluders, &self.v_list, self.marks_next.as_ref());
         // 2. Box test.
         f.stage(Stage::OcclusionTest);
         let enc = f.encoder();
-        enc.clear_buffer(&self.tested, 0, None);
-        enc.clear_buffer(&self.args, 0, None);
+        enc.counted_clear(&self.tested, 0, None);
+        enc.counted_clear(&self.args, 0, None);
         self.dispatch(f, "roc select", &self.select);
         self.boxes.record(f, &self.box_bind, BoxCount::Indirect(&self.args));
         if self.all {
@@ -229,7 +230,7 @@ impl CullMethod for Roc {
         f.draw(Phase::Occludees, &self.u_list, self.marks_next.as_ref());
         if !self.all {
             let bytes = self.n as u64 * 4;
-            f.encoder().copy_buffer_to_buffer(&self.next, 0, &self.visible, 0, bytes);
+            f.encoder().counted_copy(&self.next, 0, &self.visible, 0, bytes);
         }
         Ok(())
     }

@@ -1,6 +1,7 @@
 //! `vfc`: GPU view-frustum culling, one thread per object box, then ordered
 //! compaction into a packed list.
 
+use crate::gpu::shape::{EncoderShape, PassShape};
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
@@ -44,12 +45,12 @@ impl CullMethod for FrustumCuller {
         let n = f.object_count();
         {
             let (enc, q) = f.counted();
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("vfc frustum test"), timestamp_writes: None });
+            let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("vfc frustum test"), timestamp_writes: None });
             let (x, y) = dispatch_size(n, 256);
             q.around(&mut pass, |pass| {
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(0, &self.bind, &[]);
-                pass.dispatch_workgroups(x, y, 1);
+                pass.counted_dispatch(x, y, 1);
             });
         }
         f.stage(Stage::Compact);
@@ -61,10 +62,10 @@ impl CullMethod for FrustumCuller {
     }
 
     fn warm(&self, enc: &mut wgpu::CommandEncoder) {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("vfc warm"), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("vfc warm"), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind, &[]);
-        pass.dispatch_workgroups(0, 0, 0);
+        pass.counted_dispatch(0, 0, 0);
         self.compactor.warm(&mut pass, &self.job);
     }
 }

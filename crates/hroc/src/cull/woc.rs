@@ -23,6 +23,7 @@
 //! (60 frames over a 10 s path) they are most of the screen, so it culls
 //! little beyond the frustum.
 
+use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape};
 use glam::{DMat4, Mat4};
 
 use super::hzb::{HizTest, Pyramid};
@@ -74,7 +75,7 @@ impl Woc {
         let holes = gpu.buffer("woc holes", 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let test = HizTest::new(cx, &pyramid, &unused, &flags, false);
         let layout = crate::reflect::Layout::WocWarp.create_for(gpu, cx.targets.samples);
-        let bind = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let bind = gpu.device.counted_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("woc warp"),
             layout: &layout,
             entries: &[
@@ -113,11 +114,11 @@ impl Woc {
 
     fn dispatch(&self, f: &mut Frame, label: &str, pipeline: &wgpu::ComputePipeline) {
         let (enc, q) = f.counted();
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
             pass.set_pipeline(pipeline);
             pass.set_bind_group(0, &self.bind, &[]);
-            pass.dispatch_workgroups(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
+            pass.counted_dispatch(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
         });
     }
 }
@@ -154,7 +155,7 @@ impl CullMethod for Woc {
         self.compactor.record(enc, &q, &self.job);
         f.draw(Phase::Visible, &self.list, None);
         f.stage(Stage::SaveDepth);
-        f.encoder().clear_buffer(&self.holes, 0, None);
+        f.encoder().counted_clear(&self.holes, 0, None);
         self.dispatch(f, "woc save depth", &self.save);
         self.prev = Some(f.geometry.view_proj);
         Ok(())

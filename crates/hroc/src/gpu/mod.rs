@@ -2,15 +2,18 @@
 //! helpers, GPU timestamps and pipeline statistics.
 
 mod readback;
+pub mod shape;
 pub mod stats;
 mod target_read;
 pub mod timer;
 mod uploads;
 
+use crate::gpu::shape::{DeviceShape, EncoderShape, QueueShape};
 use crate::error::{Error, Result};
 use wgpu::util::DeviceExt;
 
 pub use readback::{Readback, Submission};
+pub use shape::FrameShape;
 pub use stats::{InvocationCounter, Invocations, PassCount};
 pub use timer::GpuTimer;
 pub use uploads::Uploads;
@@ -66,11 +69,13 @@ impl Gpu {
         } else {
             contents
         };
+        shape::count(|s| s.buffers += 1);
         self.device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage })
     }
 
     /// An uninitialized (zeroed) buffer of at least `size` bytes, 16 at least.
     pub fn buffer(&self, label: &str, size: u64, usage: wgpu::BufferUsages) -> wgpu::Buffer {
+        shape::count(|s| s.buffers += 1);
         self.device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: size.max(16).next_multiple_of(4), usage, mapped_at_creation: false })
     }
 
@@ -121,8 +126,8 @@ impl Gpu {
         }
         let staging = self.buffer("read-back", size, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
         let mut enc = self.encoder("read-back");
-        enc.copy_buffer_to_buffer(src, offset, &staging, 0, size);
-        self.queue.submit([enc.finish()]);
+        enc.counted_copy(src, offset, &staging, 0, size);
+        self.queue.counted_submit([enc.finish()]);
         self.map_read(&staging, size)
     }
 
@@ -130,6 +135,7 @@ impl Gpu {
     pub fn map_read(&self, staging: &wgpu::Buffer, size: u64) -> Result<Vec<u8>> {
         let slice = staging.slice(..size);
         let (tx, rx) = std::sync::mpsc::channel();
+        shape::count(|s| s.map_requests += 1);
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
         });
@@ -166,7 +172,7 @@ impl Gpu {
             wgpu::TexelCopyBufferInfo { buffer: &staging, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(h) } },
             wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
         );
-        self.queue.submit([enc.finish()]);
+        self.queue.counted_submit([enc.finish()]);
         let bytes = self.map_read(&staging, (row * h) as u64)?;
         let mut out = Vec::with_capacity((w * h) as usize);
         for y in 0..h as usize {
@@ -205,7 +211,7 @@ impl Gpu {
     /// Bind group whose entries are whole buffers at bindings 0, 1, 2, ...
     pub fn bind_buffers(&self, layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]) -> wgpu::BindGroup {
         let entries: Vec<_> = buffers.iter().enumerate().map(|(i, b)| wgpu::BindGroupEntry { binding: i as u32, resource: b.as_entire_binding() }).collect();
-        self.device.create_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries })
+        self.device.counted_bind_group(&wgpu::BindGroupDescriptor { label: None, layout, entries: &entries })
     }
 }
 

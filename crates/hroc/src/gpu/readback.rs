@@ -44,6 +44,7 @@ impl<T: Copy> Readback<T> {
     pub fn request(enc: &wgpu::CommandEncoder, buf: &wgpu::Buffer, tag: T) -> Self {
         let state = Arc::new(AtomicU8::new(PENDING));
         let guard = DropGuard(state.clone());
+        super::shape::count(|s| s.map_requests += 1);
         enc.map_buffer_on_submit(buf, wgpu::MapMode::Read, .., move |r| {
             guard.0.store(if r.is_ok() { MAPPED } else { FAILED }, Ordering::Release);
         });

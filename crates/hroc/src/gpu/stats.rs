@@ -6,6 +6,7 @@
 //! [`crate::Draw::record`]) brackets its commands with a [`PassCount`]
 //! handed out by the frame; the count goes to the stage the frame was in.
 
+use crate::gpu::shape::{EncoderShape};
 use std::ops::{Add, AddAssign};
 use std::sync::{Arc, Mutex};
 
@@ -144,7 +145,7 @@ impl InvocationCounter {
         self.resolved = self.slots.stages.lock().unwrap_or_else(|p| p.into_inner()).clone();
         let n = self.resolved.len() as u32;
         if n > 0 {
-            enc.resolve_query_set(&self.slots.set, 0..n, &self.resolve, 0);
+            enc.counted_resolve(&self.slots.set, 0..n, &self.resolve, 0);
         }
     }
 

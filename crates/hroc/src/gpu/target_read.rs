@@ -3,6 +3,7 @@
 //! `DEPTH_TEXTURE_AND_BUFFER_COPIES`), and for multisampled targets, which
 //! no copy reads. For tests and the benchmark's checks.
 
+use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape, QueueShape};
 use super::Gpu;
 use crate::error::Result;
 
@@ -89,7 +90,7 @@ impl Gpu {
             array_layer_count: Some(1),
             ..Default::default()
         });
-        let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let bind = self.device.counted_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("target read-back"),
             layout: &layout,
             entries: &[
@@ -99,12 +100,12 @@ impl Gpu {
         });
         let mut enc = self.encoder("target read-back");
         {
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("target read-back"), timestamp_writes: None });
+            let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("target read-back"), timestamp_writes: None });
             pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &bind, &[]);
-            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+            pass.counted_dispatch(w.div_ceil(8), h.div_ceil(8), 1);
         }
-        self.queue.submit([enc.finish()]);
+        self.queue.counted_submit([enc.finish()]);
         self.read(&out, 0, values)
     }
 }

@@ -1,6 +1,7 @@
 //! Per-stage GPU time from timestamp queries: a frame is a sequence of
 //! `mark(stage)` calls; a stage lasts from its mark to the next one.
 
+use crate::gpu::shape::{EncoderShape};
 use crate::error::{Error, Result};
 use crate::gpu::Gpu;
 use crate::metrics::Stage;
@@ -31,7 +32,7 @@ impl GpuTimer {
     fn stamp(&mut self, enc: &mut wgpu::CommandEncoder, mark: Option<Stage>) {
         let i = self.marks.len() as u32;
         if i < self.capacity {
-            enc.write_timestamp(&self.set, i);
+            enc.counted_timestamp(&self.set, i);
             self.marks.push(mark);
         }
     }
@@ -46,7 +47,7 @@ impl GpuTimer {
         self.stamp(enc, None);
         let n = self.marks.len() as u32;
         if n > 0 {
-            enc.resolve_query_set(&self.set, 0..n, &self.resolve, 0);
+            enc.counted_resolve(&self.set, 0..n, &self.resolve, 0);
         }
     }
 

@@ -29,6 +29,7 @@ impl Uploads {
     /// `target` at `offset` (a multiple of 4).
     pub fn write(&mut self, enc: &mut wgpu::CommandEncoder, target: &wgpu::Buffer, offset: u64, bytes: &[u8]) {
         let Some(size) = wgpu::BufferSize::new(bytes.len() as u64) else { return };
+        super::shape::count(|s| s.copies += 1);
         self.belt.write_buffer(enc, target, offset, size).copy_from_slice(bytes);
     }
 

@@ -619,6 +619,7 @@ impl Culler {
             last_pose: None,
             last_cut: false,
             work: WorkCounts::default(),
+            shape: Default::default(),
             tally: DrawTally::new(&self.gpu, method == Method::Auto),
             uploads: Uploads::new(&self.gpu.device),
             tail: None,

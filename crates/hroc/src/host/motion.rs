@@ -1,6 +1,7 @@
 //! How the BVH follows moving objects: refit on the CPU or the GPU, and
 //! the rebuild policy.
 
+use crate::gpu::shape::{EncoderShape, PassShape, QueueShape};
 use super::*;
 use crate::bvh::{Bvh, Split};
 use crate::error::{Error, Result};
@@ -105,12 +106,12 @@ impl GpuRefit {
         // Written before the submit that runs these passes.
         gpu.queue.write_buffer(&self.params, 0, bytemuck::cast_slice(&params));
         let bind = gpu.bind_buffers(&self.layout, &[&self.params, host.unwrap_or(&self.no_host), bounds, nodes, leaves, &self.scratch]);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc refit"), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc refit"), timestamp_writes: None });
         pass.set_bind_group(0, &bind, &[]);
         for (p, items) in [(&self.clear, params[1]), (&self.leaves, params[0]), (&self.decode, params[1])] {
             pass.set_pipeline(p);
             let (x, y) = dispatch_size(items.max(1), 256);
-            pass.dispatch_workgroups(x, y, 1);
+            pass.counted_dispatch(x, y, 1);
         }
     }
 }
@@ -156,7 +157,7 @@ impl Culler {
             self.upload_bounds();
             let mut enc = self.gpu.device.create_command_encoder(&Default::default());
             self.refit_on_gpu(&mut enc, None);
-            self.gpu.queue.submit([enc.finish()]);
+            self.gpu.queue.counted_submit([enc.finish()]);
             self.last_update = UpdateStats { cpu_ms: t.elapsed().as_secs_f64() * 1e3, rebuilt: false, sah_growth: None };
             return Ok(());
         } else {

@@ -45,6 +45,8 @@ pub struct View {
     pub(super) last_cut: bool,
     /// The last frame's submits, waits and bytes read back.
     pub(super) work: WorkCounts,
+    /// The last frame's shape and CPU nanoseconds of recording.
+    pub(super) shape: (crate::gpu::FrameShape, u64),
     /// Objects and triangles drawn, per frame, read back without waiting.
     pub(super) tally: DrawTally,
     /// Frames culled so far.
@@ -108,6 +110,7 @@ impl View {
     }
 
     pub(super) fn record(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: Option<FrameBody>) -> Result<()> {
+        let (started, shape_before) = (std::time::Instant::now(), crate::gpu::shape::recorded());
         let regrown = self.slots != culler.objects.count;
         let rebuilt = self.generation != culler.generation && self.method.keeps_tree();
         if !self.targets.same(&input.targets) || regrown || rebuilt {
@@ -226,6 +229,9 @@ impl View {
             ..Default::default()
         };
         self.culled_by = f.culled_by;
+        let shape = crate::gpu::shape::recorded() - shape_before;
+        self.shape = (shape, started.elapsed().as_nanos() as u64);
+        let stats = FrameStats { shape, record_ns: self.shape.1, ..stats };
         f.tally.end(f.encoder, stats);
         f.uploads.close(f.encoder);
         if self.method.submits_mid_frame() {
@@ -295,6 +301,21 @@ impl View {
             (Stat::BytesRead, w.bytes_read as f64),
             (Stat::CommandSlots, w.command_slots as f64),
             (Stat::IdPasses, w.id_passes as f64),
+        ]);
+        let (f, record_ns) = self.shape;
+        s.extend([
+            (Stat::ComputePasses, f.compute_passes as f64),
+            (Stat::RenderPasses, f.render_passes as f64),
+            (Stat::Dispatches, (f.dispatches + f.indirect_dispatches) as f64),
+            (Stat::IndirectDispatches, f.indirect_dispatches as f64),
+            (Stat::OwnDraws, f.draws as f64),
+            (Stat::Lists, f.lists as f64),
+            (Stat::Clears, f.clears as f64),
+            (Stat::Copies, f.copies as f64),
+            (Stat::QueryOps, (f.query_writes + f.query_resolves) as f64),
+            (Stat::Created, (f.bind_groups + f.buffers) as f64),
+            (Stat::Maps, f.map_requests as f64),
+            (Stat::RecordMs, record_ns as f64 / 1e6),
         ]);
         Ok(s)
     }

@@ -2,6 +2,7 @@
 //! (each block's farthest depth, of every sample of its pixels) and the
 //! pass that reduces the host's depth to it.
 
+use crate::gpu::shape::{DeviceShape, EncoderShape, RenderShape};
 use super::*;
 use crate::gpu::{Gpu, PassCount};
 
@@ -49,7 +50,7 @@ impl Blocks {
         let view = map("hroc test blocks", BLOCK_FORMAT);
         let copy = (caps.marks == crate::Marks::EarlyZ && !caps.read_only_depth).then(|| map("hroc test blocks copy", BLOCK_FORMAT));
         let layout = crate::reflect::Layout::HrocReduce.create_for(gpu, cx.targets.samples);
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let bind = device.counted_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc reduce"),
             layout: &layout,
             entries: &[
@@ -88,7 +89,7 @@ impl Blocks {
     /// depth, in the map and in its copy, if it has one.
     pub(super) fn reduce(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount) {
         for view in std::iter::once(&self.view).chain(&self.copy) {
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = enc.counted_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("hroc test blocks"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
@@ -104,7 +105,7 @@ impl Blocks {
             count.around(&mut pass, |pass| {
                 pass.set_pipeline(&self.reduce);
                 pass.set_bind_group(0, &self.bind, &[]);
-                pass.draw(0..3, 0..1);
+                pass.counted_draw(0..3, 0..1);
             });
         }
     }

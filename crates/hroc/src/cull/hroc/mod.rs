@@ -48,6 +48,7 @@ mod rounds;
 pub mod stall_free;
 
 pub use blocks::test_scale;
+use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape, RenderShape};
 use blocks::{Blocks, BLOCK_FORMAT};
 pub use debug::{DebugState, SetSizes};
 use rounds::{Rounds, RoundsOf};
@@ -276,7 +277,7 @@ impl Hroc {
         // The depth the rays load: the host's, or the blocks' map (its copy
         // where the test cannot sample what it is attached to).
         let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| b.copy.as_ref().unwrap_or(&b.view));
-        let test_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let test_bind = device.counted_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc test"),
             layout: &test_layout,
             entries: &[
@@ -330,6 +331,7 @@ impl Hroc {
             lists.extend(rounds.iter().flat_map(|r| &r.fronts).map(|(l, _)| counted(l)));
             StallFree::new(gpu, &lists)
         });
+        let sf = sf.flatten();
         Ok(Hroc {
             variant,
             n,
@@ -385,14 +387,14 @@ impl Hroc {
     /// an overflow list's fill, whose count the steps made final.
     fn compute(&self, f: &mut Frame, label: &str, steps: &[(&Step, Launch)], spill: Option<&Spill>) {
         let (enc, q) = f.counted();
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
             for (step, launch) in steps {
                 pass.set_pipeline(&step.pipeline);
                 pass.set_bind_group(0, &step.bind, &[]);
                 match *launch {
-                    Launch::Grid(x, y) => pass.dispatch_workgroups(x, y, 1),
-                    Launch::Indirect(args, offset) => pass.dispatch_workgroups_indirect(args, offset),
+                    Launch::Grid(x, y) => pass.counted_dispatch(x, y, 1),
+                    Launch::Indirect(args, offset) => pass.counted_dispatch_indirect(args, offset),
                 }
             }
             if let (Some(sf), Some(spill)) = (&self.sf, spill) {
@@ -407,7 +409,7 @@ impl Hroc {
     fn compact(&self, f: &mut Frame, job: &CompactJob, which: Option<Counted>) -> Option<DrawList> {
         let spill = which.and_then(|w| self.sf.as_ref()?.overflow(f, w));
         let (enc, q) = f.counted();
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc compact"), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc compact"), timestamp_writes: None });
         q.around(&mut pass, |pass| {
             self.compactor.record_in(pass, job);
             if let (Some(sf), Some((_, spill))) = (&self.sf, &spill) {
@@ -443,8 +445,8 @@ impl Hroc {
     /// Step 2's counts and the collection's launch back at rest, as step 5
     /// leaves them.
     fn reset_walk(&self, enc: &mut wgpu::CommandEncoder) {
-        enc.clear_buffer(&self.walk, 0, Some(8));
-        enc.copy_buffer_to_buffer(&self.collect_init, 0, &self.collect_launch, 0, Some(16));
+        enc.counted_clear(&self.walk, 0, Some(8));
+        enc.counted_copy(&self.collect_init, 0, &self.collect_launch, 0, Some(16));
     }
 
     /// Where step 4's lists mark D: nowhere with occluder filtering and ID
@@ -464,7 +466,7 @@ impl CullMethod for Hroc {
     }
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
-        enc.clear_buffer(&self.visible, 0, None);
+        enc.counted_clear(&self.visible, 0, None);
         self.reset_walk(enc);
         self.seed_next = true;
     }
@@ -478,7 +480,7 @@ impl CullMethod for Hroc {
             // V is the set handed over, as after an ordinary frame: no seed
             // (the refill still fills what its depth leaves open).
             Some(v) => {
-                enc.copy_buffer_to_buffer(v, 0, &self.visible, 0, v.size().min(self.visible.size()));
+                enc.counted_copy(v, 0, &self.visible, 0, v.size().min(self.visible.size()));
                 self.seed_next = false;
             }
             None => self.reset(enc),
@@ -506,7 +508,7 @@ impl CullMethod for Hroc {
         }
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);
-        f.encoder().clear_buffer(&self.occluders, 0, None);
+        f.encoder().counted_clear(&self.occluders, 0, None);
         if let Some(sf) = self.sf.as_mut() {
             let bytes = sf.begin(f.gpu);
             f.count_async_read(bytes);
@@ -527,9 +529,9 @@ impl CullMethod for Hroc {
         f.stage(Stage::GroupExtraction);
         let refill = !self.seeded && self.seed_mode == Seed::Cuts;
         let enc = f.encoder();
-        enc.clear_buffer(&self.refill_list.count, 0, None);
+        enc.counted_clear(&self.refill_list.count, 0, None);
         for b in [&self.state, &self.visited, &self.group_count, &self.occludees, &self.ray_stats] {
-            enc.clear_buffer(b, 0, None);
+            enc.counted_clear(b, 0, None);
         }
         if let Some(r) = &self.rounds {
             r.clear(enc);
@@ -554,7 +556,7 @@ impl CullMethod for Hroc {
         self.compute(f, "hroc groups", &steps, spill.as_ref().map(|(_, s)| s));
         let (max_groups, over) = match &self.group_args {
             Some(args) => {
-                f.encoder().copy_buffer_to_buffer(&self.group_count, 0, args, 4, Some(4));
+                f.encoder().counted_copy(&self.group_count, 0, args, 4, Some(4));
                 (nodes + n, None)
             }
             None => (self.max_count(f, Counted::G, &self.group_count, nodes + n, Stage::GroupExtraction)?, spill.map(|(list, _)| list)),
@@ -578,12 +580,12 @@ impl CullMethod for Hroc {
                 pass.set_pipeline(&self.boxes);
                 pass.set_bind_group(0, &self.test_bind, &[]);
                 match &self.group_args {
-                    Some(args) => pass.draw_indirect(args, 0),
+                    Some(args) => pass.counted_draw_indirect(args, 0),
                     None => {
-                        pass.multi_draw_indirect_count(&self.groups, 0, &self.group_count, 0, max_groups);
+                        pass.counted_multi_draw_indirect_count(&self.groups, 0, &self.group_count, 0, max_groups);
                         if let Some(over) = over {
                             // The groups past the estimate, from where the first draw stopped.
-                            pass.multi_draw_indirect_count(&self.groups, max_groups as u64 * 16, &over.count, 0, over.max_count);
+                            pass.counted_multi_draw_indirect_count(&self.groups, max_groups as u64 * 16, &over.count, 0, over.max_count);
                         }
                     }
                 }
@@ -591,7 +593,7 @@ impl CullMethod for Hroc {
         }
         // 4. Occludee rendering.
         f.stage(Stage::OccludeeRendering);
-        f.encoder().clear_buffer(&self.drawn, 0, None);
+        f.encoder().counted_clear(&self.drawn, 0, None);
         // U's list instances the rounds' box passes when they draw it.
         let over = self.compact(f, &self.u_job, self.rounds.is_none().then_some(Counted::U));
         if let Some(r) = &self.rounds {
@@ -606,7 +608,7 @@ impl CullMethod for Hroc {
         let cover = if self.seed_mode == Seed::Cuts { cells } else { 1 };
         if self.variant.of {
             let (w, h) = f.size();
-            f.encoder().clear_buffer(&self.visible, 0, None);
+            f.encoder().counted_clear(&self.visible, 0, None);
             let s = self.filter_stride * FILTER_TILE;
             let x = w.div_ceil(s).div_ceil(16);
             let y = h.div_ceil(s).div_ceil(16).max(cover.div_ceil(x * 256));

@@ -2,6 +2,7 @@
 //! each round draws the list's objects whose box is nearest at some block
 //! and tests the rest again against the depth that left.
 
+use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape, RenderShape};
 use super::*;
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
@@ -68,18 +69,18 @@ impl Hroc {
         f.stage(stage);
         {
             let (enc, q) = f.counted();
-            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc rounds init"), timestamp_writes: None });
+            let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc rounds init"), timestamp_writes: None });
             q.around(&mut pass, |pass| {
                 pass.set_pipeline(&r.init);
                 pass.set_bind_group(0, &r.init_bind, &[]);
                 let (x, y) = dispatch_size(n, 256);
-                pass.dispatch_workgroups(x, y, 1);
+                pass.counted_dispatch(x, y, 1);
             });
         }
         let boxes = |f: &mut Frame, label: &str, view: &wgpu::TextureView, write: bool, pipeline: &wgpu::RenderPipeline, bind: &wgpu::BindGroup| {
             let (enc, q) = f.counted();
             let depth_ops = write.then_some(wgpu::Operations { load: wgpu::LoadOp::Load, store: wgpu::StoreOp::Store });
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = enc.counted_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some(label),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view, depth_ops, stencil_ops: None }),
@@ -90,7 +91,7 @@ impl Hroc {
             q.around(&mut pass, |pass| {
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, bind, &[]);
-                pass.draw_indirect(&r.box_args, 0);
+                pass.counted_draw_indirect(&r.box_args, 0);
             });
         };
         for k in 0..r.count - 1 {
@@ -168,7 +169,7 @@ impl Rounds {
                 // there); the front passes write a map of their own.
                 let mut entries: Vec<_> = buffers.iter().map(|&(binding, b)| wgpu::BindGroupEntry { binding, resource: b.as_entire_binding() }).collect();
                 entries.push(wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(occlusion_map) });
-                device.create_bind_group(&wgpu::BindGroupDescriptor { label: Some("hroc rounds"), layout, entries: &entries })
+                device.counted_bind_group(&wgpu::BindGroupDescriptor { label: Some("hroc rounds"), layout, entries: &entries })
             };
             if k == 0 {
                 init_bind = Some(bind(&init_layout, &front, &unused, true));
@@ -206,7 +207,7 @@ impl Rounds {
     /// Clears the marks of the last frame.
     pub(super) fn clear(&self, enc: &mut wgpu::CommandEncoder) {
         for b in [&self.front, &self.alive[0], &self.alive[1]] {
-            enc.clear_buffer(b, 0, None);
+            enc.counted_clear(b, 0, None);
         }
     }
 }

@@ -7,6 +7,7 @@
 //! estimate (at least 0), the GPU computes (`overflow.wgsl`): nothing is
 //! dropped, so culling stays exactly as conservative as NA.
 
+use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::cull::DrawList;
 use crate::cull::Frame;
 use crate::gpu::{dispatch_size, Gpu, Readback};
@@ -41,6 +42,13 @@ impl Counted {
         }
     }
 }
+
+/// Lists of at most this many commands are drawn to their capacity, with
+/// no estimate: an indirect-count draw stops at the GPU's count, and an
+/// overflow list's dispatch and second draw cost more than the slots a
+/// bound saves there (on lavapipe about 0.33 ms a frame at 100 objects,
+/// the SF of `hroc` against `hroc-of`, BENCHMARKS.md).
+pub const MIN_CAPACITY: u32 = 4096;
 
 /// Estimate = last known count × `MARGIN` + `SLACK`: a quarter more absorbs
 /// the frame-to-frame growth of a walk; the slack covers small sets.
@@ -85,7 +93,12 @@ impl StallFree {
     /// list), V's two occluder-round lists (`None` without occluder
     /// rounds: nothing is allocated, copied or read back for them), and the
     /// occludee rounds' front lists.
-    pub fn new(gpu: &Gpu, lists: &[Option<(&wgpu::Buffer, &wgpu::Buffer, u32, u32)>]) -> Self {
+    /// Lists of at most [`MIN_CAPACITY`] commands get no estimate; `None`
+    /// when no list is larger.
+    pub fn new(gpu: &Gpu, lists: &[Option<(&wgpu::Buffer, &wgpu::Buffer, u32, u32)>]) -> Option<Self> {
+        if lists.iter().flatten().all(|l| l.2 <= MIN_CAPACITY) {
+            return None;
+        }
         let layout = crate::reflect::Layout::Overflow.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "hroc overflow", &layout);
         let module = gpu.shader("overflow.wgsl", &crate::shaders::source("overflow.wgsl"));
@@ -93,7 +106,7 @@ impl StallFree {
         let jobs: Vec<Option<Job>> = lists
             .iter()
             .map(|l| {
-                let &(commands, count, capacity, stride) = l.as_ref()?;
+                let &(commands, count, capacity, stride) = l.as_ref().filter(|l| l.2 > MIN_CAPACITY)?;
                 let params = gpu.buffer("hroc overflow params", 16, U::UNIFORM | U::COPY_DST);
                 let list = DrawList {
                     // The groups' overflow is drawn from the groups buffer at an offset: no copy.
@@ -107,7 +120,7 @@ impl StallFree {
             .collect();
         let bytes = (lists.len() as u64 * 4).next_multiple_of(16);
         let ring = (0..RING).map(|_| (gpu.buffer("hroc counts staging", bytes, U::MAP_READ | U::COPY_DST), Readback::Free)).collect();
-        StallFree { pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]), jobs, ring, known: None, estimates: lists.iter().map(|l| l.map_or(0, |l| l.2)).collect() }
+        Some(StallFree { pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]), jobs, ring, known: None, estimates: lists.iter().map(|l| l.map_or(0, |l| l.2)).collect() })
     }
 
     /// Starts a frame: takes the counts that arrived (polling, never
@@ -163,7 +176,7 @@ impl StallFree {
         let Some(job) = self.jobs[spill.job].as_ref() else { return };
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &job.bind, &[]);
-        pass.dispatch_workgroups(spill.workgroups.0, spill.workgroups.1, 1);
+        pass.counted_dispatch(spill.workgroups.0, spill.workgroups.1, 1);
     }
 
     /// Ends a frame: copies the counts (in [`Counted::index`] order, `None`
@@ -171,8 +184,8 @@ impl StallFree {
     /// mapped once `enc` is submitted (skipped when all are in flight).
     pub fn end(&mut self, enc: &mut wgpu::CommandEncoder, counts: &[Option<&wgpu::Buffer>]) {
         if let Some((buf, slot)) = self.ring.iter_mut().find(|(_, s)| s.is_free()) {
-            for (k, c) in counts.iter().enumerate().filter_map(|(k, c)| Some((k, (*c)?))) {
-                enc.copy_buffer_to_buffer(c, 0, buf, k as u64 * 4, Some(4));
+            for (k, c) in counts.iter().enumerate().filter_map(|(k, c)| Some((k, (*c)?))).filter(|(k, _)| self.jobs.get(*k).is_some_and(Option::is_some)) {
+                enc.counted_copy(c, 0, buf, k as u64 * 4, Some(4));
             }
             *slot = Readback::request(enc, buf, ());
         }

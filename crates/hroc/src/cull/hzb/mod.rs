@@ -18,6 +18,7 @@
 
 pub mod cpu;
 
+use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
@@ -63,7 +64,7 @@ impl Pyramid {
         let binds = (0..mips.len() as u32)
             .map(|l| {
                 let step = gpu.buffer_init("hi-z step", bytemuck::cast_slice(&[l, reversed, 0, 0]), U::UNIFORM);
-                gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                gpu.device.counted_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("hi-z step"),
                     layout: &layout,
                     entries: &[
@@ -97,7 +98,7 @@ impl Pyramid {
     }
 
     fn record(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount, from_depth: bool) {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hi-z build"), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hi-z build"), timestamp_writes: None });
         count.around(&mut pass, |pass| self.record_levels(pass, from_depth));
     }
 
@@ -107,7 +108,7 @@ impl Pyramid {
             let m = self.mips[1.min(self.mips.len() - 1)];
             pass.set_pipeline(&self.from_depth);
             pass.set_bind_group(0, &self.binds[0], &[]);
-            pass.dispatch_workgroups(m.width.div_ceil(16), m.height.div_ceil(16), 1);
+            pass.counted_dispatch(m.width.div_ceil(16), m.height.div_ceil(16), 1);
             2
         } else {
             1
@@ -117,12 +118,12 @@ impl Pyramid {
                 // This level and all above it in one workgroup.
                 pass.set_pipeline(&self.reduce_tail);
                 pass.set_bind_group(0, &self.binds[l], &[]);
-                pass.dispatch_workgroups(1, 1, 1);
+                pass.counted_dispatch(1, 1, 1);
                 break;
             }
             pass.set_pipeline(&self.reduce);
             pass.set_bind_group(0, &self.binds[l], &[]);
-            pass.dispatch_workgroups(m.width.div_ceil(16), m.height.div_ceil(16), 1);
+            pass.counted_dispatch(m.width.div_ceil(16), m.height.div_ceil(16), 1);
         }
     }
 
@@ -131,7 +132,7 @@ impl Pyramid {
         pass.set_bind_group(0, &self.binds[0], &[]);
         for p in [&self.from_depth, &self.reduce, &self.reduce_tail] {
             pass.set_pipeline(p);
-            pass.dispatch_workgroups(0, 0, 0);
+            pass.counted_dispatch(0, 0, 0);
         }
     }
 
@@ -169,13 +170,13 @@ impl HizTest {
     }
 
     pub(crate) fn record(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount) {
-        enc.clear_buffer(&self.stats, 0, None);
+        enc.counted_clear(&self.stats, 0, None);
         let (x, y) = dispatch_size(self.n, 256);
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hi-z test"), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hi-z test"), timestamp_writes: None });
         count.around(&mut pass, |pass| {
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &self.bind, &[]);
-            pass.dispatch_workgroups(x, y, 1);
+            pass.counted_dispatch(x, y, 1);
         });
     }
 
@@ -183,7 +184,7 @@ impl HizTest {
     pub(crate) fn warm(&self, pass: &mut wgpu::ComputePass<'_>) {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &self.bind, &[]);
-        pass.dispatch_workgroups(0, 0, 0);
+        pass.counted_dispatch(0, 0, 0);
     }
 
     /// (tested, near-plane) of the last test.
@@ -239,7 +240,7 @@ impl CullMethod for Hzb {
     }
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
-        enc.clear_buffer(&self.visible, 0, None);
+        enc.counted_clear(&self.visible, 0, None);
     }
 
     fn visible_set(&self) -> Option<&wgpu::Buffer> {
@@ -247,7 +248,7 @@ impl CullMethod for Hzb {
     }
 
     fn warm(&self, enc: &mut wgpu::CommandEncoder) {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hzb warm"), timestamp_writes: None });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hzb warm"), timestamp_writes: None });
         self.pyramid.warm(&mut pass);
         self.test.warm(&mut pass);
         self.compactor.warm(&mut pass, &self.v_job);
@@ -257,7 +258,7 @@ impl CullMethod for Hzb {
         match visible {
             // Its early pass draws the set handed over, and its pyramid is
             // built from that depth: no frame drawing the whole frustum.
-            Some(v) => enc.copy_buffer_to_buffer(v, 0, &self.visible, 0, v.size().min(self.visible.size())),
+            Some(v) => enc.counted_copy(v, 0, &self.visible, 0, v.size().min(self.visible.size())),
             None => self.reset(enc),
         }
     }

@@ -20,6 +20,7 @@
 
 pub mod cpu;
 
+use crate::gpu::shape::{EncoderShape, PassShape};
 use super::roc::{BoxCount, BoxPass};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::compact::{CompactJob, Compactor};
@@ -197,7 +198,7 @@ impl CullMethod for Ioc {
     }
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
-        enc.clear_buffer(&self.visible, 0, None);
+        enc.counted_clear(&self.visible, 0, None);
     }
 
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
@@ -205,13 +206,13 @@ impl CullMethod for Ioc {
         f.stage(Stage::OcclusionMap);
         let (enc, q) = f.counted();
         self.compactor.record(enc, &q, &self.v_job);
-        enc.clear_buffer(&self.next, 0, None);
+        enc.counted_clear(&self.next, 0, None);
         f.draw(Phase::Occluders, &self.v_list, Some(&self.marks_next));
         // 2. Levels start..=bottom.
         f.stage(Stage::OcclusionTest);
         let enc = f.encoder();
         for b in [&self.marks, &self.fresh] {
-            enc.clear_buffer(b, 0, None);
+            enc.counted_clear(b, 0, None);
         }
         self.last = IocCounts::default();
         self.debug_queues.clear();
@@ -228,15 +229,15 @@ impl CullMethod for Ioc {
             let bottom = level >= self.bottom;
             let o = out_of(q);
             let (enc, pq) = f.counted();
-            enc.clear_buffer(&self.counts[o], 0, None);
+            enc.counted_clear(&self.counts[o], 0, None);
             {
                 let mut pass =
-                    enc.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some(if bottom { "ioc expand bottom" } else { "ioc expand" }), timestamp_writes: None });
+                    enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(if bottom { "ioc expand bottom" } else { "ioc expand" }), timestamp_writes: None });
                 let (x, y) = dispatch_size(count, 256);
                 pq.around(&mut pass, |pass| {
                     pass.set_pipeline(if bottom { &self.expand_bottom } else { &self.expand });
                     pass.set_bind_group(0, &self.expand_binds[q], &[]);
-                    pass.dispatch_workgroups(x, y, 1);
+                    pass.counted_dispatch(x, y, 1);
                 });
             }
             if bottom {
@@ -254,7 +255,7 @@ impl CullMethod for Ioc {
         let (enc, q) = f.counted();
         self.compactor.record(enc, &q, &self.u_job);
         f.draw(Phase::Occludees, &self.u_list, Some(&self.marks_next));
-        f.encoder().copy_buffer_to_buffer(&self.next, 0, &self.visible, 0, self.n as u64 * 4);
+        f.encoder().counted_copy(&self.next, 0, &self.visible, 0, self.n as u64 * 4);
         Ok(())
     }
 

@@ -28,6 +28,7 @@ pub mod chc;
 pub mod oq;
 pub mod soq;
 
+use crate::gpu::shape::{DeviceShape, EncoderShape, RenderShape};
 use glam::{Vec3, Vec4};
 use std::time::Instant;
 
@@ -208,7 +209,7 @@ impl QueryRenderer {
         let nodes = gpu.buffer_init("query bvh nodes", bytemuck::cast_slice(&bvh.nodes), U::STORAGE);
         let device = &gpu.device;
         let layout = crate::reflect::Layout::QueryBoxes.create(gpu);
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        let bind = device.counted_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("query boxes"),
             layout: &layout,
             entries: &[
@@ -331,7 +332,7 @@ impl QueryRenderer {
             // One pass per query set the queries fall in.
             let set = (self.recorded as usize + i) / SET_SIZE as usize;
             let (enc, count) = f.counted();
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            let mut pass = enc.counted_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("occlusion queries"),
                 color_attachments: &[],
                 depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view: &targets.depth_attachment, depth_ops: None, stencil_ops: None }),
@@ -345,7 +346,7 @@ impl QueryRenderer {
                 while i < self.query_ends.len() && (self.recorded as usize + i) / SET_SIZE as usize == set {
                     pass.begin_occlusion_query(((self.recorded as usize + i) % SET_SIZE as usize) as u32);
                     for &node in &self.query_boxes[start..self.query_ends[i]] {
-                        pass.draw(0..36, node..node + 1);
+                        pass.counted_draw(0..36, node..node + 1);
                     }
                     pass.end_occlusion_query();
                     start = self.query_ends[i];
@@ -375,10 +376,10 @@ impl QueryRenderer {
                 break;
             }
             let count = (n - first).min(SET_SIZE);
-            enc.resolve_query_set(set, 0..count, &self.resolve, first as u64 * wgpu::QUERY_SIZE as u64);
+            enc.counted_resolve(set, 0..count, &self.resolve, first as u64 * wgpu::QUERY_SIZE as u64);
         }
         let bytes = n as u64 * wgpu::QUERY_SIZE as u64;
-        enc.copy_buffer_to_buffer(&self.resolve, 0, &self.staging, 0, bytes);
+        enc.counted_copy(&self.resolve, 0, &self.staging, 0, bytes);
         let t = Instant::now();
         let data = f.map_read(&self.staging, bytes)?;
         self.stats.wait_ms += t.elapsed().as_secs_f64() * 1e3;
