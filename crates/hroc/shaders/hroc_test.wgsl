@@ -9,21 +9,23 @@
 // An object the host gave a box in its own frame (OrientedBounds) is marked
 // only where a ray also enters that box in front of the map: a leaf box
 // fragment then casts one ray, and the traversal clips its leaves' spans.
-// With TEST_SCALE > 1 the test runs on blocks of TEST_SCALE² pixels: boxes
-// are rasterized into a map holding each block's farthest depth (reduce_fs)
-// and padded for rays through block centres (block_pad_px in common.wgsl).
+// With TEST_SCALE > 1 (or a multisampled target) the test runs on blocks
+// of TEST_SCALE² pixels: boxes are rasterized against a map holding each
+// block's farthest depth (reduce_fs, drawn first in the test's own pass)
+// and padded for rays through block centres (block_pad_px in common.wgsl);
+// the rays take the same farthest depth from the host's (block_limit).
 
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read> nodes: array<BvhNode>;
 @group(0) @binding(2) var<storage, read_write> occludees: array<u32>; // U marks
 @group(0) @binding(3) var<storage, read_write> visited: array<u32>;
-@group(0) @binding(4) var occlusion_map: texture_2d<f32>;
+// The occlusion map: the host's depth, whose blocks' farthest depth the
+// rays and reduce_fs take.
+@group(0) @binding(4) var occlusion_map: HostDepth;
 // Per slot: rays cast, nodes visited (spread over slots against contention).
 @group(0) @binding(5) var<storage, read_write> ray_stats: array<atomic<u32>>;
 @group(0) @binding(6) var<storage, read> bounds: array<ObjectBounds>;
-// The host's depth, which reduce_fs reduces to the test's blocks.
-@group(0) @binding(7) var host_depth: HostDepth;
 @group(0) @binding(15) var<storage, read> oriented: array<OrientedBounds>;
 
 override TEST_SCALE: u32 = 1u;
@@ -39,18 +41,23 @@ fn reduce_vs(@builtin(vertex_index) v: u32) -> @builtin(position) vec4<f32> {
     return vec4<f32>(uv * 2.0 - 1.0, 0.0, 1.0);
 }
 
-// The occlusion map of the test's blocks: the farthest depth of each block
-// of TEST_SCALE × TEST_SCALE pixels (TEST_SCALE divides the target's size).
-@fragment
-fn reduce_fs(@builtin(position) p: vec4<f32>) -> @builtin(frag_depth) f32 {
-    let base = vec2<i32>(p.xy) * i32(TEST_SCALE);
+// The farthest standard depth of the block at `block` of TEST_SCALE ×
+// TEST_SCALE pixels (TEST_SCALE divides the target's size), every sample.
+fn block_limit(block: vec2<i32>) -> f32 {
+    let base = block * i32(TEST_SCALE);
     var farthest = 0.0;
     for (var y = 0; y < i32(TEST_SCALE); y++) {
         for (var x = 0; x < i32(TEST_SCALE); x++) {
-            farthest = max(farthest, farthest_host_depth(host_depth, base + vec2<i32>(x, y), frame.reversed));
+            farthest = max(farthest, farthest_host_depth(occlusion_map, base + vec2<i32>(x, y), frame.reversed));
         }
     }
-    return std_depth(frame, farthest);
+    return farthest;
+}
+
+// The occlusion map of the test's blocks, each block's farthest depth.
+@fragment
+fn reduce_fs(@builtin(position) p: vec4<f32>) -> @builtin(frag_depth) f32 {
+    return std_depth(frame, block_limit(vec2<i32>(p.xy)));
 }
 
 
@@ -115,7 +122,7 @@ fn block_ray(clip: vec2<f32>) -> BlockRay {
     r.inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
     r.c0 = frame.view_proj * vec4<f32>(r.origin, 1.0);
     r.c1 = frame.view_proj * vec4<f32>(dir, 0.0);
-    r.limit = std_depth(frame, textureLoad(occlusion_map, vec2<i32>(clip), 0).r) + DEPTH_SLACK;
+    r.limit = block_limit(vec2<i32>(clip)) + DEPTH_SLACK;
     return r;
 }
 
@@ -226,7 +233,7 @@ override MANUAL_DEPTH: bool = false;
 
 @fragment @early_depth_test(force)
 fn box_fs(in: BoxOut) {
-    if MANUAL_DEPTH && std_depth(frame, in.clip.z) > std_depth(frame, textureLoad(occlusion_map, vec2<i32>(in.clip.xy), 0).r) + 4e-6 {
+    if MANUAL_DEPTH && std_depth(frame, in.clip.z) > block_limit(vec2<i32>(in.clip.xy)) + 4e-6 {
         return;
     }
     if (in.node & LEAF_BIT) != 0u {

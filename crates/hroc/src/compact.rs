@@ -4,8 +4,8 @@
 //! Lists of at most one block (2,048 items) are packed by one workgroup in
 //! one dispatch; longer ones in three (block sums, their scan, scatter).
 
-use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::contract::DrawList;
+use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::gpu::{dispatch_size, Gpu, PassCount};
 use crate::layout::{CompactParams, DrawCommand};
 

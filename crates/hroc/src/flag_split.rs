@@ -1,9 +1,9 @@
 //! [`FlagSplit`]: per-object flags applied to the lists a method hands
 //! the host.
 
-use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::compact::Compactor;
 use crate::contract::DrawList;
+use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::gpu::{dispatch_size, Gpu, PassCount, Uploads};
 use crate::objects::SharedObjects;
 use crate::shaders;

@@ -18,7 +18,7 @@
 //!
 //! [`Marks::Ids`]: crate::Marks::Ids
 
-use crate::gpu::shape::{PassShape};
+use crate::gpu::shape::PassShape;
 use std::sync::{Arc, Mutex};
 
 use crate::gpu::Gpu;

@@ -3,7 +3,7 @@
 //! read-write, texture kind) and the stages whose entry points use it, so
 //! no layout is typed beside the shader it describes.
 
-use crate::gpu::shape::{DeviceShape};
+use crate::gpu::shape::DeviceShape;
 use std::collections::{BTreeMap, HashMap};
 use std::sync::{Arc, Mutex, OnceLock};
 

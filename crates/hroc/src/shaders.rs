@@ -4,8 +4,8 @@
 //! targets): naga's GLSL back end cannot load from a `texture_depth_2d`. `tests/shaders.rs` validates each with naga and checks the
 //! Rust mirrors in [`crate::layout`] against the WGSL structs.
 
-use crate::gpu::shape::{EncoderShape};
 use crate::frustum::DepthRange;
+use crate::gpu::shape::EncoderShape;
 use crate::gpu::Gpu;
 
 /// Every pass, by file name.
@@ -153,6 +153,20 @@ impl BoxTarget {
     /// The value of the WGSL override `MANUAL_DEPTH`.
     pub fn manual_depth(&self) -> f64 {
         self.0.is_some() as u32 as f64
+    }
+
+    /// Begins the box-test pass `label` against `depth`, attached with
+    /// `depth_ops` (the pass's first draw writes what it tests against).
+    pub fn begin_writing<'e>(&self, enc: &'e mut wgpu::CommandEncoder, label: &str, depth: wgpu::RenderPassDepthStencilAttachment<'_>) -> wgpu::RenderPass<'e> {
+        debug_assert!(self.0.is_none(), "a pass that writes depth has it attached");
+        enc.counted_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(depth),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
     }
 
     /// Begins the box-test pass `label` against `depth` (attached

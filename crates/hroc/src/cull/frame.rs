@@ -1,7 +1,6 @@
 //! [`Frame`]: what a method records into, and the context it is built
 //! from.
 
-use crate::gpu::shape::{EncoderShape, QueueShape};
 use super::*;
 use crate::bvh::Bvh;
 use crate::capabilities::DrawCount;
@@ -9,6 +8,7 @@ use crate::contract::{Draw, DrawHost, Phase, Targets};
 use crate::error::{Error, Result};
 use crate::flag_split::FlagSplit;
 use crate::frustum::ViewGeometry;
+use crate::gpu::shape::{EncoderShape, QueueShape};
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount, Submission, Uploads};
 use crate::id_marks::{IdMarks, MarkTarget};
 use crate::layout::FrameUniform;

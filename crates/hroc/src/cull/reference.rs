@@ -2,11 +2,11 @@
 //! a pixel in `noc`'s ID target; like the paper's REF the list is prepared
 //! before the frame (outside the timed region) and multi-drawn in one batch.
 
-use crate::gpu::shape::{QueueShape};
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
+use crate::gpu::shape::QueueShape;
 use crate::gpu::Gpu;
 use crate::layout::DrawCommand;
 

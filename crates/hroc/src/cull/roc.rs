@@ -29,12 +29,12 @@
 //! in front of (or on) the depth of V there, so the box fragment passes
 //! `LessEqual` with the bias.
 
-use crate::gpu::shape::{EncoderShape, PassShape, RenderShape};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
+use crate::gpu::shape::{EncoderShape, PassShape, RenderShape};
 use crate::gpu::{dispatch_size, Gpu};
 use crate::layout::DrawArgs;
 use crate::shaders::source as shader_source;

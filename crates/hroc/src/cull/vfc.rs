@@ -1,13 +1,13 @@
 //! `vfc`: GPU view-frustum culling, one thread per object box, then ordered
 //! compaction into a packed list.
 
-use crate::gpu::shape::{EncoderShape, PassShape};
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::dispatch_size;
+use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::shaders::source as shader_source;
 
 /// The `vfc` method: per-object frustum test, compacted into one list.

@@ -8,8 +8,8 @@ mod target_read;
 pub mod timer;
 mod uploads;
 
-use crate::gpu::shape::{DeviceShape, EncoderShape, QueueShape};
 use crate::error::{Error, Result};
+use crate::gpu::shape::{DeviceShape, EncoderShape, QueueShape};
 use wgpu::util::DeviceExt;
 
 pub use readback::{Readback, Submission};

@@ -6,7 +6,7 @@
 //! [`crate::Draw::record`]) brackets its commands with a [`PassCount`]
 //! handed out by the frame; the count goes to the stage the frame was in.
 
-use crate::gpu::shape::{EncoderShape};
+use crate::gpu::shape::EncoderShape;
 use std::ops::{Add, AddAssign};
 use std::sync::{Arc, Mutex};
 

@@ -3,9 +3,9 @@
 //! `DEPTH_TEXTURE_AND_BUFFER_COPIES`), and for multisampled targets, which
 //! no copy reads. For tests and the benchmark's checks.
 
-use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape, QueueShape};
 use super::Gpu;
 use crate::error::Result;
+use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape, QueueShape};
 
 /// The texels a read-back returns.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

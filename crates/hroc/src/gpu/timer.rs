@@ -1,8 +1,8 @@
 //! Per-stage GPU time from timestamp queries: a frame is a sequence of
 //! `mark(stage)` calls; a stage lasts from its mark to the next one.
 
-use crate::gpu::shape::{EncoderShape};
 use crate::error::{Error, Result};
+use crate::gpu::shape::EncoderShape;
 use crate::gpu::Gpu;
 use crate::metrics::Stage;
 

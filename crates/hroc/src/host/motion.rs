@@ -1,10 +1,10 @@
 //! How the BVH follows moving objects: refit on the CPU or the GPU, and
 //! the rebuild policy.
 
-use crate::gpu::shape::{EncoderShape, PassShape, QueueShape};
 use super::*;
 use crate::bvh::{Bvh, Split};
 use crate::error::{Error, Result};
+use crate::gpu::shape::{EncoderShape, PassShape, QueueShape};
 use crate::gpu::{dispatch_size, Gpu};
 use crate::shaders;
 

@@ -1,20 +1,18 @@
 //! The occlusion test on blocks of pixels: the blocks' occlusion map
 //! (each block's farthest depth, of every sample of its pixels) and the
-//! pass that reduces the host's depth to it.
+//! draw that reduces the host's depth to it.
 
-use crate::gpu::shape::{DeviceShape, EncoderShape, RenderShape};
 use super::*;
+use crate::gpu::shape::{DeviceShape, EncoderShape, RenderShape};
 use crate::gpu::{Gpu, PassCount};
 
 /// The occlusion map of the test's blocks (`reduce_fs` in `hroc_test.wgsl`),
-/// and, where the culler has early-Z marks but no read-only depth
-/// attachments (GL), a copy: the box tests are attached to the map and
-/// their rays load the copy, so no texture is attached and sampled in one
-/// pass.
+/// which the box tests are attached to. The rays take the same farthest
+/// depth from the host's (`block_limit`), so no pass samples the map, and
+/// the reduction is the test pass's first draw ([`Blocks::record_in`]).
 pub(super) struct Blocks {
     pub(super) scale: u32,
     pub(super) view: wgpu::TextureView,
-    pub(super) copy: Option<wgpu::TextureView>,
     pub(super) bind: wgpu::BindGroup,
     pub(super) reduce: wgpu::RenderPipeline,
 }
@@ -24,8 +22,8 @@ pub fn test_scale(wanted: u32, (w, h): (u32, u32)) -> u32 {
     (1..=wanted.max(1)).rev().find(|s| w % s == 0 && h % s == 0).unwrap_or(1)
 }
 
-/// Depth format of the blocks' occlusion map (and its copy: depth formats
-/// are renderable on every backend).
+/// Depth format of the blocks' occlusion map (depth formats are
+/// renderable on every backend).
 pub(super) const BLOCK_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 impl Blocks {
@@ -46,16 +44,14 @@ impl Blocks {
                 })
                 .create_view(&Default::default())
         };
-        let caps = cx.capabilities;
         let view = map("hroc test blocks", BLOCK_FORMAT);
-        let copy = (caps.marks == crate::Marks::EarlyZ && !caps.read_only_depth).then(|| map("hroc test blocks copy", BLOCK_FORMAT));
         let layout = crate::reflect::Layout::HrocReduce.create_for(gpu, cx.targets.samples);
         let bind = device.counted_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc reduce"),
             layout: &layout,
             entries: &[
                 wgpu::BindGroupEntry { binding: 0, resource: cx.frame.as_entire_binding() },
-                wgpu::BindGroupEntry { binding: 7, resource: wgpu::BindingResource::TextureView(&cx.targets.depth_sampled) },
+                wgpu::BindGroupEntry { binding: 4, resource: wgpu::BindingResource::TextureView(&cx.targets.depth_sampled) },
             ],
         });
         let pl = crate::reflect::pipeline_layout(gpu, "hroc reduce", &layout);
@@ -82,31 +78,38 @@ impl Blocks {
             multiview_mask: None,
             cache: None,
         });
-        Blocks { scale, view, copy, bind, reduce }
+        Blocks { scale, view, bind, reduce }
     }
 
     /// Reduces the host's depth (the occlusion map) to the blocks' farthest
-    /// depth, in the map and in its copy, if it has one.
+    /// depth, in a pass of its own.
     pub(super) fn reduce(&self, enc: &mut wgpu::CommandEncoder, count: &PassCount) {
-        for view in std::iter::once(&self.view).chain(&self.copy) {
-            let mut pass = enc.counted_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("hroc test blocks"),
-                color_attachments: &[],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view,
-                    // Every block is written; the clear only keeps the pass from loading.
-                    depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
-            count.around(&mut pass, |pass| {
-                pass.set_pipeline(&self.reduce);
-                pass.set_bind_group(0, &self.bind, &[]);
-                pass.counted_draw(0..3, 0..1);
-            });
+        let mut pass = enc.counted_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("hroc test blocks"),
+            color_attachments: &[],
+            depth_stencil_attachment: Some(self.attachment()),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        count.around(&mut pass, |pass| self.record_in(pass));
+    }
+
+    /// The map as a depth attachment that the reduction writes whole (the
+    /// clear only keeps the pass from loading).
+    pub(super) fn attachment(&self) -> wgpu::RenderPassDepthStencilAttachment<'_> {
+        wgpu::RenderPassDepthStencilAttachment {
+            view: &self.view,
+            depth_ops: Some(wgpu::Operations { load: wgpu::LoadOp::Clear(0.0), store: wgpu::StoreOp::Store }),
+            stencil_ops: None,
         }
+    }
+
+    /// Draws the reduction into an open pass attached to the map (its
+    /// pipeline writes every block, whatever the depth before).
+    pub(super) fn record_in(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_pipeline(&self.reduce);
+        pass.set_bind_group(0, &self.bind, &[]);
+        pass.counted_draw(0..3, 0..1);
     }
 }

@@ -35,8 +35,8 @@
 //! one occludee round): `hroc compact` (V, and with SF its overflow) → the
 //! host draws V → `hroc groups` (the refill's rays, the walk, the objects
 //! alone, the collection, with SF G's overflow) → the host draws the
-//! refill → `hroc test blocks` (with a test scale above 1) and `hroc
-//! occlusion test` → `hroc compact` (U) → the host draws U → `hroc
+//! refill → `hroc occlusion test` (with blocks, its first draw reduces the
+//! host's depth to them) → `hroc compact` (U) → the host draws U → `hroc
 //! occluder filtering` (or `hroc next occluders`), whose threads also
 //! record the cells the depth covers and reset step 2's counts and launch,
 //! so no clear or copy prepares the next frame's walk.
@@ -47,8 +47,8 @@ mod debug;
 mod rounds;
 pub mod stall_free;
 
-pub use blocks::test_scale;
 use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape, RenderShape};
+pub use blocks::test_scale;
 use blocks::{Blocks, BLOCK_FORMAT};
 pub use debug::{DebugState, SetSizes};
 use rounds::{Rounds, RoundsOf};
@@ -63,7 +63,7 @@ use crate::gpu::{dispatch_size, Gpu};
 use crate::id_marks::MarkTarget;
 use crate::reflect::Layout;
 use crate::shaders::source_for as shader_source_for;
-use crate::shaders::BoxTarget;
+use crate::shaders::{BoxDepth, BoxTarget};
 use stall_free::{Counted, Spill, StallFree};
 
 /// The deepest BVH HROC walks: its traversal stacks hold depth + 2
@@ -269,14 +269,13 @@ impl Hroc {
             &[cover[0], cover[1], cover[2], ("FILTER_STRIDE", filter_stride as f64), ("FILTER_TILE", FILTER_TILE as f64)],
         );
 
-        let test_layout = Layout::HrocTest.create(gpu);
+        let test_layout = Layout::HrocTest.create_for(gpu, samples);
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source_for("hroc_test.wgsl", samples));
         // Multisampled depth is reduced to blocks (of one pixel at least):
-        // the rays and the test then read a pixel's farthest sample.
+        // the boxes are tested against the blocks' map, and the rays take
+        // each block's farthest sample from the host's depth, which they load.
         let blocks = (scale > 1 || samples > 1).then(|| Blocks::new(gpu, cx, &test_module, scale));
-        // The depth the rays load: the host's, or the blocks' map (its copy
-        // where the test cannot sample what it is attached to).
-        let occlusion_map = blocks.as_ref().map_or(&cx.targets.depth_sampled, |b| b.copy.as_ref().unwrap_or(&b.view));
+        let occlusion_map = &cx.targets.depth_sampled;
         let test_bind = device.counted_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("hroc test"),
             layout: &test_layout,
@@ -299,10 +298,10 @@ impl Hroc {
         };
         // Without early-Z marks, the test binds no depth and compares each
         // fragment itself; so too where its rays sample the depth it would
-        // attach and attachments cannot be read-only.
+        // attach (the host's, without blocks) and attachments cannot be
+        // read-only.
         let (w, h) = cx.targets.size;
-        let test_target =
-            BoxTarget::new(gpu, cx.capabilities, blocks.as_ref().is_none_or(|b| b.copy.is_none()), if blocks.is_some() { ((w / scale, h / scale), 1) } else { ((w, h), samples) });
+        let test_target = BoxTarget::new(gpu, cx.capabilities, blocks.is_none(), if blocks.is_some() { ((w / scale, h / scale), 1) } else { ((w, h), samples) });
         let constants = [("TEST_SCALE", scale as f64), ("MANUAL_DEPTH", test_target.manual_depth())];
         // With an emulated draw count, the groups are one instanced draw of
         // `group_args` (36 vertices, |G| instances copied in each frame).
@@ -569,14 +568,17 @@ impl CullMethod for Hroc {
         f.stage(Stage::OcclusionTest);
         if max_groups > 0 || over.is_some() {
             let targets = f.targets;
-            if let Some(b) = &self.blocks {
-                let (enc, q) = f.counted();
-                b.reduce(enc, &q);
-            }
-            let depth_view = self.blocks.as_ref().map_or(&targets.depth_attachment, |b| &b.view);
+            // With blocks attached, the pass first reduces the host's depth to them.
+            let reduce = self.blocks.as_ref().filter(|_| self.test_target.mode() == BoxDepth::Test);
             let (enc, q) = f.counted();
-            let mut pass = self.test_target.begin(enc, "hroc occlusion test", depth_view);
+            let mut pass = match reduce {
+                Some(b) => self.test_target.begin_writing(enc, "hroc occlusion test", b.attachment()),
+                None => self.test_target.begin(enc, "hroc occlusion test", self.blocks.as_ref().map_or(&targets.depth_attachment, |b| &b.view)),
+            };
             q.around(&mut pass, |pass| {
+                if let Some(b) = reduce {
+                    b.record_in(pass);
+                }
                 pass.set_pipeline(&self.boxes);
                 pass.set_bind_group(0, &self.test_bind, &[]);
                 match &self.group_args {

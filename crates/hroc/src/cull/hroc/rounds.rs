@@ -2,12 +2,12 @@
 //! each round draws the list's objects whose box is nearest at some block
 //! and tests the rest again against the depth that left.
 
-use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape, RenderShape};
 use super::*;
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
+use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape, RenderShape};
 use crate::gpu::{dispatch_size, Gpu};
 use stall_free::Counted;
 
@@ -154,8 +154,8 @@ impl Rounds {
         let (front, alive) = (flags("hroc front marks"), [flags("hroc round candidates"), flags("hroc round candidates")]);
         let unused = gpu.buffer("hroc unused", 4, U::STORAGE);
         let box_args = gpu.buffer_init("hroc round boxes", bytemuck::cast_slice(&[0u32, 1, 0, 0]), U::INDIRECT | U::STORAGE);
-        let layout = crate::reflect::Layout::HrocRounds.create(gpu);
-        let init_layout = crate::reflect::Layout::HrocRoundsInit.create(gpu);
+        let layout = crate::reflect::Layout::HrocRounds.create_for(gpu, cx.targets.samples);
+        let init_layout = crate::reflect::Layout::HrocRoundsInit.create_for(gpu, cx.targets.samples);
         let candidates = |k: u32| if k == 0 { list_marks } else { &alive[(k as usize - 1) % 2] };
         let (mut front_binds, mut late_binds, mut init_bind) = (Vec::new(), Vec::new(), None);
         for k in 0..count {

@@ -7,9 +7,9 @@
 //! estimate (at least 0), the GPU computes (`overflow.wgsl`): nothing is
 //! dropped, so culling stays exactly as conservative as NA.
 
-use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::cull::DrawList;
 use crate::cull::Frame;
+use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::gpu::{dispatch_size, Gpu, Readback};
 
 /// The counted lists of an HROC frame.
@@ -120,7 +120,13 @@ impl StallFree {
             .collect();
         let bytes = (lists.len() as u64 * 4).next_multiple_of(16);
         let ring = (0..RING).map(|_| (gpu.buffer("hroc counts staging", bytes, U::MAP_READ | U::COPY_DST), Readback::Free)).collect();
-        Some(StallFree { pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]), jobs, ring, known: None, estimates: lists.iter().map(|l| l.map_or(0, |l| l.2)).collect() })
+        Some(StallFree {
+            pipeline: gpu.compute_pipeline(&module, "overflow", Some(&pl), &[]),
+            jobs,
+            ring,
+            known: None,
+            estimates: lists.iter().map(|l| l.map_or(0, |l| l.2)).collect(),
+        })
     }
 
     /// Starts a frame: takes the counts that arrived (polling, never

@@ -18,12 +18,12 @@
 
 pub mod cpu;
 
-use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
+use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape};
 use crate::gpu::{dispatch_size, Gpu, PassCount};
 use crate::shaders::source as shader_source;
 pub use cpu::Mip;

@@ -20,13 +20,13 @@
 
 pub mod cpu;
 
-use crate::gpu::shape::{EncoderShape, PassShape};
 use super::roc::{BoxCount, BoxPass};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
+use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::gpu::{dispatch_size, Gpu};
 use crate::shaders::source as shader_source;
 
