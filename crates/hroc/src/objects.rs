@@ -79,6 +79,9 @@ pub(crate) struct SharedObjects {
     /// `OrientedBounds` per slot (`valid` 0 where the host gave none).
     pub oriented: wgpu::Buffer,
     pub commands: wgpu::Buffer,
+    /// Bumped by every upload of `commands`: lists packed from them
+    /// before are stale.
+    pub commands_version: u64,
     pub all_count: wgpu::Buffer,
     pub flags: Vec<ObjectFlags>,
     pub cpu_commands: Vec<DrawCommand>,
@@ -155,6 +158,7 @@ pub(crate) fn allocate(gpu: &Gpu, slots: u32, commands: &[DrawCommand], flags: V
         bounds: gpu.buffer("hroc object boxes", n * 32, U::STORAGE | U::COPY_DST | U::COPY_SRC),
         oriented: gpu.buffer("hroc oriented boxes", n * ORIENTED_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC),
         commands: gpu.buffer_init("hroc commands", bytemuck::cast_slice(commands), U::STORAGE | U::INDIRECT | U::COPY_SRC | U::COPY_DST),
+        commands_version: 0,
         all_count: gpu.buffer_init("hroc all count", bytemuck::bytes_of(&slots), U::STORAGE | U::INDIRECT | U::COPY_SRC),
         flags,
         cpu_commands: commands.to_vec(),

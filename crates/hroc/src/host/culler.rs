@@ -422,6 +422,7 @@ impl Culler {
     }
 
     pub(super) fn upload_commands(&mut self) {
+        self.objects.commands_version += 1;
         self.gpu.queue.write_buffer(&self.objects.commands, 0, bytemuck::cast_slice(&self.objects.cpu_commands));
     }
 

@@ -38,7 +38,7 @@ impl Hroc {
         let sum = |b: &wgpu::Buffer| -> Result<u32> { Ok(gpu.read::<u32>(b, 0, self.n as u64)?.iter().filter(|&&x| x != 0).count() as u32) };
         let stats: Vec<u32> = gpu.read(&self.ray_stats, 0, STAT_SLOTS * 2)?;
         Ok(SetSizes {
-            v: gpu.read::<u32>(&self.v_list.count, 0, 1)?[0],
+            v: gpu.read::<u32>(&self.v_drawn.count, 0, 1)?[0],
             o: sum(&self.occluders)?,
             g: gpu.read::<u32>(&self.group_count, 0, 1)?[0],
             u: sum(&self.occludees)?,
@@ -91,7 +91,7 @@ impl Hroc {
 
     /// This frame's packed occluder list V (drawing it alone rebuilds the occlusion map).
     pub fn occluder_list(&self) -> &DrawList {
-        &self.v_list
+        &self.v_drawn
     }
 
     /// This frame's refill of V's holes (empty on seeded frames): the

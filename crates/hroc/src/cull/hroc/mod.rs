@@ -39,7 +39,10 @@
 //! host's depth to them) → `hroc compact` (U) → the host draws U → `hroc
 //! occluder filtering` (or `hroc next occluders`), whose threads also
 //! record the cells the depth covers and reset step 2's counts and launch,
-//! so no clear or copy prepares the next frame's walk.
+//! so no clear or copy prepares the next frame's walk, and which packs the
+//! next frame's V (so the frame opens with the host's draw of V; not after
+//! a cut, a change of the objects' commands, nor where V's list has a
+//! stall-free estimate or occluder rounds).
 
 mod blocks;
 pub mod cpu;
@@ -108,7 +111,18 @@ pub struct Hroc {
     /// Step 2 ran and step 5 has not yet reset its counts.
     walk_open: bool,
     ray_stats: wgpu::Buffer,
+    /// This frame's packed V (with a spare, the next frame's once step 5
+    /// packed it).
     v_list: DrawList,
+    /// The list V was drawn from in the last frame (debugging).
+    v_drawn: DrawList,
+    /// Where step 5 packs the next frame's V, in its own pass, then swapped
+    /// with `v_list` and `v_job`: where V's list has no stall-free estimate
+    /// and no occluder rounds are bound to it.
+    spare_v: Option<(DrawList, CompactJob)>,
+    /// `v_list` was packed at the end of the last frame, from the commands
+    /// of this version ([`crate::objects::SharedObjects::commands_version`]).
+    v_packed: Option<u64>,
     u_list: DrawList,
     groups: wgpu::Buffer,
     compactor: Compactor,
@@ -331,6 +345,8 @@ impl Hroc {
             StallFree::new(gpu, &lists)
         });
         let sf = sf.flatten();
+        let spare_v =
+            (occluder_rounds.is_none() && sf.as_ref().is_none_or(|sf| sf.estimate(Counted::V).is_none())).then(|| compactor.packed_list(gpu, "hroc V list", &visible, cx.commands));
         Ok(Hroc {
             variant,
             n,
@@ -360,7 +376,10 @@ impl Hroc {
             visited,
             group_count,
             ray_stats,
+            v_drawn: v_list.clone(),
             v_list,
+            spare_v,
+            v_packed: None,
             u_list,
             groups,
             compactor,
@@ -388,18 +407,23 @@ impl Hroc {
         let (enc, q) = f.counted();
         let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
-            for (step, launch) in steps {
-                pass.set_pipeline(&step.pipeline);
-                pass.set_bind_group(0, &step.bind, &[]);
-                match *launch {
-                    Launch::Grid(x, y) => pass.counted_dispatch(x, y, 1),
-                    Launch::Indirect(args, offset) => pass.counted_dispatch_indirect(args, offset),
-                }
-            }
+            Self::record_steps(pass, steps);
             if let (Some(sf), Some(spill)) = (&self.sf, spill) {
                 sf.record(pass, spill);
             }
         });
+    }
+
+    /// Records `steps` in order into an open compute pass.
+    fn record_steps(pass: &mut wgpu::ComputePass<'_>, steps: &[(&Step, Launch)]) {
+        for (step, launch) in steps {
+            pass.set_pipeline(&step.pipeline);
+            pass.set_bind_group(0, &step.bind, &[]);
+            match *launch {
+                Launch::Grid(x, y) => pass.counted_dispatch(x, y, 1),
+                Launch::Indirect(args, offset) => pass.counted_dispatch_indirect(args, offset),
+            }
+        }
     }
 
     /// Compacts `job`'s list and, with SF, fills the overflow of `which`
@@ -468,6 +492,7 @@ impl CullMethod for Hroc {
         enc.counted_clear(&self.visible, 0, None);
         self.reset_walk(enc);
         self.seed_next = true;
+        self.v_packed = None;
     }
 
     fn visible_set(&self) -> Option<&wgpu::Buffer> {
@@ -481,6 +506,7 @@ impl CullMethod for Hroc {
             Some(v) => {
                 enc.counted_copy(v, 0, &self.visible, 0, v.size().min(self.visible.size()));
                 self.seed_next = false;
+                self.v_packed = None;
             }
             None => self.reset(enc),
         }
@@ -512,13 +538,17 @@ impl CullMethod for Hroc {
             let bytes = sf.begin(f.gpu);
             f.count_async_read(bytes);
         }
-        // V's list instances the rounds' box passes when they draw it.
-        let over = self.compact(f, &self.v_job, self.occluder_rounds.is_none().then_some(Counted::V));
+        // V's list (which instances the rounds' box passes when they draw
+        // it), unless step 5 packed it from the same flags and commands.
+        let packed = self.v_packed.take() == Some(f.objects.commands_version) && !self.seeded;
+        let over = if packed { None } else { self.compact(f, &self.v_job, self.occluder_rounds.is_none().then_some(Counted::V)) };
         if let Some(r) = &self.occluder_rounds {
+            self.v_drawn = self.v_list.clone();
             r.clear(f.encoder());
             self.rounds(f, r, RoundsOf::Occluders)?;
         } else {
             self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
+            self.v_drawn = self.v_list.clone();
             self.draw_list(f, Phase::Occluders, &self.v_list, over, Some(&self.marks_o));
         }
         // 1b and 2, one pass: where V left the map empty, the ray grid's
@@ -608,22 +638,36 @@ impl CullMethod for Hroc {
         // depth covers (for the refill) and reset step 2's counts.
         f.stage(Stage::Filtering);
         let cover = if self.seed_mode == Seed::Cuts { cells } else { 1 };
-        if self.variant.of {
+        // With a spare list, the same pass packs the next frame's V.
+        let (step, label, launch) = if self.variant.of {
             let (w, h) = f.size();
             f.encoder().counted_clear(&self.visible, 0, None);
             let s = self.filter_stride * FILTER_TILE;
             let x = w.div_ceil(s).div_ceil(16);
-            let y = h.div_ceil(s).div_ceil(16).max(cover.div_ceil(x * 256));
-            self.compute(f, "hroc occluder filtering", &[(&self.filter, Launch::Grid(x, y))], None);
+            (&self.filter, "hroc occluder filtering", Launch::Grid(x, h.div_ceil(s).div_ceil(16).max(cover.div_ceil(x * 256))))
         } else {
             let (x, y) = dispatch_size(n.max(cover), 256);
-            self.compute(f, "hroc next occluders", &[(&self.merge, Launch::Grid(x, y))], None);
+            (&self.merge, "hroc next occluders", Launch::Grid(x, y))
+        };
+        let (enc, q) = f.counted();
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
+        q.around(&mut pass, |pass| {
+            Self::record_steps(pass, &[(step, launch)]);
+            if let Some((_, job)) = &self.spare_v {
+                self.compactor.record_in(pass, job);
+            }
+        });
+        drop(pass);
+        if let Some(spare) = self.spare_v.as_mut() {
+            std::mem::swap(&mut self.v_list, &mut spare.0);
+            std::mem::swap(&mut self.v_job, &mut spare.1);
+            self.v_packed = Some(f.objects.commands_version);
         }
         self.walk_open = false;
         if let Some(sf) = self.sf.as_mut() {
             let last = self.rounds.as_ref().map_or(&self.u_list, |r| &r.last.0);
             let v_rounds = self.occluder_rounds.as_ref().map(|r| (&r.fronts[0].0.count, &r.last.0.count));
-            let mut counts = vec![Some(&self.v_list.count), Some(&self.group_count), Some(&last.count), v_rounds.map(|v| v.0), v_rounds.map(|v| v.1)];
+            let mut counts = vec![Some(&self.v_drawn.count), Some(&self.group_count), Some(&last.count), v_rounds.map(|v| v.0), v_rounds.map(|v| v.1)];
             counts.extend(self.rounds.iter().flat_map(|r| r.fronts.iter().map(|(l, _)| Some(&l.count))));
             sf.end(f.encoder, &counts);
         }
