@@ -228,6 +228,24 @@ fn main() {
     // (0.91-0.99 before): the target is the limit.
     g.check_median("radial-city 16000: hroc ms / hzb ms", over_hzb(Method::HROC), Limit::AtMost(0.9), cmd);
     g.check_median("radial-city 16000: auto ms / hzb ms", over_hzb(Method::Auto), Limit::AtMost(0.95), cmd);
+    // HROC's frame against hzb's where rasterizing costs little (radial-city's
+    // own path at 64x36, 120 frames, medians of repeated runs), and its
+    // shape, which does not depend on the machine's noise. The targets
+    // (hroc at most 1.0 x hzb at 100 objects, 0.9 x at 1,000) do not hold
+    // on lavapipe yet (1.56-1.63 and 1.20-1.22 measured, from 1.86-1.94 and
+    // 1.38-1.56 before the frame was cut): these limits keep what was cut.
+    for (objects, limit) in [(100, 1.75), (1000, 1.35)] {
+        let cmd = format!("hroc bench --objects {objects} --resolution 64x36 --frames 120 --methods hzb,hroc");
+        let runs: Vec<BenchReport> =
+            (0..repeats(quick)).map(|_| run(&gpu, &BenchOptions { frames: 120, resolution: (64, 36), ..options("radial-city", Some(objects), "hzb,hroc") })).collect();
+        g.conservative_over(&format!("radial-city {objects}, 64x36"), &runs.iter().collect::<Vec<_>>(), &cmd);
+        let ratio = runs.iter().map(|r| hroc(r).ms_mean / row(r, Method::Hzb).ms_mean).collect();
+        g.check_median(&format!("radial-city {objects}, 64x36: hroc ms / hzb ms"), ratio, Limit::AtMost(limit), &cmd);
+        // Passes per frame: compute passes and the culler's own render
+        // passes (a frame after a cut adds HROC's seed: 2 in 120 here).
+        let passes = |m: Method| [hroc::Stat::ComputePasses, hroc::Stat::RenderPasses].iter().map(|s| row(&runs[0], m).stats.get(s).copied().unwrap_or(f64::NAN)).sum::<f64>();
+        g.check(&format!("radial-city {objects}, 64x36: hroc passes - hzb passes"), passes(Method::HROC) - passes(Method::Hzb), Limit::AtMost(0.05), &cmd);
+    }
     let cmd = "hroc bench --scene houses --objects 11000 --fps 24 --methods hzb,hroc";
     let r = run(&gpu, &BenchOptions { fps: Some(24.0), ..options("houses", Some(11000), "hzb,hroc") });
     g.conservative("houses", &r, cmd);

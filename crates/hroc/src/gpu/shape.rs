@@ -3,10 +3,10 @@
 //! the device, its submits and map requests. They repeat from run to run,
 //! so they compare methods where times are noisy, and serve as budgets.
 //!
-//! The culler records through the counted calls of [`EncoderShape`],
-//! [`PassShape`] and [`RenderShape`]; each adds to the recording thread's
-//! tally, and a view takes the difference around its frame
-//! ([`crate::FrameStats::shape`]).
+//! The culler records through counted calls (`EncoderShape`,
+//! `PassShape`, `RenderShape`, `DeviceShape`, `QueueShape`); each adds to
+//! the recording thread's tally, and a view takes the difference around
+//! its frame ([`crate::FrameStats::shape`]).
 
 use std::cell::Cell;
 use std::ops::{Range, Sub};
