@@ -148,28 +148,21 @@ fn main() -> hroc_bench::Result<()> {
             (b, g)
         })
         .collect();
-    println!(
-        "independent dispatch         {:.4}",
-        cost(&|e| {
-            let mut p = e.begin_compute_pass(&Default::default());
-            p.set_pipeline(&pipeline);
-            for (_, g) in &bufs {
-                p.set_bind_group(0, g, &[]);
-                p.dispatch_workgroups(1, 1, 1);
+    // Eight dispatches in one pass, each on a buffer of its own: workgroups
+    // from the CPU (one each), or from a buffer (none).
+    let over_bufs = |e: &mut wgpu::CommandEncoder, indirect: bool| {
+        let mut p = e.begin_compute_pass(&Default::default());
+        p.set_pipeline(&pipeline);
+        for (_, g) in &bufs {
+            p.set_bind_group(0, g, &[]);
+            match indirect {
+                false => p.dispatch_workgroups(1, 1, 1),
+                true => p.dispatch_workgroups_indirect(&zero, 0),
             }
-        }) / 8.0
-    );
-    println!(
-        "indirect dispatch of 0       {:.4}",
-        cost(&|e| {
-            let mut p = e.begin_compute_pass(&Default::default());
-            p.set_pipeline(&pipeline);
-            for (_, g) in &bufs {
-                p.set_bind_group(0, g, &[]);
-                p.dispatch_workgroups_indirect(&zero, 0);
-            }
-        }) / 8.0
-    );
+        }
+    };
+    println!("independent dispatch         {:.4}", cost(&|e| over_bufs(e, false)) / 8.0);
+    println!("indirect dispatch of 0       {:.4}", cost(&|e| over_bufs(e, true)) / 8.0);
     println!("render pass, empty           {:.4}", cost(&|e| render_pass(e, false)));
     println!("render pass, count draw of 0 {:.4}", cost(&|e| render_pass(e, true)));
     println!("clear_buffer (256 B)         {:.4}", cost(&|e| e.clear_buffer(&data, 0, None)));
