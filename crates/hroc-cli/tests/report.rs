@@ -115,6 +115,7 @@ fn report_is_complete_and_renders_in_chromium() {
         "Culling efficiency",
         "Frame time along the path",
         "per-stage GPU time",
+        "The frame's shape",
         "Overdraw",
         "Scale sweep",
         "High resolution",

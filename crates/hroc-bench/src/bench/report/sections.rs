@@ -243,7 +243,40 @@ fn breakdown(doc: &mut Doc, d: &ReportData, plots: &Path) -> Result<()> {
     doc.images(imgs);
     doc.table(t);
     invocations(doc, d);
+    shape(doc, d);
     Ok(())
+}
+
+/// The frame's shape of every method (`FrameShape`): what the culler
+/// records per frame, counts that repeat from run to run.
+fn shape(doc: &mut Doc, d: &ReportData) {
+    let rows = |s: &SceneResult| s.main.rows.iter().filter(|r| r.stats.contains_key(&Stat::ComputePasses)).cloned().collect::<Vec<MethodRow>>();
+    if d.scenes.iter().all(|s| rows(s).is_empty()) {
+        return;
+    }
+    doc.heading("The frame's shape");
+    doc.para("Per frame, mean over the run: the compute and render passes the culler opens, its dispatches (indirect in brackets), its own draw calls, the lists it hands the host (one host draw each), buffer clears and copies, buffers mapped for reading, and the CPU ms of recording the frame (`View::cull`, the host's draw callbacks included). Passes, dispatches and clears cost a GPU whatever they hold.");
+    let mut t = Table::new(&["scene", "method", "compute passes", "render passes", "dispatches", "own draws", "lists", "clears", "copies", "maps", "record ms"]);
+    for s in &d.scenes {
+        for r in rows(s) {
+            let g = |k: Stat| r.stats.get(&k).copied().unwrap_or(0.0);
+            let n = |k: Stat| format!("{:.1}", g(k));
+            t.row(vec![
+                s.spec.clone(),
+                r.method.to_string(),
+                n(Stat::ComputePasses),
+                n(Stat::RenderPasses),
+                format!("{:.1} ({:.1})", g(Stat::Dispatches), g(Stat::IndirectDispatches)),
+                n(Stat::OwnDraws),
+                n(Stat::Lists),
+                n(Stat::Clears),
+                n(Stat::Copies),
+                n(Stat::Maps),
+                format!("{:.3}", g(Stat::RecordMs)),
+            ]);
+        }
+    }
+    doc.table(t);
 }
 
 /// Shader invocations per frame of every method and stage (pipeline
