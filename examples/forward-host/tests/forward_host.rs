@@ -42,7 +42,7 @@ fn culls_conservatively(backends: wgpu::Backends, capabilities: Option<Capabilit
     let aspect = SIZE.0 as f32 / SIZE.1 as f32;
     for depth in [DepthRange::Standard, DepthRange::Reversed] {
         let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth, capabilities).unwrap();
-        for method in [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant::NA), Method::Hroc(hroc::Variant::SF_OF)] {
+        for method in [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant::NA), Method::Hroc(hroc::Variant::OF)] {
             let mut host = ForwardHost::new(&device, &queue, &demo.scene, SIZE, method, depth, capabilities).unwrap();
             if let Some(caps) = capabilities {
                 assert_eq!(host.capabilities(), caps);
