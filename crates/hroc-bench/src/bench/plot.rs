@@ -527,8 +527,11 @@ mod tests {
     #[test]
     fn non_finite_and_log_domain_points_are_skipped() {
         let s = vec![series("a", vec![(f64::NAN, 1.0), (1.0, f64::INFINITY), (2.0, 3.0), (3.0, -1.0), (4.0, 5.0)])];
-        line_plot(&plot(&s), (400, 300)).unwrap();
-        line_plot(&LinePlot { log_y: true, ..plot(&s) }, (400, 300)).unwrap();
+        // The finite points (on a log axis, the positive ones) are drawn.
+        for f in [line_plot(&plot(&s), (400, 300)).unwrap(), line_plot(&LinePlot { log_y: true, ..plot(&s) }, (400, 300)).unwrap()] {
+            assert!(has_color(&decode(&f), color(0)), "the series is not drawn");
+            check_svg(&f, &["<text"]);
+        }
     }
 
     #[test]
@@ -570,10 +573,14 @@ mod tests {
         // Many long names (vertical labels), one category, all zero.
         let c: Vec<String> = (0..12).map(|i| format!("a rather long category {i}")).collect();
         let l = vec![("x".to_string(), (0..12).map(|i| i as f64).collect())];
-        stacked_bars(&StackedBars { title: "t", y_label: "ms", categories: &c, layers: &l }, (640, 400)).unwrap();
+        let f = stacked_bars(&StackedBars { title: "t", y_label: "ms", categories: &c, layers: &l }, (640, 400)).unwrap();
+        assert!(has_color(&decode(&f), color(0)), "no bar drawn");
+        check_svg(&f, &["a rather long category 0", "a rather long category 11"]);
         let one = vec!["only".to_string()];
-        let l = vec![("x".to_string(), vec![0.0]), ("y".to_string(), vec![f64::NAN])];
-        stacked_bars(&StackedBars { title: "t", y_label: "ms", categories: &one, layers: &l }, (300, 200)).unwrap();
+        let l = vec![("zero layer".to_string(), vec![0.0]), ("nan layer".to_string(), vec![f64::NAN])];
+        let f = stacked_bars(&StackedBars { title: "t", y_label: "ms", categories: &one, layers: &l }, (300, 200)).unwrap();
+        assert_eq!(decode(&f).dimensions(), (300, 200));
+        check_svg(&f, &["only", "zero layer", "nan layer"]);
     }
 
     #[test]
