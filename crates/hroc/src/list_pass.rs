@@ -19,13 +19,12 @@ const LIST_THREADS: u32 = 4096;
 
 /// One pass over a list's commands: binding 0 the commands, 1 the GPU
 /// count, 2 a uniform `(max_count, 0, 0, 0)` written in the encoder before
-/// each dispatch, 3 the pass's own buffer (if any).
+/// each dispatch.
 pub(crate) struct ListPass {
     which: Layout,
     pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     params: wgpu::Buffer,
-    own: Option<wgpu::Buffer>,
     /// Per (commands, count): the bindings; lists are mostly the same
     /// buffers every frame.
     binds: HashMap<(wgpu::Buffer, wgpu::Buffer), wgpu::BindGroup>,
@@ -33,12 +32,12 @@ pub(crate) struct ListPass {
 
 impl ListPass {
     /// The pass `entry` of `pass` (WGSL workgroups of 64), bound by `which`.
-    pub(crate) fn new(gpu: &Gpu, which: Layout, pass: &str, entry: &str, own: Option<wgpu::Buffer>) -> Self {
+    pub(crate) fn new(gpu: &Gpu, which: Layout, pass: &str, entry: &str) -> Self {
         let module = gpu.shader(pass, &crate::shaders::source(pass));
         let layout = which.create(gpu);
         let pipeline = gpu.compute_pipeline(&module, entry, Some(&pipeline_layout(gpu, which.label(), &layout)), &[]);
         let params = gpu.buffer(which.label(), 16, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
-        ListPass { which, pipeline, layout, params, own, binds: HashMap::new() }
+        ListPass { which, pipeline, layout, params, binds: HashMap::new() }
     }
 
     /// Records the pass over the commands `[0, max_count)` of a list of
@@ -51,12 +50,11 @@ impl ListPass {
         if self.binds.len() > BINDS {
             self.binds.clear();
         }
-        let (which, layout, params, own) = (self.which, &self.layout, &self.params, &self.own);
-        let bind = self.binds.entry((commands.clone(), count.clone())).or_insert_with(|| {
-            let mut resources = vec![(0, commands.as_entire_binding()), (1, count.as_entire_binding()), (2, params.as_entire_binding())];
-            resources.extend(own.iter().map(|b| (3, b.as_entire_binding())));
-            which.bind(gpu, layout, &resources)
-        });
+        let (which, layout, params) = (self.which, &self.layout, &self.params);
+        let bind = self
+            .binds
+            .entry((commands.clone(), count.clone()))
+            .or_insert_with(|| which.bind(gpu, layout, &[(0, commands.as_entire_binding()), (1, count.as_entire_binding()), (2, params.as_entire_binding())]));
         let (x, y) = dispatch_size(max_count.min(LIST_THREADS), 64);
         let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(self.which.label()), timestamp_writes: None });
         pass.set_pipeline(&self.pipeline);

@@ -624,7 +624,7 @@ impl Culler {
             tally: DrawTally::new(&self.gpu, method == Method::Auto),
             uploads: Uploads::new(&self.gpu.device),
             tail: None,
-            tail_pass: (self.caps.draw_count == DrawCount::Emulated).then(|| ListPass::new(&self.gpu, Layout::Tail, "tail.wgsl", "tail", None)),
+            tail_pass: (self.caps.draw_count == DrawCount::Emulated).then(|| ListPass::new(&self.gpu, Layout::Tail, "tail.wgsl", "tail")),
             interrupted: false,
             last_start: None,
             culled_by: method,

@@ -198,13 +198,17 @@ struct Step {
 
 impl Hroc {
     /// Records `steps` in order into one compute pass named `label` (wgpu
-    /// orders each dispatch after the ones it depends on), then `spill`,
-    /// an overflow list's fill, whose count the steps made final.
-    fn compute(&self, f: &mut Frame, label: &str, steps: &[(&Step, Launch)], spill: Option<&Spill>) {
+    /// orders each dispatch after the ones it depends on), then the
+    /// compaction `pack`, then `spill`, an overflow list's fill, whose
+    /// count the steps or the compaction made final.
+    fn compute(&self, f: &mut Frame, label: &str, steps: &[(&Step, Launch)], pack: Option<&CompactJob>, spill: Option<&Spill>) {
         let (enc, q) = f.counted();
         let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
         q.around(&mut pass, |pass| {
             Self::record_steps(pass, steps);
+            if let Some(job) = pack {
+                self.compactor.record_in(pass, job);
+            }
             if let (Some(sf), Some(spill)) = (&self.sf, spill) {
                 sf.record(pass, spill);
             }
@@ -228,14 +232,7 @@ impl Hroc {
     /// the overflow list.
     fn compact(&self, f: &mut Frame, job: &CompactJob, which: Option<Counted>) -> Option<DrawList> {
         let spill = which.and_then(|w| self.sf.as_ref()?.overflow(f, w));
-        let (enc, q) = f.counted();
-        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc compact"), timestamp_writes: None });
-        q.around(&mut pass, |pass| {
-            self.compactor.record_in(pass, job);
-            if let (Some(sf), Some((_, spill))) = (&self.sf, &spill) {
-                sf.record(pass, spill);
-            }
-        });
+        self.compute(f, "hroc compact", &[], Some(job), spill.as_ref().map(|(_, s)| s));
         spill.map(|(list, _)| list)
     }
 
@@ -326,7 +323,7 @@ impl CullMethod for Hroc {
         };
         if self.seeded {
             f.stage(Stage::Seed);
-            self.compute(f, "hroc seed", &[(&self.seed, Launch::Grid(cells.div_ceil(64), 1))], None);
+            self.compute(f, "hroc seed", &[(&self.seed, Launch::Grid(cells.div_ceil(64), 1))], None, None);
         }
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);
@@ -379,7 +376,7 @@ impl CullMethod for Hroc {
             Some(_) => None,
             None => self.sf.as_ref().and_then(|sf| sf.overflow(f, Counted::G)),
         };
-        self.compute(f, "hroc groups", &steps, spill.as_ref().map(|(_, s)| s));
+        self.compute(f, "hroc groups", &steps, None, spill.as_ref().map(|(_, s)| s));
         let (max_groups, over) = match &self.group_args {
             Some(args) => {
                 f.encoder().counted_copy(&self.group_count, 0, args, 4, Some(4));
@@ -446,15 +443,7 @@ impl CullMethod for Hroc {
             let (x, y) = dispatch_size(n.max(cover), 256);
             (&self.merge, "hroc next occluders", Launch::Grid(x, y))
         };
-        let (enc, q) = f.counted();
-        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some(label), timestamp_writes: None });
-        q.around(&mut pass, |pass| {
-            Self::record_steps(pass, &[(step, launch)]);
-            if let Some((_, job)) = &self.spare_v {
-                self.compactor.record_in(pass, job);
-            }
-        });
-        drop(pass);
+        self.compute(f, label, &[(step, launch)], self.spare_v.as_ref().map(|(_, job)| job), None);
         if let Some(spare) = self.spare_v.as_mut() {
             std::mem::swap(&mut self.v_list, &mut spare.0);
             std::mem::swap(&mut self.v_job, &mut spare.1);
