@@ -295,7 +295,7 @@ fn gpu_seed_matches_cpu_reference() {
             gpu_v.sort_unstable();
             let cam = s.cameras[k];
             let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
-            let cpu_v = cpu::seed(s.bvh(), &g.ray_dirs, &g.ray_origins, hroc::testing::cull::hroc::SEED_GRID);
+            let cpu_v = cpu::seed(s.bvh(), &g.ray_dirs, &g.ray_origins, hroc::testing::cull::hroc::seed_grid(RES));
             // Ties between boxes entered at the same distance may round either way.
             let differ = gpu_v.iter().filter(|o| cpu_v.binary_search(o).is_err()).count() + cpu_v.iter().filter(|o| gpu_v.binary_search(o).is_err()).count();
             assert!(differ * 50 <= cpu_v.len().max(1), "{key} frame {k}: GPU seed {} objects, CPU {}, {differ} differ", gpu_v.len(), cpu_v.len());
@@ -336,7 +336,7 @@ fn gpu_refill_matches_cpu_reference() {
                 v.iter().for_each(|&o| in_v[o as usize] = true);
                 let cam = s.cameras[k];
                 let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
-                let cpu_refill = cpu::refill(s.bvh(), &g.ray_dirs, &g.ray_origins, hroc::testing::cull::hroc::SEED_GRID, RES, &v_depth, &last, &in_v);
+                let cpu_refill = cpu::refill(s.bvh(), &g.ray_dirs, &g.ray_origins, hroc::testing::cull::hroc::seed_grid(RES), RES, &v_depth, &last, &in_v);
                 // Ties between boxes entered at the same distance may round either way.
                 let differ =
                     gpu_refill.iter().filter(|o| cpu_refill.binary_search(o).is_err()).count() + cpu_refill.iter().filter(|o| gpu_refill.binary_search(o).is_err()).count();

@@ -139,6 +139,8 @@ pub struct Hroc {
     collect: Step,
     merge: Step,
     filter: Step,
+    /// The seed's grid ([`seed_grid`]).
+    grid: (u32, u32),
     /// One ID pixel read in every `filter_stride²` ([`MethodOptions::hroc_filter_stride`](super::MethodOptions)).
     filter_stride: u32,
     seed: Step,
@@ -168,11 +170,25 @@ pub struct Hroc {
     occluder_rounds: Option<Rounds>,
 }
 
-/// Cells of the occluder seed's ray grid (`hroc_seed.wgsl`):
+/// The most cells of the occluder seed's ray grid (`hroc_seed.wgsl`):
 /// 64 × 36 rays, one per 10 × 10 pixels at 640 × 360, each a BVH walk
 /// that prunes behind its nearest hit: about as much work as the
 /// occlusion test's rays over a few group boxes.
 pub const SEED_GRID: (u32, u32) = (64, 36);
+
+/// Pixels per side of a cell of the seed's grid, in views too small for
+/// [`SEED_GRID`] at this spacing. At 64 × 36 pixels (2,304 cells at one
+/// per pixel) the grid's texel loads and rays cost a tenth of the frame on
+/// lavapipe; one cell per 3 × 3 pixels kept C/R within 0.002 of a cell
+/// per pixel (BENCHMARKS.md).
+pub const SEED_CELL_PX: u32 = 3;
+
+/// The seed's grid for a view of `size` pixels: one cell per
+/// [`SEED_CELL_PX`]² pixels, at most [`SEED_GRID`] (so a small view casts
+/// few rays, and step 5 and the refill load few texels for it).
+pub fn seed_grid(size: (u32, u32)) -> (u32, u32) {
+    (size.0.div_ceil(SEED_CELL_PX).clamp(1, SEED_GRID.0), size.1.div_ceil(SEED_CELL_PX).clamp(1, SEED_GRID.1))
+}
 
 /// Occluder filtering's tile: each thread reads FILTER_TILE² of the pixels
 /// it filters (`hroc_next.wgsl`), storing an object once per run of pixels
@@ -310,7 +326,7 @@ impl CullMethod for Hroc {
         let (n, nodes) = (self.n, self.nodes);
         self.tree_nodes = f.uniform.node_count;
         let (ox, oy) = dispatch_size(n, 256);
-        let cells = SEED_GRID.0 * SEED_GRID.1;
+        let cells = self.grid.0 * self.grid.1;
         if std::mem::take(&mut self.walk_open) {
             // A frame stopped between its walk and step 5, which resets it.
             self.reset_walk(f.encoder());

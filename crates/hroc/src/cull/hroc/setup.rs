@@ -51,7 +51,8 @@ impl Hroc {
         // Steps 0, 2 and 5 number their bindings alike (hroc_groups.wgsl).
         let bufs = [cx.frame, &nodes_buf, &leaf_of_object, &occluders, &state, &groups, &group_count, &occludees, &drawn, &visible];
         let mut resources: Vec<(u32, wgpu::BindingResource)> = bufs.iter().enumerate().map(|(i, b)| (i as u32, b.as_entire_binding())).collect();
-        let cells = SEED_GRID.0 * SEED_GRID.1;
+        let grid = seed_grid(cx.targets.size);
+        let cells = grid.0 * grid.1;
         let covered = gpu.buffer("hroc covered cells", cells as u64 * 4, U::STORAGE | U::COPY_DST);
         let refill_list = DrawList {
             commands: gpu.buffer("hroc refill list", cells as u64 * std::mem::size_of::<crate::layout::DrawCommand>() as u64, U::STORAGE | U::INDIRECT | U::COPY_DST | U::COPY_SRC),
@@ -77,7 +78,8 @@ impl Hroc {
             Step { pipeline, bind: layout.bind(gpu, &bind_layout, &resources) }
         };
         let test_scale = [("TEST_SCALE", scale as f64)];
-        let grid = [("SEED_COLS", SEED_GRID.0 as f64), ("SEED_ROWS", SEED_GRID.1 as f64)];
+        let grid_size = grid;
+        let grid = [("SEED_COLS", grid.0 as f64), ("SEED_ROWS", grid.1 as f64)];
         let seed = step(Layout::HrocSeed, "hroc_seed.wgsl", "seed", &grid);
         let refill = step(Layout::HrocSeed, "hroc_seed.wgsl", "refill_holes", &grid);
         let extract = step(Layout::HrocWalk, "hroc_groups.wgsl", "extract", &[]);
@@ -175,6 +177,7 @@ impl Hroc {
             merge,
             filter,
             filter_stride,
+            grid: grid_size,
             seed,
             refill,
             refill_list,
