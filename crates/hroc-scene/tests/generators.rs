@@ -313,7 +313,7 @@ impl<'a> Caster<'a> {
 }
 
 #[test]
-#[ignore]
+#[ignore = "a measurement for tuning the scenes, not a check: run with --ignored --nocapture"]
 fn occlusion_estimate() {
     let only = std::env::var("SCENES").ok();
     let n: Option<usize> = std::env::var("OBJECTS").ok().and_then(|v| v.parse().ok());
@@ -387,7 +387,7 @@ fn occlusion_estimate() {
 /// Per-mesh triangle counts and instance counts, for tuning budgets:
 /// `cargo test --release --test generators -- --ignored --nocapture mesh_report`.
 #[test]
-#[ignore]
+#[ignore = "a report for tuning budgets, not a check: run with --ignored --nocapture"]
 fn mesh_report() {
     let only = std::env::var("SCENES").ok();
     for g in generators::all() {
