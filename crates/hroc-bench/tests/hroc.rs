@@ -487,7 +487,7 @@ fn pipeline_statistics_count_every_stage() {
     }
     // Without timestamps the session counts nothing.
     let scene = hroc_bench::scene::load("radial-city", Some(300), 3).unwrap();
-    let mut quiet = Session::new_timed(gpu, scene, None, 2, RES, Split::Sah, false).unwrap();
+    let mut quiet = Session::with(gpu, scene, hroc_bench::bench::SessionDesc { timestamps: false, ..hroc_bench::bench::SessionDesc::new(2, RES) }).unwrap();
     let mut v = quiet.create("hroc".parse().unwrap()).unwrap();
     assert!(quiet.run_frame(&mut v, 0).unwrap().invocations.is_empty());
 }

@@ -105,10 +105,9 @@ impl SceneArgs {
 
 /// An MSAA sample count wgpu takes on every device: 1 or 4 (clap value parser).
 fn parse_msaa(s: &str) -> std::result::Result<u32, String> {
-    match s.parse::<u32>() {
-        Ok(n @ (1 | 4)) => Ok(n),
-        _ => Err(format!("--msaa {s}: samples per pixel are 1 or 4 (wgpu multisamples 4 times on every device)")),
-    }
+    let n = s.parse::<u32>().map_err(|_| format!("--msaa {s} is not a count of samples"))?;
+    bench::session::check_samples(n).map_err(|e| e.to_string())?;
+    Ok(n)
 }
 
 fn open_device(backend: Backend, tier: Option<Tier>) -> Result<Headless> {
@@ -398,8 +397,8 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         shadow_cascades: a.shadow_cascades,
         projection: a.projection,
     };
-    if let Some(bad) = a.moving.iter().find(|f| !(0.0..=1.0).contains(*f)) {
-        return Err(Error::Arg(format!("--moving {bad} is not a fraction from 0 to 1")));
+    for &moving in &a.moving {
+        BenchOptions { moving, ..opts.clone() }.check()?;
     }
     let (scene, path) = loading(&opts.scene, || bench::load_inputs(&opts))?;
     let gpu = open_device(backend, tier)?;

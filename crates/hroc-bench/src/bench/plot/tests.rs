@@ -28,10 +28,7 @@ fn check_svg(f: &Figure, texts: &[&str]) {
 }
 
 fn two_series() -> Vec<Series> {
-    vec![
-        series("hroc", (0..100).map(|i| (i as f64, 5.0 + (i as f64 * 0.1).sin())).collect()),
-        series("noc", (0..100).map(|i| (i as f64, 20.0 + (i as f64 * 0.1).cos())).collect()),
-    ]
+    vec![series("hroc", (0..100).map(|i| (i as f64, 5.0 + (i as f64 * 0.1).sin())).collect()), series("noc", (0..100).map(|i| (i as f64, 20.0 + (i as f64 * 0.1).cos())).collect())]
 }
 
 #[test]

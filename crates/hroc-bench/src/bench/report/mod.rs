@@ -16,10 +16,10 @@ use std::path::{Path, PathBuf};
 
 use super::{parse_resolution, BenchOptions, BenchReport, MethodList};
 use crate::bvh::{Bvh, Split};
-use crate::cull::{Method, MethodOptions, Variant};
 use crate::error::{Error, Result};
 use crate::gpu::Headless;
 use crate::scene::{self, generators, Scene};
+use hroc::{Method, MethodOptions, Variant};
 
 /// The default set: the HROC paper's three large scenes (RC, FC, ST), sized
 /// so that the whole report takes under 15 minutes on a 2-core CPU with lavapipe.
