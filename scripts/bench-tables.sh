@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the benchmark tables recorded in BENCHMARKS.md and prints them as
+# Runs the benchmark tables recorded in docs/history/baselines.md and prints them as
 # Markdown with the exact command above each. Usage: scripts/bench-tables.sh [OUT_DIR]
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -66,7 +66,7 @@ fn main() -> hroc_bench::Result<()> {
         v += occluders.iter().filter(|&&x| x).count();
         v_hidden += (0..n).filter(|&o| occluders[o] && !own_pixel[o]).count();
         let cam = s.cameras[k];
-        let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry()?;
+        let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), unclipped_depth: false }.geometry()?;
         let bvh = s.bvh();
         let c0 = g.view_proj * g.eye.extend(1.0);
         // Per pixel centre: the leaves whose world box the ray enters in

@@ -33,7 +33,7 @@ fn main() -> hroc_bench::Result<()> {
         let cam = s.cameras[k];
         println!("frame {k}: fn {} missing {} eye {:?}", chk.false_negatives, chk.missing_pixels, cam.eye);
         let size = (s.renderer.targets.width, s.renderer.targets.height);
-        let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(s.renderer.aspect()), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry()?;
+        let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(s.renderer.aspect()), unclipped_depth: false }.geometry()?;
         let (cg, forced) = cpu::groups(s.bvh(), &cpu::node_states(s.bvh(), &dbg.occluders), &g, cpu::pixel_angle_xy(&g, size), h.method_state::<Hroc>().unwrap().test_scale());
         println!("  groups gpu {} cpu {} equal {}; forced {}", dbg.groups.len(), cg.len(), cg == dbg.groups, forced.len());
         for &o in truth.visible.iter().filter(|&&o| !drawn[o as usize]) {

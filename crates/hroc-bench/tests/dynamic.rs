@@ -330,12 +330,11 @@ fn slots_capacity_and_rebuild_policy() {
     let view_desc = hroc::ViewDesc {
         view: Mat4::look_at_rh(Vec3::new(-10.0, 3.0, -10.0), Vec3::new(20.0, 0.0, 20.0), Vec3::Y),
         proj: Mat4::perspective_rh(1.0, 1.0, 0.1, 500.0),
-        depth: hroc::DepthRange::Standard,
         unclipped_depth: false,
     };
     let mut lists = 0;
     let mut enc = g.device.create_command_encoder(&Default::default());
-    let input = hroc::FrameInput { view: view_desc, targets, cut: false, time: 0.0 };
+    let input = hroc::FrameInput { view: view_desc, cut: false, time: 0.0 };
     view.cull(&c, &mut enc, &input, &mut |_: &mut wgpu::CommandEncoder, _: &hroc::Draw<'_>| lists += 1).unwrap();
     g.queue.submit([enc.finish()]);
     g.wait().unwrap();

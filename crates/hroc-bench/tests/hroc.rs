@@ -121,7 +121,7 @@ fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
             let state = cpu::node_states(s.bvh(), &dbg.occluders);
             assert_eq!(state, dbg.state, "{key} frame {k}: node states differ");
             // The CPU references take the view as the culler derives it.
-            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
+            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), unclipped_depth: false }.geometry().unwrap();
             let (vp, rays) = (g.view_proj, g.ray_dirs);
             let pixel = cpu::pixel_angle_xy(&g, RES);
             let scale = h.method_state::<Hroc>().unwrap().test_scale();
@@ -218,7 +218,7 @@ fn gpu_late_test_matches_cpu_reference() {
             s.gpu.queue.submit([enc.finish()]);
             let depth = s.read_depth().unwrap();
             let cam = s.cameras[k];
-            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
+            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), unclipped_depth: false }.geometry().unwrap();
             let pixel = cpu::pixel_angle_xy(&g, RES);
             let obb = oriented_boxes(&s);
             let rest: Vec<u32> = (0..u.len()).filter(|&o| u[o] && front[o] == 0).map(|o| s.bvh().leaf_of_object[o]).collect();
@@ -294,7 +294,7 @@ fn gpu_seed_matches_cpu_reference() {
             let mut gpu_v: Vec<u32> = s.gpu.read_list(&list.commands, &list.count, list.max_count).unwrap().iter().map(|c| c.first_instance).collect();
             gpu_v.sort_unstable();
             let cam = s.cameras[k];
-            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
+            let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), unclipped_depth: false }.geometry().unwrap();
             let cpu_v = cpu::seed(s.bvh(), &g.ray_dirs, &g.ray_origins, hroc::testing::cull::hroc::seed_grid(RES));
             // Ties between boxes entered at the same distance may round either way.
             let differ = gpu_v.iter().filter(|o| cpu_v.binary_search(o).is_err()).count() + cpu_v.iter().filter(|o| gpu_v.binary_search(o).is_err()).count();
@@ -335,7 +335,7 @@ fn gpu_refill_matches_cpu_reference() {
                 let mut in_v = vec![false; s.renderer.object_count as usize];
                 v.iter().for_each(|&o| in_v[o as usize] = true);
                 let cam = s.cameras[k];
-                let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), depth: hroc::DepthRange::Standard, unclipped_depth: false }.geometry().unwrap();
+                let g = hroc::ViewDesc { view: cam.view(), proj: cam.proj(aspect), unclipped_depth: false }.geometry().unwrap();
                 let cpu_refill = cpu::refill(s.bvh(), &g.ray_dirs, &g.ray_origins, hroc::testing::cull::hroc::seed_grid(RES), RES, &v_depth, &last, &in_v);
                 // Ties between boxes entered at the same distance may round either way.
                 let differ =

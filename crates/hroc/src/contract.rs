@@ -271,8 +271,9 @@ impl Targets {
         })
     }
 
-    pub(super) fn same(&self, t: &ViewTargets) -> bool {
-        self.depth_id == *t.depth && self.ids_id.as_ref() == t.ids && self.depth == t.depth_range && (self.layer, self.mip) == (t.layer, t.mip)
+    /// The host's targets these were made from.
+    pub(super) fn desc(&self) -> ViewTargets<'_> {
+        ViewTargets { depth: &self.depth_id, depth_range: self.depth, ids: self.ids_id.as_ref(), layer: self.layer, mip: self.mip }
     }
 }
 

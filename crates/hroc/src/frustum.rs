@@ -21,6 +21,22 @@ pub enum DepthRange {
     Reversed,
 }
 
+impl DepthRange {
+    /// The range a right-handed projection maps depth to: standard where
+    /// depth grows away from the viewer, reversed where it falls; `None`
+    /// where `proj` keeps depth constant (no range at all).
+    pub fn of_projection(proj: &Mat4) -> Option<DepthRange> {
+        // Orthographic: z_ndc = p22 z + p32, with z = -d. Perspective
+        // (clip w = -z = d): z_ndc = -p22 + p32 / d.
+        let grows = if proj.z_axis.w == 0.0 { -proj.z_axis.z } else { -proj.w_axis.z };
+        match grows.partial_cmp(&0.0)? {
+            std::cmp::Ordering::Greater => Some(DepthRange::Standard),
+            std::cmp::Ordering::Less => Some(DepthRange::Reversed),
+            std::cmp::Ordering::Equal => None,
+        }
+    }
+}
+
 /// The six frustum planes (left, right, bottom, top, near, far) of a
 /// standard-depth view-projection matrix, each `n·p + d >= 0` inside
 /// (Gribb–Hartmann).
@@ -71,8 +87,6 @@ pub struct ViewDesc {
     /// orthographic one (`Mat4::orthographic_rh`, or its reversed-depth
     /// form), whose near plane may lie behind the camera position.
     pub proj: Mat4,
-    /// Which end of the depth range is near; it must match `proj`.
-    pub depth: DepthRange,
     /// The host's pipelines clamp depth rather than clip it at the near
     /// plane (wgpu's `PrimitiveState::unclipped_depth`, as shadow passes
     /// "pancake" casters in front of a cascade): geometry in front of the
@@ -106,6 +120,10 @@ pub struct ViewGeometry {
     /// `x * X + y * Y + W` (perspective: the eye; orthographic: a point
     /// one ray length in front of the near plane).
     pub ray_origins: Mat4,
+    /// Which end of the depth range `proj` maps near to
+    /// ([`DepthRange::of_projection`]): it must be the view's targets'
+    /// ([`crate::ViewTargets::depth_range`]).
+    pub depth: DepthRange,
     /// Distance from the eye to the near plane (orthographic: the margin
     /// within which a box counts as reaching the near plane, a thousandth
     /// of the depth range).
@@ -129,7 +147,7 @@ impl ViewGeometry {
 
     /// The `Frame` uniform every culling pass reads, for a depth attachment
     /// of `size` pixels.
-    pub fn uniform(&self, size: (u32, u32), object_count: u32, node_count: u32, depth: DepthRange) -> crate::layout::FrameUniform {
+    pub fn uniform(&self, size: (u32, u32), object_count: u32, node_count: u32) -> crate::layout::FrameUniform {
         let (w, h) = (size.0 as f32, size.1 as f32);
         crate::layout::FrameUniform {
             view_proj: self.view_proj.to_cols_array_2d(),
@@ -143,7 +161,7 @@ impl ViewGeometry {
             object_count,
             node_count,
             near: self.near,
-            reversed: (depth == DepthRange::Reversed) as u32,
+            reversed: (self.depth == DepthRange::Reversed) as u32,
         }
     }
 }
@@ -152,25 +170,24 @@ impl ViewDesc {
     /// A right-handed standard-depth view from a look-at camera (what hroc's
     /// own scenes and camera paths use).
     pub fn look_at(eye: Vec3, target: Vec3, up: Vec3, fov_y_deg: f32, aspect: f32, near: f32, far: f32) -> Self {
-        ViewDesc {
-            view: Mat4::look_at_rh(eye, target, up),
-            proj: Mat4::perspective_rh(fov_y_deg.to_radians(), aspect, near, far),
-            depth: DepthRange::Standard,
-            unclipped_depth: false,
-        }
+        ViewDesc { view: Mat4::look_at_rh(eye, target, up), proj: Mat4::perspective_rh(fov_y_deg.to_radians(), aspect, near, far), unclipped_depth: false }
     }
 
-    /// Checks the projection and derives the view's geometry. Errors (never
-    /// panics) on a non-perspective or non-invertible matrix, and on a
-    /// projection whose depth range is not `self.depth`.
+    /// Checks the projection and derives the view's geometry, with the
+    /// depth range the projection maps to. Errors (never panics) on a
+    /// non-perspective or non-invertible matrix, and on one without a
+    /// depth range.
     pub fn geometry(&self) -> Result<ViewGeometry> {
         let bad = |m: &str| Err(Error::InvalidView(m.to_string()));
         if !self.view.is_finite() || !self.proj.is_finite() {
             return bad("view or projection matrix is not finite");
         }
         let p = self.proj;
+        let Some(depth) = DepthRange::of_projection(&p) else {
+            return bad("projection maps every distance to one depth");
+        };
         if p.x_axis.w == 0.0 && p.y_axis.w == 0.0 && p.z_axis.w == 0.0 && p.w_axis.w == 1.0 {
-            return self.orthographic();
+            return self.orthographic(depth);
         }
         // Perspective: clip w = s * z_view with s = ±1 (right-handed: -1).
         let s = p.z_axis.w;
@@ -187,7 +204,7 @@ impl ViewDesc {
             return bad("left-handed or mirrored views are not supported: use a right-handed view and projection");
         }
         let view_proj = p * self.view;
-        let mut planes = frustum_planes_for(&view_proj, self.depth);
+        let mut planes = frustum_planes_for(&view_proj, depth);
         let inv_view = self.view.inverse();
         let eye = inv_view.w_axis.truncate();
         // Near distance: the eye lies `near` behind the (normalized) near plane.
@@ -197,11 +214,7 @@ impl ViewDesc {
         // NaN fails both comparisons, so it is refused too.
         let valid = near > 0.0 && far > near;
         if !valid {
-            let hint = match self.depth {
-                DepthRange::Standard => "a reversed-Z projection (near plane at depth 1) needs DepthRange::Reversed",
-                DepthRange::Reversed => "a standard projection (near plane at depth 0) needs DepthRange::Standard, or build a reversed-Z one",
-            };
-            return Err(Error::InvalidView(format!("projection does not match {:?} depth (near {near}, far {far}): {hint}", self.depth)));
+            return Err(Error::InvalidView(format!("projection has no valid near and far planes for {depth:?} depth (near {near}, far {far})")));
         }
         // A finite far plane from the near plane's normal: the far plane of
         // a standard projection, r3 - r2, cancels and tilts at large far/near.
@@ -217,7 +230,7 @@ impl ViewDesc {
         let cz = inv_view.transform_vector3(Vec3::new(-s * p20 * near / p00, -s * p21 * near / p11, s * near));
         let ray_dirs = Mat4::from_cols(cx.extend(0.0), cy.extend(0.0), cz.extend(0.0), Vec4::W);
         let ray_origins = Mat4::from_cols(Vec4::ZERO, Vec4::ZERO, Vec4::ZERO, eye.extend(1.0));
-        Ok(self.unclip(ViewGeometry { view_proj, planes, near_plane: planes[4], eye, ray_dirs, ray_origins, near, far, orthographic: false }))
+        Ok(self.unclip(ViewGeometry { view_proj, planes, near_plane: planes[4], eye, ray_dirs, ray_origins, depth, near, far, orthographic: false }))
     }
 
     /// With [`ViewDesc::unclipped_depth`], a frustum whose near plane culls nothing.
@@ -231,28 +244,22 @@ impl ViewDesc {
     /// [`ViewDesc::geometry`] of an orthographic projection: parallel rays
     /// along the view direction, from one ray length in front of the near
     /// plane (t = 1 there, t = 2 on the far plane).
-    fn orthographic(&self) -> Result<ViewGeometry> {
+    fn orthographic(&self, depth: DepthRange) -> Result<ViewGeometry> {
         let bad = |m: String| Err(Error::InvalidView(m));
         let p = self.proj;
         if p.x_axis.x == 0.0 || p.y_axis.y == 0.0 || p.z_axis.z == 0.0 || self.view.determinant().abs() < 1e-12 {
             return bad("view or projection matrix is singular".into());
         }
-        // Right-handed: depth grows away from the viewer (view z falling)
-        // for standard depth, and falls for reversed depth.
-        let standard = p.z_axis.z < 0.0;
-        if standard != (self.depth == DepthRange::Standard) {
-            return bad(format!("orthographic projection does not match {:?} depth, or is left-handed", self.depth));
-        }
         if self.view.determinant() * p.x_axis.x * p.y_axis.y < 0.0 {
             return bad("mirrored views are not supported: use a right-handed view and projection".into());
         }
         let view_proj = p * self.view;
-        let planes = frustum_planes_for(&view_proj, self.depth);
+        let planes = frustum_planes_for(&view_proj, depth);
         let inv_view = self.view.inverse();
         let eye = inv_view.w_axis.truncate();
         // View-space points on the near and far planes, from the projection
         // alone (x = (X - p30) / p00 and so on), then to world space.
-        let (near_z, far_z) = match self.depth {
+        let (near_z, far_z) = match depth {
             DepthRange::Standard => (0.0, 1.0),
             DepthRange::Reversed => (1.0, 0.0),
         };
@@ -269,6 +276,6 @@ impl ViewDesc {
         let ray_origins = Mat4::from_cols(right.extend(0.0), up.extend(0.0), Vec4::ZERO, (centre - dir).extend(1.0));
         let near = 1e-3 * length;
         let far = planes[5].truncate().dot(eye) + planes[5].w;
-        Ok(self.unclip(ViewGeometry { view_proj, planes, near_plane: planes[4], eye, ray_dirs, ray_origins, near, far, orthographic: true }))
+        Ok(self.unclip(ViewGeometry { view_proj, planes, near_plane: planes[4], eye, ray_dirs, ray_origins, depth, near, far, orthographic: true }))
     }
 }

@@ -19,7 +19,7 @@
 //! let mut main_view = culler.view(Method::HROC, &targets)?;
 //! // Every frame: clear the targets, cull, draw what comes back, submit.
 //! let mut encoder = device.create_command_encoder(&Default::default());
-//! let input = FrameInput { view: ViewDesc { view, proj, depth: DepthRange::Standard, unclipped_depth: false }, targets, cut: false, time: 0.0 };
+//! let input = FrameInput { view: ViewDesc { view, proj, unclipped_depth: false }, cut: false, time: 0.0 };
 //! main_view.cull(&culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
 //!     draw_with_my_pipeline(enc, draw) // multi_draw_indexed_indirect_count(draw.commands, draw.count)
 //! })?;
@@ -39,16 +39,9 @@
 //!   the host's fragment shaders under forced early-Z where it exists,
 //!   else from the object-ID target ([`Marks`]); box tests against a
 //!   read-only depth attachment, or against depth they load
-//!   ([`Capabilities::read_only_depth`]). By backend (wgpu 30):
-//!
-//!   | backend | count | marks | methods | the host provides |
-//!   |---|---|---|---|---|
-//!   | Vulkan | indirect | early-Z | all | `hroc_mark` in occluding fragment shaders; an ID target for OF |
-//!   | GL 4.3+ (desktop) | emulated | early-Z | all but HROC's rounds | as Vulkan; single-sample targets, layer 0 (wgpu's GL backend samples neither MSAA textures nor other layers) |
-//!   | DX12 (untested) | indirect | IDs | all but HROC's rounds | an ID target for `roc`, `ioc` and HROC; no hroc line in its shaders |
-//!   | Metal (untested) | emulated | IDs | all but HROC's rounds | as DX12 |
-//!   | GLES, WebGL | refused: no `INDIRECT_FIRST_INSTANCE` | | | |
-//!
+//!   ([`Capabilities::read_only_depth`]). Which backend gives which of
+//!   these, what each lacks and what its host provides is tabled once, in
+//!   README.md's "Backends and tiers" section.
 //!   [`Capabilities::PORTABLE`] (an emulated count, ID marks) runs on any
 //!   of them. `ioc` needs 10 storage buffers per shader stage (wgpu's
 //!   default limit is 8). [`Culler::serves`] refuses what a culler cannot
@@ -155,8 +148,12 @@
 //!   off-centre, finite or infinite far plane; or orthographic (a
 //!   directional light's shadow cascade: HROC then casts parallel rays,
 //!   one per pixel, and pads boxes by a pixel's constant size), its near
-//!   plane anywhere; standard or reversed depth ([`ViewDesc::geometry`]
-//!   checks, and refuses left-handed and mirrored views). Every
+//!   plane anywhere; standard or reversed depth. The depth range is stated
+//!   once, with the view's targets ([`ViewTargets::depth_range`]); each
+//!   frame's projection must map near to it ([`ViewDesc::geometry`]
+//!   derives the projection's, and refuses left-handed and mirrored
+//!   views; [`View::cull`] refuses a projection whose range is not the
+//!   targets'). Every
 //!   conservative method serves both kinds (`woc` is measured on
 //!   perspective views only).
 //!   Each [`View`] keeps its own temporal state; all views share the
@@ -168,8 +165,11 @@
 //!   from a coarse ray grid ([`MethodOptions::hroc_seed`]).
 //!   A view draws into one layer and one mip of a depth texture
 //!   ([`ViewTargets::at`]: a cascade of an array, a cube face, a mip),
-//!   sized by that mip, single-sample or multisampled; handing it another
-//!   texture, layer or mip rebuilds the view, as after a cut. A
+//!   sized by that mip, single-sample or multisampled. The targets are
+//!   given once, when the view is created ([`Culler::view`]);
+//!   [`View::resize`] hands it others (a new size, or a host that
+//!   alternates two depth textures: where size, format and samples stay,
+//!   the view keeps its visible set; else it starts over as after a cut). A
 //!   directional light's cascades are views of their own, each culled
 //!   against its own depth: never cull casters against the camera's
 //!   depth, since a caster hidden from the camera can still cast a visible

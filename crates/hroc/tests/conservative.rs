@@ -57,7 +57,7 @@ fn orthographic_views_draw_every_visible_object() {
             DepthRange::Standard => Mat4::orthographic_rh(-half, half, -half, half, near, far),
             DepthRange::Reversed => Mat4::orthographic_rh(-half, half, -half, half, far, near),
         };
-        ViewDesc { view: Mat4::look_at_rh(eye, target, up), proj, depth, unclipped_depth: false }
+        ViewDesc { view: Mat4::look_at_rh(eye, target, up), proj, unclipped_depth: false }
     };
     for (depth, caps) in [DepthRange::Standard, DepthRange::Reversed].into_iter().flat_map(|d| [(d, Capabilities::FULL), (d, Capabilities::PORTABLE)]) {
         let (host, objects) = street_on(&device, Depth { range: depth, ..Depth::default() });
@@ -91,8 +91,7 @@ fn a_cascade_whose_box_jumps_is_a_cut() {
     let (host, objects) = street(&device);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     let light = Mat4::look_at_rh(Vec3::ZERO, Vec3::new(-0.3, -1.0, -0.4), Vec3::Z);
-    let cascade =
-        |x: f32| ViewDesc { view: light, proj: Mat4::orthographic_rh(x - 8.0, x + 8.0, -8.0, 8.0, -40.0, 40.0), depth: hroc::DepthRange::Standard, unclipped_depth: false };
+    let cascade = |x: f32| ViewDesc { view: light, proj: Mat4::orthographic_rh(x - 8.0, x + 8.0, -8.0, 8.0, -40.0, 40.0), unclipped_depth: false };
     let mut view = culler.view(Method::HROC, &host.targets()).unwrap();
     let mut cuts = Vec::new();
     for x in [0.0, 0.3, 0.6, 14.0, 14.3] {

@@ -68,12 +68,7 @@ fn frames_may_share_an_encoder_be_submitted_late_or_be_dropped() {
         images.push((frame(&device, &host, &culler, &mut e6, &mut view, along(2.0)), along(2.0)));
         if method.submits_mid_frame() {
             let mut lists = 0;
-            let culled = view.cull(
-                &culler,
-                &mut e7,
-                &hroc::FrameInput { view: along(3.0), targets: host.targets(), cut: false, time: 0.0 },
-                &mut |_: &mut wgpu::CommandEncoder, _: &hroc::Draw| lists += 1,
-            );
+            let culled = view.cull(&culler, &mut e7, &hroc::FrameInput { view: along(3.0), cut: false, time: 0.0 }, &mut |_: &mut wgpu::CommandEncoder, _: &hroc::Draw| lists += 1);
             assert!(matches!(culled, Err(hroc::Error::SubmitOrder(_))), "{method}: frame 7 culled ahead of frame 6's end: {culled:?}");
             drop(e7);
             queue.submit([e6.finish()]);

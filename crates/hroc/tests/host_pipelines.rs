@@ -48,12 +48,7 @@ fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
     let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
     let vertex_buf = init("vertices", bytemuck::cast_slice(&vertices), wgpu::BufferUsages::VERTEX);
     let index_buf = init("indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX);
-    let view = ViewDesc {
-        view: Mat4::look_at_rh(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y),
-        proj: Mat4::perspective_rh(1.2, 1.0, 0.1, 100.0),
-        depth: DepthRange::Standard,
-        unclipped_depth: false,
-    };
+    let view = ViewDesc { view: Mat4::look_at_rh(Vec3::new(0.0, 0.0, 3.0), Vec3::ZERO, Vec3::Y), proj: Mat4::perspective_rh(1.2, 1.0, 0.1, 100.0), unclipped_depth: false };
     let camera_buf = init("camera", bytemuck::bytes_of(&(view.proj * view.view)), wgpu::BufferUsages::UNIFORM);
     let camera = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: None,
@@ -79,7 +74,7 @@ fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
     for frame in 0..3 {
         let mut encoder = device.create_command_encoder(&Default::default());
         drop(pass(&mut encoder, &depth_view, wgpu::LoadOp::Clear(1.0)));
-        let input = FrameInput { view, targets: ViewTargets::new(&depth, DepthRange::Standard), cut: false, time: frame as f32 };
+        let input = FrameInput { view, cut: false, time: frame as f32 };
         v.cull(&culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
             let mut pass = pass(enc, &depth_view, wgpu::LoadOp::Load);
             pass.set_pipeline(&pipeline);

@@ -15,7 +15,7 @@
 use glam::{Mat4, Vec3};
 use hroc::bvh::{BvhNode, LEAF_BIT, NO_PARENT};
 use hroc::testing::layout::FrameUniform;
-use hroc::{DepthRange, ViewDesc};
+use hroc::ViewDesc;
 use wgpu::util::DeviceExt;
 
 mod common;
@@ -35,13 +35,8 @@ fn probe_cast() {
 /// Steps of the probe's ray and the occludee marks it left, for `nodes`
 /// (padded with zeroed nodes past the tree) over a map cleared to the far plane.
 fn cast(device: &wgpu::Device, queue: &wgpu::Queue, nodes: &[BvhNode], objects: u32, scale: u32) -> (u32, Vec<u32>) {
-    let view = ViewDesc {
-        view: Mat4::look_at_rh(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y),
-        proj: Mat4::perspective_rh(1.0, 1.0, 0.1, 100.0),
-        depth: DepthRange::Standard,
-        unclipped_depth: false,
-    };
-    let frame: FrameUniform = view.geometry().unwrap().uniform((SIZE, SIZE), objects, nodes.len() as u32, DepthRange::Standard);
+    let view = ViewDesc { view: Mat4::look_at_rh(Vec3::new(0.0, 0.0, 5.0), Vec3::ZERO, Vec3::Y), proj: Mat4::perspective_rh(1.0, 1.0, 0.1, 100.0), unclipped_depth: false };
+    let frame: FrameUniform = view.geometry().unwrap().uniform((SIZE, SIZE), objects, nodes.len() as u32);
     let mut padded = nodes.to_vec();
     padded.resize(nodes.len() + 8, node([0.0; 3], [0.0; 3], 0, 0));
     let buffer = |label: &str, contents: &[u8], usage: wgpu::BufferUsages| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });

@@ -28,7 +28,7 @@ fn path(at: Depth) -> Vec<(ViewDesc, bool)> {
         let v = ViewDesc { unclipped_depth: at.unclipped, ..look(eye, target) };
         match at.range {
             hroc::DepthRange::Standard => ViewDesc { proj: glam::Mat4::perspective_rh(1.1, 1.0, near, 200.0), ..v },
-            hroc::DepthRange::Reversed => ViewDesc { proj: glam::Mat4::perspective_infinite_reverse_rh(1.1, 1.0, near), depth: at.range, ..v },
+            hroc::DepthRange::Reversed => ViewDesc { proj: glam::Mat4::perspective_infinite_reverse_rh(1.1, 1.0, near), ..v },
         }
     };
     let mut path: Vec<(ViewDesc, bool)> = (0..4).map(|k| (view(Vec3::new(-2.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
@@ -182,4 +182,44 @@ fn unclipped_depth_draws_what_lies_before_the_near_plane() {
     for range in [hroc::DepthRange::Standard, hroc::DepthRange::Reversed] {
         same_picture_as_noc(&device, &queue, Depth { range, unclipped: true, ..Depth::default() });
     }
+}
+
+/// Targets are given once, when the view is created; [`hroc::View::resize`]
+/// changes them. Another texture of the same shape (a host that alternates
+/// two depth textures) keeps the view's visible set: the next frame is no
+/// cut, and draws everything `noc` shows there. Another shape starts over
+/// as after a cut. A projection whose depth range is not the targets' is
+/// refused, naming where the range is given.
+#[test]
+fn a_view_keeps_its_state_across_targets_of_the_same_shape() {
+    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (a, objects) = street_on(&device, Depth::default());
+    let (b, _) = street_on(&device, Depth::default());
+    let (msaa, _) = street_on(&device, Depth { samples: 4, ..Depth::default() });
+    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let desc = look(Vec3::new(0.0, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0));
+    let cut = |view: &mut hroc::View| view.stats(&culler).unwrap().iter().any(|&(s, v)| s == hroc::Stat::Cut && v > 0.0);
+    let mut truth = culler.view(Method::Noc, &b.targets()).unwrap();
+    b.frame(&device, &queue, &culler, &mut truth, desc, true);
+    let visible = b.visible(&device, &queue);
+    assert!(!visible.is_empty());
+    for method in [Method::Hzb, Method::HROC] {
+        let mut view = culler.view(method, &a.targets()).unwrap();
+        let steady = (0..3).map(|k| a.frame(&device, &queue, &culler, &mut view, desc, k == 0)).last().unwrap();
+        assert!(!cut(&mut view), "{method}: a steady frame");
+        view.resize(&culler, &b.targets()).unwrap();
+        let drawn = b.frame(&device, &queue, &culler, &mut view, desc, false);
+        assert!(!cut(&mut view), "{method}: another texture of the same shape is no cut");
+        assert_eq!(drawn, steady, "{method}: the frame after the resize culls as the one before");
+        assert!(visible.iter().all(|o| drawn.contains(o)), "{method}: drawn {drawn:?}, noc shows {visible:?}");
+        view.resize(&culler, &msaa.targets()).unwrap();
+        msaa.frame(&device, &queue, &culler, &mut view, desc, false);
+        assert!(cut(&mut view), "{method}: targets of another shape start over");
+    }
+    let mut view = culler.view(Method::Hzb, &a.targets()).unwrap();
+    let reversed = ViewDesc { proj: glam::Mat4::perspective_infinite_reverse_rh(1.1, 1.0, 0.1), ..desc };
+    let mut enc = device.create_command_encoder(&Default::default());
+    let input = hroc::FrameInput { view: reversed, cut: false, time: 0.0 };
+    let e = view.cull(&culler, &mut enc, &input, &mut |_: &mut wgpu::CommandEncoder, _: &hroc::Draw| {}).unwrap_err().to_string();
+    assert!(e.contains("Reversed") && e.contains("ViewTargets::depth_range"), "{e}");
 }

@@ -425,12 +425,7 @@ impl ForwardHost {
         // Clear the targets (hroc does not touch them).
         drop(begin_pass(&mut encoder, (&color_view, None), &ids_view, &depth_view, Some(self.depth_range)));
         let mut lists = Vec::new();
-        let input = FrameInput {
-            view: ViewDesc { view, proj, depth: self.depth_range, unclipped_depth: false },
-            targets: ViewTargets::new(&self.depth, self.depth_range).with_ids(&self.ids),
-            cut,
-            time: 0.0,
-        };
+        let input = FrameInput { view: ViewDesc { view, proj, unclipped_depth: false }, cut, time: 0.0 };
         // hroc: cull, and draw each list it hands back with our own pipelines.
         self.view.cull(&self.culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
             let mut pass = begin_pass(enc, (&color_view, resolve_view.as_ref()), &ids_view, &depth_view, None);

@@ -173,12 +173,7 @@ impl Shadows {
         for (c, &(view, proj)) in cascades.iter().enumerate() {
             queue.write_buffer(&self.uniforms[c], 0, bytemuck::bytes_of(&(proj * view).to_cols_array_2d()));
             drop(depth_pass(encoder, &self.layers[c], Some(far)));
-            let input = FrameInput {
-                view: ViewDesc { view, proj, depth: self.depth_range, unclipped_depth: false },
-                targets: ViewTargets::new(&self.map, self.depth_range).at(c as u32, 0),
-                cut: false,
-                time: 0.0,
-            };
+            let input = FrameInput { view: ViewDesc { view, proj, unclipped_depth: false }, cut: false, time: 0.0 };
             let (layer, pipeline, bind) = (&self.layers[c], &self.pipeline, &self.binds[c]);
             let mut lists = Vec::new();
             self.views[c].cull(culler, encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {

@@ -23,7 +23,7 @@ pub struct BenchOptions {
     /// cullable object (`--clusters`; [`crate::scene::Scene::clustered`]).
     pub clusters: Option<u32>,
     /// Give the culler the rotated objects' oriented boxes
-    /// (`--oriented-boxes`; [`Session::set_oriented_boxes`]).
+    /// (`--oriented-boxes`; [`Session::set_oriented_boxes`](super::Session::set_oriented_boxes)).
     pub oriented_boxes: bool,
     /// A camera path file, or a built-in path of the scene by name
     /// (`hard`, `cuts`: [`crate::scene::paths::builtin`]).

@@ -225,7 +225,7 @@ impl<'g> Session<'g> {
         s.cascades.write_view(self.gpu, c, cascade);
         let mut enc = self.gpu.encoder("cascade");
         s.cascades.clear(&mut enc, c);
-        let input = FrameInput { view: cascade.view_desc(), targets: s.cascades.view_targets(c), cut: false, time };
+        let input = FrameInput { view: cascade.view_desc(), cut: false, time };
         let mut host = CascadeRecorder { renderer: &self.renderer, cascades: &s.cascades, cascade: c, lists: Vec::new() };
         view.cull(&self.culler, &mut enc, &input, &mut host)?;
         let lists = host.lists;
@@ -389,7 +389,7 @@ impl<'g> Session<'g> {
         r.write_view(self.gpu, &(self.proj(&camera) * camera.view()));
         let mut enc = self.gpu.encoder("frame");
         r.clear(&mut enc);
-        let input = FrameInput { view: self.view_desc(&camera), targets: r.view_targets(), cut, time };
+        let input = FrameInput { view: self.view_desc(&camera), cut, time };
         let mut host = Recorder { renderer: r, lists: Vec::new() };
         match body {
             Some(body) => view.cull_with(&self.culler, &mut enc, &input, &mut host, body)?,
@@ -401,13 +401,13 @@ impl<'g> Session<'g> {
 
     /// The view of camera `camera` as the culler sees it.
     pub fn view_desc(&self, camera: &Camera) -> ViewDesc {
-        ViewDesc { view: camera.view(), proj: self.proj(camera), depth: hroc::DepthRange::Standard, unclipped_depth: false }
+        ViewDesc { view: camera.view(), proj: self.proj(camera), unclipped_depth: false }
     }
 
     /// The `Frame` uniform the culler writes for camera `k` (CPU references).
     pub fn frame_uniform(&self, k: usize) -> Result<hroc::testing::layout::FrameUniform> {
         let g = self.view_desc(&self.cameras[k]).geometry()?;
-        Ok(g.uniform((self.renderer.targets.width, self.renderer.targets.height), self.renderer.object_count, self.bvh().nodes.len() as u32, hroc::DepthRange::Standard))
+        Ok(g.uniform((self.renderer.targets.width, self.renderer.targets.height), self.renderer.object_count, self.bvh().nodes.len() as u32))
     }
 
     /// Renders frame `k` with `noc` and reads back the truth.

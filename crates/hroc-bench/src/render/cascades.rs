@@ -38,7 +38,7 @@ pub struct CascadeView {
 impl CascadeView {
     /// The cascade as the culler sees it (standard depth, clipped).
     pub fn view_desc(&self) -> hroc::ViewDesc {
-        hroc::ViewDesc { view: self.view, proj: self.proj, depth: hroc::DepthRange::Standard, unclipped_depth: false }
+        hroc::ViewDesc { view: self.view, proj: self.proj, unclipped_depth: false }
     }
 }
 

@@ -9,15 +9,12 @@ use crate::gpu::{GpuTimer, InvocationCounter, Invocations, Submission, Uploads};
 use crate::list_pass::ListPass;
 use crate::tally::{DrawTally, FrameStats};
 
-/// What the host hands in per frame of a view.
+/// What the host hands in per frame of a view. The view draws into the
+/// targets it was created with ([`View::resize`] changes them).
 #[derive(Clone, Copy, Debug)]
-pub struct FrameInput<'a> {
+pub struct FrameInput {
     /// The view and projection of this frame.
     pub view: ViewDesc,
-    /// The targets the host draws this frame into. When they differ from the
-    /// last frame's (a resize), the view is rebuilt and starts over as after
-    /// a camera cut: keep one depth texture per view.
-    pub targets: ViewTargets<'a>,
     /// A camera cut: last frame's visibility says nothing about this one.
     pub cut: bool,
     /// Seconds on the host's clock (`soq` expires statistics with it).
@@ -77,6 +74,31 @@ impl View {
         self.culled_by
     }
 
+    /// Draws into `targets` from the next frame on: a new size, or
+    /// another texture in the same role (a host that alternates two depth
+    /// textures). The method's state is rebuilt for them; where the new
+    /// targets have the old ones' size, format and samples, the view keeps
+    /// its visible set (the next frame culls as the last one did, one small
+    /// submit on the culler's queue carries it over), else it starts over
+    /// as after a camera cut. Fails, leaving the view as it was, on targets
+    /// no method can draw into (as [`Culler::view`]).
+    pub fn resize(&mut self, culler: &Culler, targets: &ViewTargets) -> Result<()> {
+        let mut fresh = culler.view_with(self.method, targets, &self.options)?;
+        let old = &self.targets;
+        let same_shape = (old.size, old.depth_format, old.samples, old.depth, old.ids.is_some())
+            == (fresh.targets.size, fresh.targets.depth_format, fresh.targets.samples, fresh.targets.depth, fresh.targets.ids.is_some());
+        if same_shape && !self.interrupted {
+            let mut enc = culler.gpu.encoder("hroc resize");
+            fresh.imp.take_over(&mut enc, self.imp.visible_set());
+            culler.gpu.queue.submit([enc.finish()]);
+            fresh.last_pose = self.last_pose;
+        } else {
+            fresh.interrupted = true;
+        }
+        *self = View { frames: self.frames, ..fresh };
+        Ok(())
+    }
+
     /// Culls one frame: records the view's uniform and the method's passes
     /// into `encoder` and hands `host` every list to draw, in phase order.
     /// The host has cleared its targets before (the crate docs' clearing
@@ -113,8 +135,8 @@ impl View {
         let (started, shape_before) = (std::time::Instant::now(), crate::gpu::shape::recorded());
         let regrown = self.slots != culler.objects.count;
         let rebuilt = self.generation != culler.generation && self.method.keeps_tree();
-        if !self.targets.same(&input.targets) || regrown || rebuilt {
-            let fresh = culler.view_with(self.method, &input.targets, &self.options)?;
+        if regrown || rebuilt {
+            let fresh = culler.view_with(self.method, &self.targets.desc(), &self.options)?;
             // Frames keep their numbers across the rebuild.
             *self = View { frames: self.frames, ..fresh };
         }
@@ -130,12 +152,15 @@ impl View {
                 )));
             }
         }
-        if input.view.depth != self.targets.depth {
-            return Err(Error::InvalidView(format!("view depth {:?} differs from the targets' {:?}", input.view.depth, self.targets.depth)));
-        }
         let g = input.view.geometry()?;
+        if g.depth != self.targets.depth {
+            return Err(Error::InvalidView(format!(
+                "the projection maps near to {:?} depth, and the view's targets were given {:?} (ViewTargets::depth_range)",
+                g.depth, self.targets.depth
+            )));
+        }
         culler.flush_oriented();
-        let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32, self.targets.depth);
+        let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32);
         self.uploads.write(encoder, &self.frame, 0, bytemuck::bytes_of(&uniform));
         let cut = self.detect_cut(culler, &g) || input.cut || std::mem::take(&mut self.interrupted);
         if cut {

@@ -194,7 +194,7 @@ impl Host {
         enc.copy_buffer_to_buffer(&camera, 0, &self.camera, 0, 64);
         drop(self.pass(enc, true));
         let mut lists = Vec::new();
-        view.cull(culler, enc, &FrameInput { view: desc, targets: self.targets(), cut, time: 0.0 }, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
+        view.cull(culler, enc, &FrameInput { view: desc, cut, time: 0.0 }, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
             let mut pass = self.pass(enc, false);
             pass.set_pipeline(if draw.mark { self.marking.as_ref().expect("a mark asked for without early-Z") } else { &self.plain });
             pass.set_bind_group(0, &self.camera_bind, &[]);
@@ -332,5 +332,5 @@ pub fn street_on(device: &wgpu::Device, at: Depth) -> (Host, Vec<ObjectDesc>) {
 
 /// A view from `eye` towards `target` with a standard-depth projection.
 pub fn look(eye: Vec3, target: Vec3) -> ViewDesc {
-    ViewDesc { view: Mat4::look_at_rh(eye, target, Vec3::Y), proj: Mat4::perspective_rh(1.1, 1.0, 0.1, 200.0), depth: DepthRange::Standard, unclipped_depth: false }
+    ViewDesc { view: Mat4::look_at_rh(eye, target, Vec3::Y), proj: Mat4::perspective_rh(1.1, 1.0, 0.1, 200.0), unclipped_depth: false }
 }
