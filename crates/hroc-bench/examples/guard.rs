@@ -243,7 +243,8 @@ fn main() {
         g.check_median(&format!("radial-city {objects}, 64x36: hroc ms / hzb ms"), ratio, Limit::AtMost(limit), &cmd);
         // Passes per frame: compute passes and the culler's own render
         // passes (a frame after a cut adds HROC's seed: 2 in 120 here).
-        let passes = |m: Method| [hroc::Stat::ComputePasses, hroc::Stat::RenderPasses].iter().map(|s| row(&runs[0], m).stats.get(s).copied().unwrap_or(f64::NAN)).sum::<f64>();
+        let passes =
+            |m: Method| [hroc::stats::Stat::ComputePasses, hroc::stats::Stat::RenderPasses].iter().map(|s| row(&runs[0], m).stats.get(s).copied().unwrap_or(f64::NAN)).sum::<f64>();
         g.check(&format!("radial-city {objects}, 64x36: hroc passes - hzb passes"), passes(Method::HROC) - passes(Method::Hzb), Limit::AtMost(0.05), &cmd);
     }
     let cmd = "hroc bench --scene houses --objects 11000 --fps 24 --methods hzb,hroc";

@@ -7,9 +7,9 @@ use std::ops::Deref;
 use crate::error::{Error, Result};
 
 /// What the benchmark needs of a device: what every culler needs, and GPU
-/// timestamps. It also asks for the rest of [`hroc::FULL_FEATURES`] and for
+/// timestamps. It also asks for the rest of [`hroc::device::FULL_FEATURES`] and for
 /// pipeline statistics where the adapter has them.
-pub const FEATURES: wgpu::Features = hroc::REQUIRED_FEATURES.union(hroc::TIMESTAMP_FEATURES).union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
+pub const FEATURES: wgpu::Features = hroc::device::REQUIRED_FEATURES.union(hroc::device::TIMESTAMP_FEATURES).union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_PASSES);
 
 /// The graphics API a headless device runs on.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -58,11 +58,11 @@ impl std::fmt::Display for Backend {
     }
 }
 
-/// What the culler runs with (`--tier`): a preset of [`hroc::Capabilities`],
+/// What the culler runs with (`--tier`): a preset of [`hroc::device::Capabilities`],
 /// or what wgpu 30 gives a backend, asked for on any device.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Tier {
-    /// [`hroc::Capabilities::FULL`]: the indirect draw count, early-Z marks
+    /// [`hroc::device::Capabilities::FULL`]: the indirect draw count, early-Z marks
     /// and read-only depth attachments (Vulkan).
     Full,
     /// What GL has: an emulated count, early-Z marks, no read-only depth
@@ -71,7 +71,7 @@ pub enum Tier {
     /// What DX12 has: the indirect count, ID marks (no forced early-Z),
     /// read-only depth attachments.
     Dx12,
-    /// [`hroc::Capabilities::PORTABLE`]: what every backend has; for every
+    /// [`hroc::device::Capabilities::PORTABLE`]: what every backend has; for every
     /// method and option, what Metal runs (an emulated count, ID marks).
     Portable,
 }
@@ -81,8 +81,8 @@ impl Tier {
     pub const ALL: [Tier; 4] = [Tier::Full, Tier::Gl, Tier::Dx12, Tier::Portable];
 
     /// The capabilities of the tier.
-    pub fn capabilities(self) -> hroc::Capabilities {
-        use hroc::{Capabilities, DrawCount, Marks};
+    pub fn capabilities(self) -> hroc::device::Capabilities {
+        use hroc::device::{Capabilities, DrawCount, Marks};
         match self {
             Tier::Full => Capabilities::FULL,
             Tier::Gl => Capabilities { draw_count: DrawCount::Emulated, marks: Marks::EarlyZ, read_only_depth: false },
@@ -129,7 +129,7 @@ pub struct Headless {
     pub info: wgpu::AdapterInfo,
     /// What the cullers made on this device run with: `None`, the most it
     /// allows (`--tier`).
-    pub capabilities: Option<hroc::Capabilities>,
+    pub capabilities: Option<hroc::device::Capabilities>,
     base: hroc::testing::gpu::Gpu,
 }
 
@@ -198,7 +198,7 @@ impl Headless {
                 label: Some("hroc"),
                 // The culler's full capabilities and pipeline statistics
                 // (`--breakdown`'s counts) where the adapter has them.
-                required_features: FEATURES | hroc::features(&adapter) | (adapter.features() & hroc::PIPELINE_STATISTICS_FEATURES),
+                required_features: FEATURES | hroc::device::features(&adapter) | (adapter.features() & hroc::device::PIPELINE_STATISTICS_FEATURES),
                 // The adapter's own limits: large scenes need large buffers.
                 required_limits: adapter.limits(),
                 ..Default::default()

@@ -116,7 +116,7 @@ fn auto_in_the_bench_with_views() {
 #[test]
 fn leaving_a_building_does_not_collapse_hroc() {
     let methods = Method::parse_list("hzb,hroc").unwrap();
-    let run = |seed: hroc::Seed| {
+    let run = |seed: hroc::options::Seed| {
         let o = BenchOptions {
             fps: Some(24.0),
             method_options: hroc::MethodOptions { hroc_seed: seed, ..Default::default() },
@@ -124,7 +124,7 @@ fn leaving_a_building_does_not_collapse_hroc() {
         };
         bench::run(gpu(), &o).unwrap()
     };
-    let (refill, cuts_only) = (run(hroc::Seed::Cuts), run(hroc::Seed::CutsOnly));
+    let (refill, cuts_only) = (run(hroc::options::Seed::Cuts), run(hroc::options::Seed::CutsOnly));
     let most = |r: &bench::BenchReport, m: Method| r.rows.iter().find(|row| row.method == m).unwrap().drawn_max;
     for r in [&refill, &cuts_only] {
         assert!(r.rows.iter().all(|row| (row.false_negatives, row.missing_pixels) == (0, 0)));
@@ -174,7 +174,7 @@ fn a_method_taking_over_starts_from_the_visible_set_handed_over() {
     for k in 7..12 {
         frame(&mut s, &mut from_hroc, k);
         if k == 7 {
-            let seeded = from_hroc.stats(&s.culler).unwrap().iter().find(|(st, _)| *st == hroc::Stat::Seeded).map(|x| x.1);
+            let seeded = from_hroc.stats(&s.culler).unwrap().iter().find(|(st, _)| *st == hroc::stats::Stat::Seeded).map(|x| x.1);
             assert_eq!(seeded, Some(0.0), "HROC handed a visible set does not seed");
         }
     }

@@ -6,7 +6,8 @@
 //! outside it. The GPU refit is checked against the CPU's.
 
 use glam::{Mat4, Vec3};
-use hroc::{Aabb, Culler, CullerDesc, MotionOptions, ObjectDesc, ObjectFlags, Refit};
+use hroc::options::{MotionOptions, Refit};
+use hroc::{Aabb, Culler, CullerDesc, ObjectDesc, ObjectFlags};
 use hroc_bench::bench::{Session, Truth};
 use hroc_bench::bvh::Split;
 use hroc_bench::gpu::Headless;
@@ -177,7 +178,7 @@ fn oriented_boxes_follow_their_objects() {
     let g = gpu();
     let turned = |b: Aabb| {
         let local = Aabb::new(-b.extent() * 0.5, b.extent() * 0.5);
-        hroc::OrientedBox::new(local, glam::Affine3A::from_rotation_translation(glam::Quat::from_rotation_y(0.7), b.center()))
+        hroc::geometry::OrientedBox::new(local, glam::Affine3A::from_rotation_translation(glam::Quat::from_rotation_y(0.7), b.center()))
     };
     let mut objs = objects(30);
     for o in objs.iter_mut().step_by(2) {
@@ -191,7 +192,7 @@ fn oriented_boxes_follow_their_objects() {
     assert_eq!(c.oriented(4), None, "set_bounds drops the old oriented box");
     c.set_oriented(&[(4, objs[4].oriented), (5, Some(turned(objs[5].bounds)))]).unwrap();
     assert!(c.oriented(4).is_some() && c.oriented(5).is_some());
-    let flat = hroc::OrientedBox::new(Aabb::new(Vec3::ZERO, Vec3::ONE), glam::Affine3A::from_scale(Vec3::new(1.0, 0.0, 1.0)));
+    let flat = hroc::geometry::OrientedBox::new(Aabb::new(Vec3::ZERO, Vec3::ONE), glam::Affine3A::from_scale(Vec3::new(1.0, 0.0, 1.0)));
     let e = c.set_oriented(&[(9, Some(turned(objs[9].bounds))), (7, Some(flat))]).unwrap_err().to_string();
     assert!(e.contains("object 7") && e.contains("invertible"), "{e}");
     assert_eq!(c.oriented(9), None, "nothing changes on an error");

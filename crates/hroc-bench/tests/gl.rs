@@ -8,7 +8,8 @@
 //! with objects moving, and culls a directional light's shadow cascades.
 //! (Both depth conventions on GL: the forward host's test.)
 
-use hroc::{DrawCount, Method};
+use hroc::device::DrawCount;
+use hroc::Method;
 use hroc_bench::bench::{self, BenchOptions};
 use hroc_bench::gpu::{Backend, Headless};
 
@@ -46,7 +47,7 @@ fn gl_serves_its_methods_with_no_false_negatives() {
     assert!(text.contains("hroc") && text.contains("READ_ONLY_DEPTH_STENCIL"), "{text}");
     // Asking for the full tier on GL is an error that names what is missing.
     let objects = hroc_bench::render::object_descs(&s.scene);
-    let full = hroc::CullerDesc { capabilities: Some(hroc::Capabilities::FULL), ..hroc::CullerDesc::new(&objects) };
+    let full = hroc::CullerDesc { capabilities: Some(hroc::device::Capabilities::FULL), ..hroc::CullerDesc::new(&objects) };
     let text = hroc::Culler::new(&gpu.device, &gpu.queue, &full).err().expect("the full tier refused on GL").to_string();
     assert!(text.contains("MULTI_DRAW_INDIRECT_COUNT") || text.contains("READ_ONLY_DEPTH_STENCIL"), "{text}");
     // wgpu's GL backend samples neither multisampled textures nor a layer

@@ -90,14 +90,14 @@ fn frame_with_occlusion_map(s: &mut Session, h: &mut hroc::View, k: usize) -> Ve
     let mut enc = gpu.encoder("occlusion map");
     s.renderer.clear(&mut enc);
     let st = h.method_state::<Hroc>().unwrap();
-    s.renderer.draw(&mut enc, st.occluder_list(), None);
-    s.renderer.draw(&mut enc, st.refill_list(), None);
+    s.renderer.draw(&mut enc, &host_list(st.occluder_list()), None);
+    s.renderer.draw(&mut enc, &host_list(st.refill_list()), None);
     gpu.queue.submit([enc.finish()]);
     s.read_depth().unwrap()
 }
 
 /// The oriented box the culler holds for every object.
-fn oriented_boxes(s: &Session) -> Vec<Option<hroc::OrientedBox>> {
+fn oriented_boxes(s: &Session) -> Vec<Option<hroc::geometry::OrientedBox>> {
     (0..s.renderer.object_count).map(|o| s.culler.oriented(o)).collect()
 }
 
@@ -212,9 +212,9 @@ fn gpu_late_test_matches_cpu_reference() {
             let (front, next) = st.round_marks(s.gpu, 0).unwrap().unwrap();
             let mut enc = s.gpu.encoder("late test depth");
             s.renderer.clear(&mut enc);
-            s.renderer.draw(&mut enc, st.occluder_list(), None);
-            s.renderer.draw(&mut enc, st.refill_list(), None);
-            s.renderer.draw(&mut enc, st.front_list(0).unwrap(), None);
+            s.renderer.draw(&mut enc, &host_list(st.occluder_list()), None);
+            s.renderer.draw(&mut enc, &host_list(st.refill_list()), None);
+            s.renderer.draw(&mut enc, &host_list(st.front_list(0).unwrap()), None);
             s.gpu.queue.submit([enc.finish()]);
             let depth = s.read_depth().unwrap();
             let cam = s.cameras[k];
@@ -264,7 +264,7 @@ fn conservative_on_cut_paths_with_every_seed() {
         let path = paths::cut_path(&scene, 3);
         let mut s = Session::new(gpu(), scene, Some(path), 21, RES, Split::Sah).unwrap();
         let mut drawn = Vec::new();
-        for seed in [hroc::Seed::Cuts, hroc::Seed::Always, hroc::Seed::Never, hroc::Seed::CutsOnly] {
+        for seed in [hroc::options::Seed::Cuts, hroc::options::Seed::Always, hroc::options::Seed::Never, hroc::options::Seed::CutsOnly] {
             s.options = hroc::MethodOptions { hroc_seed: seed, ..Default::default() };
             let ratio = assert_variants_conservative(&mut s, &format!("{key} seed {seed:?}"));
             // Drawn over visible: every visible object is drawn.
@@ -320,7 +320,7 @@ fn gpu_refill_matches_cpu_reference() {
         let mut last = vec![1.0f32; (RES.0 * RES.1) as usize];
         for k in 0..s.cameras.len() {
             s.run_frame(&mut h, k).unwrap();
-            let seeded = h.stats(&s.culler).unwrap().iter().any(|x| x.0 == hroc::Stat::Seeded && x.1 > 0.0);
+            let seeded = h.stats(&s.culler).unwrap().iter().any(|x| x.0 == hroc::stats::Stat::Seeded && x.1 > 0.0);
             let final_depth = s.read_depth().unwrap();
             let st = h.method_state::<Hroc>().unwrap();
             let read = |l: &hroc::testing::cull::DrawList| -> Vec<u32> { s.gpu.read_list(&l.commands, &l.count, l.max_count).unwrap().iter().map(|c| c.first_instance).collect() };
@@ -328,7 +328,7 @@ fn gpu_refill_matches_cpu_reference() {
             gpu_refill.sort_unstable();
             let mut enc = s.gpu.encoder("V's depth");
             s.renderer.clear(&mut enc);
-            s.renderer.draw(&mut enc, st.occluder_list(), None);
+            s.renderer.draw(&mut enc, &host_list(st.occluder_list()), None);
             s.gpu.queue.submit([enc.finish()]);
             let v_depth = s.read_depth().unwrap();
             if !seeded {
@@ -361,7 +361,7 @@ fn cuts_are_detected_from_the_view() {
     let mut s = Session::new(gpu(), scene, Some(path), 81, RES, Split::Sah).unwrap();
     let cut_of = |s: &mut Session, v: &mut hroc::View, k: usize| -> f64 {
         s.run_frame(v, k).unwrap();
-        v.stats(&s.culler).unwrap().iter().find(|x| x.0 == hroc::Stat::Cut).unwrap().1
+        v.stats(&s.culler).unwrap().iter().find(|x| x.0 == hroc::stats::Stat::Cut).unwrap().1
     };
     let mut h = s.create("hroc".parse().unwrap()).unwrap();
     // 8 frames per path second: 90° turns within the even seconds, small
@@ -428,15 +428,15 @@ fn work_counters_count_submits_waits_and_bytes() {
         for k in 0..s.cameras.len() {
             s.run_frame(&mut v, k).unwrap();
             let st = v.stats(&s.culler).unwrap();
-            let get = |w: hroc::Stat| st.iter().find(|x| x.0 == w).unwrap().1;
-            assert_eq!((get(hroc::Stat::Waits), get(hroc::Stat::Submits)), (waits, waits), "{m} frame {k}");
+            let get = |w: hroc::stats::Stat| st.iter().find(|x| x.0 == w).unwrap().1;
+            assert_eq!((get(hroc::stats::Stat::Waits), get(hroc::stats::Stat::Submits)), (waits, waits), "{m} frame {k}");
             if waits > 0.0 {
-                assert_eq!(get(hroc::Stat::BytesRead), 4.0 * waits, "{m} frame {k}");
+                assert_eq!(get(hroc::stats::Stat::BytesRead), 4.0 * waits, "{m} frame {k}");
             }
             if m == "hroc" {
-                assert_eq!(get(hroc::Stat::BytesRead) % 12.0, 0.0, "{m} frame {k}: whole frames of three counts");
+                assert_eq!(get(hroc::stats::Stat::BytesRead) % 12.0, 0.0, "{m} frame {k}: whole frames of three counts");
             }
-            bytes += get(hroc::Stat::BytesRead);
+            bytes += get(hroc::stats::Stat::BytesRead);
         }
         assert_eq!(bytes > 0.0, m != "hroc-na", "{m}: {bytes} bytes read");
     }
@@ -451,11 +451,11 @@ fn work_counters_count_submits_waits_and_bytes() {
 /// fragments; a view without statistics reports none.
 #[test]
 fn pipeline_statistics_count_every_stage() {
+    use hroc::stats::Stage;
     use hroc::testing::gpu::Invocations;
-    use hroc::Stage;
     let gpu = gpu();
     // The tests' adapter (lavapipe) has pipeline-statistics queries.
-    assert!(gpu.device.features().contains(hroc::PIPELINE_STATISTICS_FEATURES), "{} has no pipeline-statistics queries", gpu.adapter_name());
+    assert!(gpu.device.features().contains(hroc::device::PIPELINE_STATISTICS_FEATURES), "{} has no pipeline-statistics queries", gpu.adapter_name());
     let scene = hroc_bench::scene::load("radial-city", Some(1200), 3).unwrap();
     let mut s = Session::new(gpu, scene, None, 4, RES, Split::Sah).unwrap();
     let threads = |n: u32| n.div_ceil(256) as u64 * 256;
@@ -551,4 +551,9 @@ fn occluder_filtering_samples_every_stride() {
             assert_variants_conservative(&mut s, "radial-city, filter stride 3");
         }
     }
+}
+
+/// A list of the culler's internals as the renderer keeps lists.
+fn host_list(l: &hroc::testing::cull::DrawList) -> hroc_bench::render::DrawList {
+    hroc_bench::render::DrawList { commands: l.commands.clone(), count: l.count.clone(), max_count: l.max_count }
 }

@@ -5,7 +5,8 @@
 //! cuts paths of radial-city, factory and satellites, and with objects
 //! moving; the methods that read marks read them from the ID target.
 
-use hroc::{Method, Stat};
+use hroc::stats::Stat;
+use hroc::Method;
 use hroc_bench::bench::{self, BenchOptions};
 use hroc_bench::gpu::{Backend, Headless, Tier};
 

@@ -269,17 +269,17 @@ fn bench_rows_carry_stats_and_woc_reports() {
     for m in CONSERVATIVE {
         assert_eq!((row(m).false_negatives, row(m).missing_pixels), (0, 0), "{m}");
         assert!(row(m).c_over_n > 0.0, "{m} culled nothing");
-        assert!(row(m).stats.contains_key(&hroc::Stat::Readbacks), "{m}: {:?}", row(m).stats);
+        assert!(row(m).stats.contains_key(&hroc::stats::Stat::Readbacks), "{m}: {:?}", row(m).stats);
     }
-    assert!(row("roc").stats[&hroc::Stat::Boxes] > 0.0);
-    assert!(row("roc-all").stats[&hroc::Stat::Boxes] >= row("roc").stats[&hroc::Stat::Boxes]);
-    assert!(row("ioc").stats[&hroc::Stat::NodesTested] > 0.0 && row("ioc").stats[&hroc::Stat::Levels] >= 1.0);
-    assert!(row("hzb").stats[&hroc::Stat::Tested] > 0.0);
+    assert!(row("roc").stats[&hroc::stats::Stat::Boxes] > 0.0);
+    assert!(row("roc-all").stats[&hroc::stats::Stat::Boxes] >= row("roc").stats[&hroc::stats::Stat::Boxes]);
+    assert!(row("ioc").stats[&hroc::stats::Stat::NodesTested] > 0.0 && row("ioc").stats[&hroc::stats::Stat::Levels] >= 1.0);
+    assert!(row("hzb").stats[&hroc::stats::Stat::Tested] > 0.0);
     // woc is not conservative: it runs, culls, and its misses are reported
     // as they are (whatever they are), never hidden.
     let w = row("woc");
     assert!(w.c_over_n > 0.0 && w.drawn_mean > 0.0);
-    assert!(w.stats.contains_key(&hroc::Stat::FarTexels), "{:?}", w.stats);
+    assert!(w.stats.contains_key(&hroc::stats::Stat::FarTexels), "{:?}", w.stats);
     eprintln!("woc: {} false negatives, {} missing pixels, C/R {:.3}", w.false_negatives, w.missing_pixels, w.c_over_r);
     let json = serde_json::to_string(&report).unwrap();
     assert!(json.contains("\"nodes_tested\""));

@@ -244,17 +244,17 @@ struct BenchArgs {
     dynamic: bool,
     /// Where the BVH is refit: cpu or gpu.
     #[arg(long, default_value = "cpu", value_parser = parse_refit)]
-    refit: hroc::Refit,
+    refit: hroc::options::Refit,
     /// Rebuild the BVH when refits raise its SAH cost past this multiple of
     /// its cost as built (`inf`: never).
-    #[arg(long, default_value_t = hroc::MotionOptions::default().rebuild_sah_growth)]
+    #[arg(long, default_value_t = hroc::options::MotionOptions::default().rebuild_sah_growth)]
     rebuild_growth: f64,
 }
 
-fn parse_refit(s: &str) -> std::result::Result<hroc::Refit, String> {
+fn parse_refit(s: &str) -> std::result::Result<hroc::options::Refit, String> {
     match s {
-        "cpu" => Ok(hroc::Refit::Cpu),
-        "gpu" => Ok(hroc::Refit::Gpu),
+        "cpu" => Ok(hroc::options::Refit::Cpu),
+        "gpu" => Ok(hroc::options::Refit::Gpu),
         _ => Err(format!("'{s}' is not cpu or gpu")),
     }
 }
@@ -391,7 +391,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         progress: true,
         moving: a.moving.first().copied().unwrap_or(0.0),
         dynamic: a.dynamic,
-        motion: hroc::MotionOptions { refit: a.refit, rebuild_sah_growth: a.rebuild_growth, ..Default::default() },
+        motion: hroc::options::MotionOptions { refit: a.refit, rebuild_sah_growth: a.rebuild_growth, ..Default::default() },
         timestamps: a.breakdown,
         msaa: a.msaa,
         shadow_cascades: a.shadow_cascades,

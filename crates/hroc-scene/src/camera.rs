@@ -41,7 +41,7 @@ impl Camera {
     }
 }
 
-pub use hroc::frustum::{aabb_in_frustum, frustum_planes};
+pub use hroc::geometry::{aabb_in_frustum, frustum_planes};
 
 /// One cascade of a directional light's shadow map: a view looking along
 /// the light and the light-space box its orthographic projection spans

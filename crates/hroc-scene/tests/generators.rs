@@ -2,7 +2,7 @@
 //! sane camera paths, triangle budgets.
 
 use glam::{Mat4, Vec3};
-use hroc::frustum::{aabb_in_frustum, frustum_planes};
+use hroc::geometry::{aabb_in_frustum, frustum_planes};
 use hroc_scene::{generators, load, Aabb, Scene};
 use std::time::Instant;
 

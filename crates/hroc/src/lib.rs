@@ -30,26 +30,26 @@
 //! ## The host contract
 //! What every method needs from the host's pipelines. Break one and a method
 //! may cull a visible object.
-//! - **Device.** Request [`features`] and [`limits`] of the adapter. Every
-//!   culler needs [`REQUIRED_FEATURES`] (`first_instance` in indirect
+//! - **Device.** Request [`device::features`] and [`device::limits`] of the adapter. Every
+//!   culler needs [`device::REQUIRED_FEATURES`] (`first_instance` in indirect
 //!   draws: Vulkan, DX12, Metal, desktop GL 4.2+; not GLES or WebGL). It
-//!   runs with the [`Capabilities`] the device allows (or those asked for
+//!   runs with the [`device::Capabilities`] the device allows (or those asked for
 //!   in [`CullerDesc::capabilities`]): the indirect draw count where it
-//!   exists, else an emulated one ([`DrawCount`]); visibility marks from
+//!   exists, else an emulated one ([`device::DrawCount`]); visibility marks from
 //!   the host's fragment shaders under forced early-Z where it exists,
-//!   else from the object-ID target ([`Marks`]); box tests against a
+//!   else from the object-ID target ([`device::Marks`]); box tests against a
 //!   read-only depth attachment, or against depth they load
-//!   ([`Capabilities::read_only_depth`]). Which backend gives which of
+//!   ([`device::Capabilities::read_only_depth`]). Which backend gives which of
 //!   these, what each lacks and what its host provides is tabled once, in
 //!   README.md's "Backends and tiers" section.
-//!   [`Capabilities::PORTABLE`] (an emulated count, ID marks) runs on any
+//!   [`device::Capabilities::PORTABLE`] (an emulated count, ID marks) runs on any
 //!   of them. `ioc` needs 10 storage buffers per shader stage (wgpu's
 //!   default limit is 8). [`Culler::serves`] refuses what a culler cannot
 //!   run by name, with the reason, and [`Culler::methods`] lists what it
 //!   serves. [`Culler::new`] and [`Culler::view`] name any missing
 //!   feature, and any device limit below what is needed with the value
-//!   needed. [`TIMESTAMP_FEATURES`] add per-stage GPU times and
-//!   [`PIPELINE_STATISTICS_FEATURES`] per-stage shader invocations
+//!   needed. [`device::TIMESTAMP_FEATURES`] add per-stage GPU times and
+//!   [`device::PIPELINE_STATISTICS_FEATURES`] per-stage shader invocations
 //!   (counted in the host's draws when it records them with
 //!   [`Draw::record`]).
 //! - **Objects.** Object `i` is one indexed draw of the host's index buffer
@@ -59,12 +59,12 @@
 //!   `instance_count` 1 or 0: the host's vertex shader reads its per-object
 //!   data (transform, material) at `@builtin(instance_index)`.
 //!   Optionally, an object also has a box in its own frame
-//!   ([`ObjectDesc::oriented`], an [`OrientedBox`]) that holds the same
+//!   ([`ObjectDesc::oriented`], an [`geometry::OrientedBox`]) that holds the same
 //!   geometry: HROC then tests where both boxes meet, which for rotated
 //!   panels, rings and beams is far less than the world box alone.
 //! - **Draws.** For each [`Draw`], in the order handed over, the host records
 //!   `multi_draw_indexed_indirect_count(commands, 0, count, 0, max_count)`
-//!   (with [`DrawCount::Emulated`], `multi_draw_indexed_indirect(commands,
+//!   (with [`device::DrawCount::Emulated`], `multi_draw_indexed_indirect(commands,
 //!   0, max_count)`) into a render pass on the view's depth attachment, before returning
 //!   ([`Draw::record`]). Object order within a list is kept; the host must
 //!   not reorder, split or skip a list, because the culler's next pass reads
@@ -98,11 +98,11 @@
 //!   culler's next test cull what it would have hidden.
 //! - **Marks.** Methods that read which objects a list drew visibly
 //!   ([`Method::reads_marks`]: `roc`, `ioc`, HROC) learn it one of two ways
-//!   ([`Capabilities::marks`]):
-//!   - [`Marks::EarlyZ`]: the fragment shader of every occluding phase is
+//!   ([`device::Capabilities::marks`]):
+//!   - [`device::Marks::EarlyZ`]: the fragment shader of every occluding phase is
 //!     declared `@early_depth_test(force)` and calls `hroc_mark(object)`
-//!     from [`marks_wgsl`] when [`Draw::mark`] is set, with the
-//!     [`Draw::marks`] bind group at the group it names ([`marks_layout`],
+//!     from [`device::marks_wgsl`] when [`Draw::mark`] is set, with the
+//!     [`Draw::marks`] bind group at the group it names ([`device::marks_layout`],
 //!     from the device alone: pipelines come before the culler). To draw
 //!     its own objects through the same pipelines, the host binds
 //!     [`Culler::sink_marks`] there, which keeps no mark. Forced early-Z
@@ -110,12 +110,12 @@
 //!     fragment that passed" (HROC §3.1). A shader that discards (alpha
 //!     testing) cannot force early-Z: flag such objects
 //!     [`ObjectFlags::NOT_OCCLUDER`] or draw them in a separate pass.
-//!   - [`Marks::Ids`]: [`Draw::mark`] is never set and the host's shaders
+//!   - [`device::Marks::Ids`]: [`Draw::mark`] is never set and the host's shaders
 //!     need no hroc line; the culler reads the object-ID target after each
 //!     occluding list whose marks it reads, so views of those methods need
 //!     one ([`ViewTargets::ids`]).
 //! - **Object IDs.** For HROC with occluder filtering (OF, §4.2; the default
-//!   [`Method::HROC`]), and with [`Marks::Ids`] for every method that reads
+//!   [`Method::HROC`]), and with [`device::Marks::Ids`] for every method that reads
 //!   marks, the host writes `object index + 1` to an `R32Uint` target (or,
 //!   split in 16-bit halves, to an `Rg16Uint` one, which every backend can
 //!   multisample; [`ViewTargets::ids`], of which the culler reads layer 0,
@@ -193,7 +193,7 @@
 //!   slots (lowest free first; reserve room with [`CullerDesc::capacity`]),
 //!   and [`Culler::remove_objects`] empties them; an object's index is its
 //!   slot for as long as it lives. Static objects that move are refit into
-//!   the BVH, which is rebuilt by the [`MotionOptions`] policy;
+//!   the BVH, which is rebuilt by the [`options::MotionOptions`] policy;
 //!   [`ObjectFlags::DYNAMIC`] objects stay out of the tree and are tested on
 //!   their own box (HROC §6's hybrid), so moving them costs only their box.
 //!   Set or clear the flag at any time ([`Culler::set_flags`]: a door that
@@ -212,7 +212,7 @@
 //! `hroc-sf`) on this device, scene and path, chosen by a cost model that
 //! GPU timestamps calibrate (two in every frame of a probe or a switch, in
 //! one steady frame in four), read back without a stall
-//! ([`FrameStats::gpu_ns`]; without `TIMESTAMP_QUERY`, which [`features`]
+//! ([`stats::FrameStats::gpu_ns`]; without `TIMESTAMP_QUERY`, which [`device::features`]
 //! requests where the adapter has it, the CPU clock's frame period between
 //! the view's frames stands in: a GPU-bound host's frame time). Each frame
 //! is one candidate's whole frame, and a candidate taking over starts from
@@ -227,23 +227,18 @@
 //!
 //! ## Public API
 //! Everything a host touches, at the crate root (`tests/api_list.rs`
-//! checks this list against what the crate exports):
+//! checks this list against what the crate exports, and caps it):
 //! - the culler and its views: [`Culler`], [`CullerDesc`], [`View`],
-//!   [`ViewDesc`], [`ViewGeometry`], [`ViewTargets`], [`Targets`],
-//!   [`FrameInput`], [`DepthRange`];
-//! - objects: [`ObjectDesc`], [`ObjectFlags`], [`Aabb`], [`OrientedBox`],
-//!   [`MotionOptions`], [`Refit`], [`UpdateStats`];
-//! - the draws handed to the host: [`Draw`], [`DrawHost`], [`DrawList`],
-//!   [`Phase`], [`marks_wgsl`], [`marks_layout`];
-//! - methods and statistics: [`Method`], [`MethodOptions`], [`Variant`],
-//!   [`Counters`], [`Seed`], [`Stage`], [`Stat`], [`FrameStats`], [`FrameShape`],
-//!   [`Invocations`];
-//! - the device: [`features`], [`limits`], [`Capabilities`], [`DrawCount`], [`Marks`],
-//!   [`REQUIRED_FEATURES`], [`FULL_FEATURES`], [`TIMESTAMP_FEATURES`],
-//!   [`PIPELINE_STATISTICS_FEATURES`];
+//!   [`ViewDesc`], [`ViewTargets`], [`DepthRange`], [`FrameInput`];
+//! - objects: [`ObjectDesc`], [`ObjectFlags`], [`Aabb`];
+//! - the draws handed to the host: [`Draw`], [`DrawHost`], [`Phase`];
+//! - methods: [`Method`], [`MethodOptions`];
 //! - errors: [`Error`], [`Result`];
-//! - and the modules [`aabb`], [`bvh`] (the object BVH: [`CullerDesc::split`],
-//!   [`Culler::bvh`]), [`error`] and [`frustum`] (view conventions).
+//! - and the modules [`device`] (features, limits, capabilities, the marks
+//!   shaders' WGSL and layout), [`stats`] (what a view measures),
+//!   [`options`] (HROC's variants, motion), [`geometry`] (oriented boxes,
+//!   view conventions) and [`bvh`] (the object BVH: [`CullerDesc::split`],
+//!   [`Culler::bvh`]).
 //!
 //! The internals (the methods' state, their CPU references and debug
 //! read-backs, the WGSL sources and their Rust mirrors, GPU helpers) sit
@@ -253,15 +248,15 @@
 
 #![deny(missing_docs)]
 
-pub mod aabb;
+mod aabb;
 pub mod bvh;
 mod capabilities;
 mod compact;
 mod contract;
 mod cull;
-pub mod error;
+mod error;
 mod flag_split;
-pub mod frustum;
+mod frustum;
 mod gpu;
 mod host;
 mod id_marks;
@@ -275,14 +270,42 @@ mod tally;
 #[doc(hidden)]
 pub mod testing;
 
-pub use aabb::{Aabb, OrientedBox};
-pub use capabilities::{features, limits, Capabilities, DrawCount, Marks, FULL_FEATURES, REQUIRED_FEATURES};
-pub use cull::{Counters, DrawList, Method, MethodOptions, Seed, Stage, Stat, Variant};
+pub use aabb::Aabb;
+pub use cull::{Method, MethodOptions};
 pub use error::{Error, Result};
-pub use frustum::{DepthRange, ViewDesc, ViewGeometry};
-pub use gpu::{FrameShape, Invocations};
-pub use host::{
-    marks_layout, marks_wgsl, Culler, CullerDesc, Draw, DrawHost, FrameInput, MotionOptions, ObjectDesc, ObjectFlags, Phase, Refit, Targets, UpdateStats, View, ViewTargets,
-    PIPELINE_STATISTICS_FEATURES, TIMESTAMP_FEATURES,
-};
-pub use tally::FrameStats;
+pub use frustum::{DepthRange, ViewDesc};
+pub use host::{Culler, CullerDesc, Draw, DrawHost, FrameInput, ObjectDesc, ObjectFlags, Phase, View, ViewTargets};
+
+/// What the device must have and what the culler runs with on it: the
+/// features and limits to request, the [`device::Capabilities`] a culler
+/// uses (its tier), and the marks shaders' WGSL and bind-group layout.
+pub mod device {
+    pub use crate::capabilities::{features, limits, Capabilities, DrawCount, Marks, FULL_FEATURES, REQUIRED_FEATURES};
+    pub use crate::host::{marks_layout, marks_wgsl, PIPELINE_STATISTICS_FEATURES, TIMESTAMP_FEATURES};
+}
+
+/// What a view measures: per-frame statistics every method shares
+/// ([`stats::FrameStats`], with its recorded [`stats::FrameShape`]),
+/// per-stage times and shader invocations, each method's own counts
+/// ([`stats::Stat`]) and what an object update cost.
+pub mod stats {
+    pub use crate::cull::{Stage, Stat};
+    pub use crate::gpu::{FrameShape, Invocations};
+    pub use crate::host::UpdateStats;
+    pub use crate::tally::FrameStats;
+}
+
+/// Options beyond the method's name: HROC's variants (its counters, its
+/// occluder seed) and how moving objects update the BVH.
+pub mod options {
+    pub use crate::cull::{Counters, Seed, Variant};
+    pub use crate::host::{MotionOptions, Refit};
+}
+
+/// Boxes and views: object boxes (world and oriented), the view
+/// conventions (depth range, projections) and the geometry the culling
+/// passes derive from a view.
+pub mod geometry {
+    pub use crate::aabb::{Aabb, OrientedBox};
+    pub use crate::frustum::*;
+}

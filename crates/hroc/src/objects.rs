@@ -3,9 +3,10 @@
 
 use crate::contract::DrawList;
 use crate::error::{Error, Result};
+use crate::geometry::OrientedBox;
 use crate::gpu::Gpu;
 use crate::layout::{DrawCommand, ObjectBounds, OrientedBounds};
-use crate::{Aabb, OrientedBox};
+use crate::Aabb;
 
 /// Per-object flags.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec3, Vec4};
 use hroc::bvh::{Bvh, BvhNode, Split, LEAF_BIT, NO_PARENT};
-use hroc::frustum::{aabb_in_frustum, frustum_planes};
+use hroc::geometry::{aabb_in_frustum, frustum_planes};
 use hroc::Aabb;
 use proptest::prelude::*;
 

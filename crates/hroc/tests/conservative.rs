@@ -6,13 +6,15 @@
 
 use common::street::{look, street, street_on, Depth};
 use glam::Vec3;
-use hroc::{Capabilities, Culler, CullerDesc, DrawCount, Marks, Method, Variant, ViewDesc};
+use hroc::device::{Capabilities, DrawCount, Marks};
+use hroc::options::Variant;
+use hroc::{Culler, CullerDesc, Method, ViewDesc};
 
 mod common;
 
 #[test]
 fn every_method_family_draws_every_visible_object() {
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street(&device);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     assert_eq!(culler.capabilities(), Capabilities::FULL);
@@ -50,7 +52,7 @@ fn every_method_family_draws_every_visible_object() {
 fn orthographic_views_draw_every_visible_object() {
     use glam::Mat4;
     use hroc::DepthRange;
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let ortho = |eye: Vec3, target: Vec3, half: f32, near: f32, far: f32, depth: DepthRange| {
         let up = if (target - eye).normalize().y.abs() > 0.9 { Vec3::Z } else { Vec3::Y };
         let proj = match depth {
@@ -87,7 +89,7 @@ fn orthographic_views_draw_every_visible_object() {
 #[test]
 fn a_cascade_whose_box_jumps_is_a_cut() {
     use glam::Mat4;
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street(&device);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     let light = Mat4::look_at_rh(Vec3::ZERO, Vec3::new(-0.3, -1.0, -0.4), Vec3::Z);
@@ -97,7 +99,7 @@ fn a_cascade_whose_box_jumps_is_a_cut() {
     for x in [0.0, 0.3, 0.6, 14.0, 14.3] {
         host.frame(&device, &queue, &culler, &mut view, cascade(x), false);
         let stats = view.stats(&culler).unwrap();
-        cuts.push(stats.iter().find(|(s, _)| *s == hroc::Stat::Cut).map(|s| s.1).unwrap());
+        cuts.push(stats.iter().find(|(s, _)| *s == hroc::stats::Stat::Cut).map(|s| s.1).unwrap());
     }
     assert_eq!(cuts, [0.0, 0.0, 0.0, 1.0, 0.0], "a jump of 14 units (past a tenth of the street's diagonal) is a cut; slides of 0.3 are not");
 }

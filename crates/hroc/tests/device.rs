@@ -1,10 +1,11 @@
 //! What the culler asks of a device, and what it says when a device falls
 //! short: missing features and limits are errors that name what is needed,
 //! methods it cannot serve are refused by name with the reason, and
-//! `hroc::features` / `hroc::limits` give a device that serves everything.
+//! `hroc::device::features` / `hroc::device::limits` give a device that serves everything.
 
 use glam::Vec3;
-use hroc::{Aabb, Capabilities, Culler, CullerDesc, DepthRange, DrawCount, Error, Marks, Method, ObjectDesc, ObjectFlags, ViewTargets};
+use hroc::device::{Capabilities, DrawCount, Marks};
+use hroc::{Aabb, Culler, CullerDesc, DepthRange, Error, Method, ObjectDesc, ObjectFlags, ViewTargets};
 
 mod common;
 
@@ -22,7 +23,7 @@ fn objects() -> Vec<ObjectDesc> {
 /// value it needs, before any GPU work.
 #[test]
 fn default_limits_serve_every_method_but_ioc_and_name_what_ioc_needs() {
-    let (device, queue) = common::device_with(hroc::FULL_FEATURES, |_| wgpu::Limits::default());
+    let (device, queue) = common::device_with(hroc::device::FULL_FEATURES, |_| wgpu::Limits::default());
     let objects = objects();
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).expect("the culler fits wgpu's default limits");
     assert_eq!(culler.capabilities(), Capabilities::FULL);
@@ -40,7 +41,7 @@ fn default_limits_serve_every_method_but_ioc_and_name_what_ioc_needs() {
 /// limit, the value needed and the device's.
 #[test]
 fn a_limit_below_the_cullers_own_is_named() {
-    let (device, queue) = common::device_with(hroc::FULL_FEATURES, |_| wgpu::Limits { max_storage_buffers_per_shader_stage: 4, ..wgpu::Limits::default() });
+    let (device, queue) = common::device_with(hroc::device::FULL_FEATURES, |_| wgpu::Limits { max_storage_buffers_per_shader_stage: 4, ..wgpu::Limits::default() });
     let objects = objects();
     match Culler::new(&device, &queue, &CullerDesc::new(&objects)) {
         Err(Error::DeviceLimit { limit, needed, have, .. }) => assert_eq!((limit, needed, have), ("max_storage_buffers_per_shader_stage", 7, 4)),
@@ -49,7 +50,7 @@ fn a_limit_below_the_cullers_own_is_named() {
     }
 }
 
-/// `hroc::features` and `hroc::limits` give a device that serves every
+/// `hroc::device::features` and `hroc::device::limits` give a device that serves every
 /// method; asking for more than the device has is an error naming the
 /// features; a device with only the required features (what Metal offers)
 /// runs with an emulated count and ID marks: its shaders compile without
@@ -59,13 +60,13 @@ fn a_limit_below_the_cullers_own_is_named() {
 #[test]
 fn capabilities_follow_the_device() {
     let adapter = common::adapter();
-    assert_eq!(hroc::features(&adapter) & hroc::FULL_FEATURES, hroc::FULL_FEATURES, "lavapipe has the full tier");
-    let (device, queue) = common::device_with(hroc::features(&adapter), hroc::limits);
+    assert_eq!(hroc::device::features(&adapter) & hroc::device::FULL_FEATURES, hroc::device::FULL_FEATURES, "lavapipe has the full tier");
+    let (device, queue) = common::device_with(hroc::device::features(&adapter), hroc::device::limits);
     let objects = objects();
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     assert_eq!(culler.methods(), Method::ALL.to_vec());
 
-    let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
+    let (device, queue) = common::device(hroc::device::REQUIRED_FEATURES);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     assert_eq!(culler.capabilities(), Capabilities { draw_count: DrawCount::Emulated, marks: Marks::Ids, read_only_depth: true });
     let served = culler.methods();
@@ -91,7 +92,7 @@ fn capabilities_follow_the_device() {
 #[test]
 fn a_device_without_early_z_culls_conservatively() {
     use common::street::{look, street};
-    let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
+    let (device, queue) = common::device(hroc::device::REQUIRED_FEATURES);
     let (host, objects) = street(&device);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     assert_eq!(culler.capabilities().marks, Marks::Ids);
@@ -99,7 +100,7 @@ fn a_device_without_early_z_culls_conservatively() {
     path.push((look(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
     path.push((look(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
     let visible = host.visible_along(&device, &queue, &culler, &path);
-    for method in [Method::Roc, Method::RocAll, Method::Ioc, Method::Chc, Method::Hroc(hroc::Variant::NA), Method::HROC] {
+    for method in [Method::Roc, Method::RocAll, Method::Ioc, Method::Chc, Method::Hroc(hroc::options::Variant::NA), Method::HROC] {
         let mut view = culler.view(method, &host.targets()).unwrap();
         let culled = host.draws_visible_along(&device, &queue, &culler, &mut view, &path, &visible, &method.to_string());
         assert!(culled > 0, "{method} culled nothing");

@@ -19,7 +19,7 @@ fn frame(device: &wgpu::Device, host: &Host, culler: &Culler, enc: &mut wgpu::Co
 
 #[test]
 fn frames_may_share_an_encoder_be_submitted_late_or_be_dropped() {
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street(&device);
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     // Along the street, where the wall hides most cubes; from above, where

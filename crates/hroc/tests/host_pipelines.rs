@@ -1,13 +1,14 @@
 //! A host that builds its pipelines before the culler exists
-//! ([`hroc::marks_layout`] from the device alone), draws the culler's lists
+//! ([`hroc::device::marks_layout`] from the device alone), draws the culler's lists
 //! through them and its own object through the same pipeline with
 //! [`hroc::Culler::sink_marks`], on lavapipe. wgpu panics on a validation
 //! error, so a layout the culler's bind groups do not fit fails the test;
 //! the marks the host's fragment shader leaves must reach the culler, and
-//! the view's [`hroc::FrameStats`] count what the host drew.
+//! the view's [`hroc::stats::FrameStats`] count what the host drew.
 
 use glam::{Mat4, Vec3};
-use hroc::{Aabb, Culler, CullerDesc, DepthRange, Draw, FrameInput, Method, ObjectDesc, ObjectFlags, Stat, ViewDesc, ViewTargets};
+use hroc::stats::Stat;
+use hroc::{Aabb, Culler, CullerDesc, DepthRange, Draw, FrameInput, Method, ObjectDesc, ObjectFlags, ViewDesc, ViewTargets};
 use wgpu::util::DeviceExt;
 
 mod common;
@@ -38,7 +39,7 @@ fn pass<'e>(encoder: &'e mut wgpu::CommandEncoder, depth: &wgpu::TextureView, lo
 
 #[test]
 fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     // The host's pipeline first: camera at group 0, hroc's marks at group 1.
     let (pipeline, camera_layout) = common::host_pipeline(&device, false, true);
 
@@ -70,7 +71,7 @@ fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
     let objects = [object(0, 0.0), object(1, -4.0)];
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     let targets = ViewTargets::new(&depth, DepthRange::Standard);
-    let mut v = culler.view(Method::Hroc(hroc::Variant::NA), &targets).unwrap();
+    let mut v = culler.view(Method::Hroc(hroc::options::Variant::NA), &targets).unwrap();
     for frame in 0..3 {
         let mut encoder = device.create_command_encoder(&Default::default());
         drop(pass(&mut encoder, &depth_view, wgpu::LoadOp::Clear(1.0)));

@@ -23,7 +23,7 @@ fn cpu_marks(ids: &[u32], objects: usize, within: Option<&[u32]>) -> Vec<u32> {
 
 #[test]
 fn id_marks_match_the_cpu_reference() {
-    let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
+    let (device, queue) = common::device(hroc::device::REQUIRED_FEATURES);
     let gpu = Gpu::from_device(&device, &queue);
     let pass = IdMarks::new(&gpu, 3000);
     // A xorshift: values below `n`.
@@ -81,7 +81,7 @@ fn id_marks_match_the_cpu_reference() {
 /// from their two halves, as the CPU reference does.
 #[test]
 fn id_marks_read_every_sample_of_msaa_ids() {
-    let (device, queue) = common::device(hroc::REQUIRED_FEATURES);
+    let (device, queue) = common::device(hroc::device::REQUIRED_FEATURES);
     let gpu = Gpu::from_device(&device, &queue);
     let (w, h, samples, objects) = (29u32, 17u32, 4u32, 70_000usize);
     // Per sample: 0, an ID past 16 bits, a small one, or one past the

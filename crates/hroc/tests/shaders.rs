@@ -141,7 +141,7 @@ fn host_shader(group: u32) -> String {
     format!(
         "{}\n@vertex fn vs(@builtin(instance_index) i: u32) -> @builtin(position) vec4<f32> {{ return vec4<f32>(f32(i)); }}\n\
          @fragment @early_depth_test(force) fn fs(@builtin(position) p: vec4<f32>) -> @location(0) vec4<f32> {{ hroc_mark(u32(p.x)); return p; }}\n",
-        hroc::marks_wgsl(group)
+        hroc::device::marks_wgsl(group)
     )
 }
 

@@ -16,7 +16,9 @@
 
 use common::street::{look, street_on, Depth};
 use glam::Vec3;
-use hroc::{Capabilities, Culler, CullerDesc, Method, Variant, ViewDesc};
+use hroc::device::Capabilities;
+use hroc::options::Variant;
+use hroc::{Culler, CullerDesc, Method, ViewDesc};
 
 mod common;
 
@@ -79,7 +81,7 @@ fn same_picture_with(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth, caps
 fn every_depth_format_gives_noc_s_picture() {
     let adapter = common::adapter();
     let extra = adapter.features() & wgpu::Features::DEPTH32FLOAT_STENCIL8;
-    let (device, queue) = common::device(hroc::FULL_FEATURES | extra);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES | extra);
     use wgpu::TextureFormat as F;
     let mut formats = vec![F::Depth16Unorm, F::Depth24Plus, F::Depth24PlusStencil8, F::Depth32Float];
     if !extra.is_empty() {
@@ -92,7 +94,7 @@ fn every_depth_format_gives_noc_s_picture() {
 
 #[test]
 fn a_view_on_layer_1_or_mip_1_gives_noc_s_picture() {
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     same_picture_as_noc(&device, &queue, Depth { layers: 3, layer: 1, ..Depth::default() });
     same_picture_as_noc(&device, &queue, Depth { mips: 2, mip: 1, ..Depth::default() });
     same_picture_as_noc(&device, &queue, Depth { layers: 2, mips: 3, layer: 1, mip: 2, ..Depth::default() });
@@ -107,7 +109,7 @@ fn a_view_on_layer_1_or_mip_1_gives_noc_s_picture() {
 fn msaa_targets_give_noc_s_picture() {
     let adapter = common::adapter();
     assert!(adapter.features().contains(wgpu::Features::MULTISAMPLE_ARRAY), "lavapipe has multisampled arrays");
-    let (device, queue) = common::device(hroc::FULL_FEATURES | wgpu::Features::MULTISAMPLE_ARRAY);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES | wgpu::Features::MULTISAMPLE_ARRAY);
     for range in [hroc::DepthRange::Standard, hroc::DepthRange::Reversed] {
         same_picture_as_noc(&device, &queue, Depth { range, samples: 4, ..Depth::default() });
     }
@@ -119,7 +121,7 @@ fn msaa_targets_give_noc_s_picture() {
 /// what it got.
 #[test]
 fn an_id_target_unlike_the_depth_target_is_an_error() {
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street_on(&device, Depth { samples: 4, ..Depth::default() });
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     let ids = |format, samples| {
@@ -146,7 +148,7 @@ fn an_id_target_unlike_the_depth_target_is_an_error() {
 /// A layer or mip the depth texture does not have is an error that says so.
 #[test]
 fn a_layer_or_mip_outside_the_texture_is_an_error() {
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street_on(&device, Depth { layers: 2, mips: 2, ..Depth::default() });
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     for (layer, mip) in [(2, 0), (0, 2)] {
@@ -164,7 +166,7 @@ fn a_layer_or_mip_outside_the_texture_is_an_error() {
 /// reversed), gets `noc`'s picture from every method family.
 #[test]
 fn depth_bias_away_from_the_viewer_gives_noc_s_picture() {
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     for (range, sign) in [(hroc::DepthRange::Standard, 1), (hroc::DepthRange::Reversed, -1)] {
         let bias = wgpu::DepthBiasState { constant: sign * 200, slope_scale: sign as f32 * 2.0, clamp: 0.0 };
         same_picture_as_noc(&device, &queue, Depth { range, bias, ..Depth::default() });
@@ -178,7 +180,7 @@ fn depth_bias_away_from_the_viewer_gives_noc_s_picture() {
 fn unclipped_depth_draws_what_lies_before_the_near_plane() {
     let adapter = common::adapter();
     assert!(adapter.features().contains(wgpu::Features::DEPTH_CLIP_CONTROL), "lavapipe clamps depth");
-    let (device, queue) = common::device(hroc::FULL_FEATURES | wgpu::Features::DEPTH_CLIP_CONTROL);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES | wgpu::Features::DEPTH_CLIP_CONTROL);
     for range in [hroc::DepthRange::Standard, hroc::DepthRange::Reversed] {
         same_picture_as_noc(&device, &queue, Depth { range, unclipped: true, ..Depth::default() });
     }
@@ -192,13 +194,13 @@ fn unclipped_depth_draws_what_lies_before_the_near_plane() {
 /// refused, naming where the range is given.
 #[test]
 fn a_view_keeps_its_state_across_targets_of_the_same_shape() {
-    let (device, queue) = common::device(hroc::FULL_FEATURES);
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (a, objects) = street_on(&device, Depth::default());
     let (b, _) = street_on(&device, Depth::default());
     let (msaa, _) = street_on(&device, Depth { samples: 4, ..Depth::default() });
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
     let desc = look(Vec3::new(0.0, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0));
-    let cut = |view: &mut hroc::View| view.stats(&culler).unwrap().iter().any(|&(s, v)| s == hroc::Stat::Cut && v > 0.0);
+    let cut = |view: &mut hroc::View| view.stats(&culler).unwrap().iter().any(|&(s, v)| s == hroc::stats::Stat::Cut && v > 0.0);
     let mut truth = culler.view(Method::Noc, &b.targets()).unwrap();
     b.frame(&device, &queue, &culler, &mut truth, desc, true);
     let visible = b.visible(&device, &queue);

@@ -4,7 +4,7 @@
 //! `cargo run --release -p hroc-forward-host --example forward_host -- [METHOD] [OUT.png] [--backend vulkan|gl] [--tier full|portable] [--shadow-method M]`
 //!
 //! `--tier portable` runs hroc with an emulated draw count and ID marks
-//! ([`hroc::Capabilities::PORTABLE`], what DX12 and Metal need), and the
+//! ([`hroc::device::Capabilities::PORTABLE`], what DX12 and Metal need), and the
 //! host's opaque fragment shader then has no hroc line.
 //!
 //! The frame is an engine's ([`Views::ENGINE`]): a 4× MSAA main view and a
@@ -15,7 +15,8 @@
 //! default; `hroc-na` marks in the shadow pass's fragment stage). Each
 //! frame's wall time (record, submit, wait) is printed, and its mean.
 
-use hroc::{Capabilities, DepthRange, Method};
+use hroc::device::Capabilities;
+use hroc::{DepthRange, Method};
 use hroc_forward_host::{open_device_on, Demo, ForwardHost, Views};
 
 fn main() -> std::process::ExitCode {

@@ -12,7 +12,8 @@
 //! cascaded shadow map whose cascades are views of the same culler.
 
 use glam::{Mat4, Vec2, Vec3};
-use hroc::{Capabilities, Culler, CullerDesc, DepthRange, FrameInput, Marks, Method, ObjectDesc, ObjectFlags, Phase, View, ViewDesc, ViewTargets};
+use hroc::device::{Capabilities, Marks};
+use hroc::{Culler, CullerDesc, DepthRange, FrameInput, Method, ObjectDesc, ObjectFlags, Phase, View, ViewDesc, ViewTargets};
 use hroc_scene::Scene;
 
 mod demo;
@@ -102,15 +103,15 @@ pub fn open_device_on(backends: wgpu::Backends) -> Result<(wgpu::Device, wgpu::Q
         desc.backends = backends;
         let instance = wgpu::Instance::new(desc);
         let adapter = instance.request_adapter(&wgpu::RequestAdapterOptions::default()).await.map_err(|e| format!("no adapter: {e}"))?;
-        let missing = hroc::REQUIRED_FEATURES - adapter.features();
+        let missing = hroc::device::REQUIRED_FEATURES - adapter.features();
         if !missing.is_empty() {
             return Err(format!("{} lacks {missing:?}", adapter.get_info().name));
         }
         adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("forward host"),
-                required_features: hroc::features(&adapter),
-                required_limits: hroc::limits(&adapter),
+                required_features: hroc::device::features(&adapter),
+                required_limits: hroc::device::limits(&adapter),
                 ..Default::default()
             })
             .await
@@ -325,7 +326,7 @@ impl ForwardHost {
         let marks = culler.capabilities().marks;
         let mut source = include_str!("shader.wgsl").to_string();
         if marks == Marks::EarlyZ {
-            source += &format!("\n{}\n{}", include_str!("marked.wgsl"), hroc::marks_wgsl(1));
+            source += &format!("\n{}\n{}", include_str!("marked.wgsl"), hroc::device::marks_wgsl(1));
         }
         if !device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST) {
             source = source.replace("@early_depth_test(force)", "");

@@ -7,7 +7,8 @@
 //! caster hidden from the camera can still cast a visible shadow.
 
 use glam::{Mat4, Vec3};
-use hroc::{Culler, DepthRange, FrameInput, Marks, Method, View, ViewDesc, ViewTargets};
+use hroc::device::Marks;
+use hroc::{Culler, DepthRange, FrameInput, Method, View, ViewDesc, ViewTargets};
 
 use crate::readback;
 
@@ -105,7 +106,7 @@ impl Shadows {
         let marked = method.reads_marks() && culler.capabilities().marks == Marks::EarlyZ;
         let mut source = include_str!("shadow.wgsl").to_string();
         if marked {
-            source += &format!("\n{}\n{}", include_str!("shadow_marked.wgsl"), hroc::marks_wgsl(1));
+            source += &format!("\n{}\n{}", include_str!("shadow_marked.wgsl"), hroc::device::marks_wgsl(1));
         }
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("shadow"), source: wgpu::ShaderSource::Wgsl(source.into()) });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {

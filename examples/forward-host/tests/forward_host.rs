@@ -6,7 +6,8 @@
 //! panel behind the wall is culled; the one in front is drawn and hides
 //! nothing.
 
-use hroc::{Capabilities, DepthRange, Method};
+use hroc::device::Capabilities;
+use hroc::{DepthRange, Method};
 use hroc_forward_host::{open_device, open_device_on, Demo, ForwardHost, Views};
 
 const SIZE: (u32, u32) = (192, 108);
@@ -42,7 +43,7 @@ fn culls_conservatively(backends: wgpu::Backends, capabilities: Option<Capabilit
     let aspect = SIZE.0 as f32 / SIZE.1 as f32;
     for depth in [DepthRange::Standard, DepthRange::Reversed] {
         let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth, capabilities).unwrap();
-        for method in [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant::NA), Method::Hroc(hroc::Variant::OF)] {
+        for method in [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::options::Variant::NA), Method::Hroc(hroc::options::Variant::OF)] {
             let mut host = ForwardHost::new(&device, &queue, &demo.scene, SIZE, method, depth, capabilities).unwrap();
             if let Some(caps) = capabilities {
                 assert_eq!(host.capabilities(), caps);
@@ -92,7 +93,7 @@ fn engine_frame_culls_every_view_conservatively() {
     for depth in [DepthRange::Standard, DepthRange::Reversed] {
         let all = |m| (m, depth, None);
         let mut truth = ForwardHost::with_views(&device, &queue, &demo.scene, SIZE, all(Method::Noc), Views { shadow_method: Method::Noc, ..Views::ENGINE }).unwrap();
-        let setups = [(Method::HROC, Method::Hzb), (Method::Hzb, Method::Hroc(hroc::Variant::NA)), (Method::Roc, Method::Hzb)];
+        let setups = [(Method::HROC, Method::Hzb), (Method::Hzb, Method::Hroc(hroc::options::Variant::NA)), (Method::Roc, Method::Hzb)];
         for (method, shadow_method) in setups {
             let mut host = ForwardHost::with_views(&device, &queue, &demo.scene, SIZE, all(method), Views { shadow_method, ..Views::ENGINE }).unwrap();
             let (mut cascade_drawn, mut cascade_all) = (0, 0);
@@ -155,7 +156,7 @@ fn host_mistakes_are_clear_errors() {
     let no_ids = ViewTargets::new(&depth, DepthRange::Standard);
     let e = culler.view(Method::HROC, &no_ids).err().expect("OF needs IDs").to_string();
     assert!(e.contains("object-ID target"), "{e}");
-    assert!(culler.view(Method::Hroc(hroc::Variant::CR), &no_ids).is_ok());
+    assert!(culler.view(Method::Hroc(hroc::options::Variant::CR), &no_ids).is_ok());
     // A depth target the culler cannot sample.
     let unsampled = tex(wgpu::TextureFormat::Depth32Float, U::RENDER_ATTACHMENT);
     let e = culler.view(Method::Hzb, &ViewTargets::new(&unsampled, DepthRange::Standard)).err().expect("unsampled depth").to_string();
@@ -231,7 +232,7 @@ fn hard_path_in_both_depth_conventions() {
     let aspect = SIZE.0 as f32 / SIZE.1 as f32;
     for depth in [DepthRange::Reversed, DepthRange::Standard] {
         let mut truth = ForwardHost::new(&device, &queue, &demo.scene, SIZE, Method::Noc, depth, None).unwrap();
-        let methods = [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::Variant::NA)];
+        let methods = [Method::HROC, Method::Hzb, Method::Roc, Method::Hroc(hroc::options::Variant::NA)];
         let mut hosts: Vec<ForwardHost> = [None, Some(Capabilities::PORTABLE)]
             .into_iter()
             .flat_map(|caps| methods.map(|m| (m, caps)))

@@ -88,7 +88,7 @@ pub fn percentile(v: &[f64], p: f64) -> f64 {
 
 /// The tier's name ([`crate::gpu::Tier`]), or the three capabilities
 /// (draw count, marks, read-only depth).
-pub fn capabilities_name(c: hroc::Capabilities) -> String {
+pub fn capabilities_name(c: hroc::device::Capabilities) -> String {
     match crate::gpu::Tier::ALL.into_iter().find(|t| t.capabilities() == c) {
         Some(t) => t.name().into(),
         None => format!("{:?} draw count, {:?} marks, {} read-only depth", c.draw_count, c.marks, if c.read_only_depth { "with" } else { "without" }),

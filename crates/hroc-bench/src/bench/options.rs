@@ -36,7 +36,7 @@ pub struct BenchOptions {
     /// hybrid) instead of refitting them into the BVH (`--dynamic`).
     pub dynamic: bool,
     /// Refit and rebuild policy (`--refit`, `--rebuild-growth`).
-    pub motion: hroc::MotionOptions,
+    pub motion: hroc::options::MotionOptions,
     /// Parameters of the methods (`--soq-base-time`, `--chc-*`).
     pub method_options: hroc::MethodOptions,
     /// Time every stage with GPU timestamps (`--breakdown`). Each stamp is a
@@ -74,7 +74,7 @@ impl BenchOptions {
             progress: false,
             moving: 0.0,
             dynamic: false,
-            motion: hroc::MotionOptions::default(),
+            motion: hroc::options::MotionOptions::default(),
             method_options: hroc::MethodOptions::default(),
             timestamps: false,
             msaa: 1,

@@ -40,17 +40,17 @@ pub struct MethodRow {
     pub triangles_fraction: f64,
     /// Mean GPU ms per stage, in stage order (by name in the JSON).
     #[serde(serialize_with = "by_stage_name")]
-    pub stages_ms: BTreeMap<hroc::Stage, f64>,
+    pub stages_ms: BTreeMap<hroc::stats::Stage, f64>,
     /// Mean shader invocations per frame and stage, from pipeline-statistics
     /// queries (with `--breakdown` on devices that have them): work that
     /// does not depend on how busy the machine is. Empty without them.
     #[serde(serialize_with = "by_stage_name")]
-    pub invocations: BTreeMap<hroc::Stage, InvocationsMean>,
+    pub invocations: BTreeMap<hroc::stats::Stage, InvocationsMean>,
     /// Mean per frame of the method's own statistics (HROC: V, O, G, U, D,
     /// rays, nodes_per_ray), by name in the JSON: the camera view's. Empty
     /// for methods without any.
     #[serde(serialize_with = "by_stat_name")]
-    pub stats: BTreeMap<hroc::Stat, f64>,
+    pub stats: BTreeMap<hroc::stats::Stat, f64>,
     /// Wall ms of every frame (warm-up frames included).
     pub frame_ms: Vec<f64>,
     /// Triangles drawn in every frame, by every view (warm-up frames
@@ -99,18 +99,18 @@ pub struct InvocationsMean {
 }
 
 impl InvocationsMean {
-    pub(super) fn of(sum: &hroc::Invocations, frames: f64) -> Self {
+    pub(super) fn of(sum: &hroc::stats::Invocations, frames: f64) -> Self {
         InvocationsMean { vertex: sum.vertex as f64 / frames, fragment: sum.fragment as f64 / frames, compute: sum.compute as f64 / frames }
     }
 }
 
 /// Serializes a per-stage map by stage name, in stage order.
-fn by_stage_name<T: Serialize, S: serde::Serializer>(m: &BTreeMap<hroc::Stage, T>, s: S) -> std::result::Result<S::Ok, S::Error> {
+fn by_stage_name<T: Serialize, S: serde::Serializer>(m: &BTreeMap<hroc::stats::Stage, T>, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_map(m.iter().map(|(k, v)| (k.name(), v)))
 }
 
 /// Serializes a per-statistic map by statistic name, in declaration order.
-fn by_stat_name<S: serde::Serializer>(m: &BTreeMap<hroc::Stat, f64>, s: S) -> std::result::Result<S::Ok, S::Error> {
+fn by_stat_name<S: serde::Serializer>(m: &BTreeMap<hroc::stats::Stat, f64>, s: S) -> std::result::Result<S::Ok, S::Error> {
     s.collect_map(m.iter().map(|(k, v)| (k.name(), v)))
 }
 

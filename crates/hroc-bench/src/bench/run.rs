@@ -226,7 +226,7 @@ impl<'g, 'o> Run<'g, 'o> {
 
     /// Adds a method's frame `k` (its views' objects drawn in `views`) to its sums.
     #[allow(clippy::too_many_arguments)]
-    fn record(&mut self, method: Method, k: usize, r: &FrameResult, c: Check, views: &[usize], stats: Vec<(hroc::Stat, f64)>, update: Option<f64>) {
+    fn record(&mut self, method: Method, k: usize, r: &FrameResult, c: Check, views: &[usize], stats: Vec<(hroc::stats::Stat, f64)>, update: Option<f64>) {
         let (n, warm) = (self.s.renderer.object_count as u64, self.warm);
         let a = self.accs.entry(method).or_default();
         a.view_drawn.resize(views.len(), 0);
@@ -238,9 +238,9 @@ impl<'g, 'o> Run<'g, 'o> {
         }
         for (st, v) in stats {
             match st {
-                hroc::Stat::Chosen => a.chosen.push(Method::ALL.get(v as usize).copied().unwrap_or(Method::Auto)),
+                hroc::stats::Stat::Chosen => a.chosen.push(Method::ALL.get(v as usize).copied().unwrap_or(Method::Auto)),
                 _ => {
-                    if st == hroc::Stat::Cut && v > 0.0 {
+                    if st == hroc::stats::Stat::Cut && v > 0.0 {
                         a.cut_frames.push(k);
                     }
                     *a.stats.entry(st).or_default() += v;
@@ -258,7 +258,7 @@ impl<'g, 'o> Run<'g, 'o> {
                 *a.invocations.entry(*st).or_default() += *inv;
             }
             if let Some(ms) = update {
-                *a.stages.entry(hroc::Stage::ObjectUpdate).or_default() += ms;
+                *a.stages.entry(hroc::stats::Stage::ObjectUpdate).or_default() += ms;
             }
         }
         a.culled += n * views.len() as u64 - c.drawn as u64;
@@ -323,9 +323,9 @@ impl<'g, 'o> Run<'g, 'o> {
 struct Acc {
     wall: Vec<f64>,
     gpu: Vec<f64>,
-    stages: BTreeMap<hroc::Stage, f64>,
-    invocations: BTreeMap<hroc::Stage, hroc::Invocations>,
-    stats: BTreeMap<hroc::Stat, f64>,
+    stages: BTreeMap<hroc::stats::Stage, f64>,
+    invocations: BTreeMap<hroc::stats::Stage, hroc::stats::Invocations>,
+    stats: BTreeMap<hroc::stats::Stat, f64>,
     culled: u64,
     drawn: u64,
     triangles: u64,

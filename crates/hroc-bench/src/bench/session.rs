@@ -10,8 +10,9 @@ use crate::gpu::Headless;
 use crate::render::cascades::{self, CascadeRecorder, CascadeView, Cascades};
 use crate::render::{DrawList, Recorder, Renderer};
 use crate::scene::{camera::clip_planes, Camera, CameraPath, Scene};
+use hroc::stats::Stage;
 use hroc::{Culler, CullerDesc, FrameInput, View, ViewDesc};
-use hroc::{Method, MethodOptions, Stage};
+use hroc::{Method, MethodOptions};
 
 /// A scene on the GPU as a host would hold it: hroc's renderer, a
 /// [`hroc::Culler`] over its objects, and the camera path. Every method runs
@@ -107,7 +108,7 @@ pub struct FrameResult {
     pub wall_ms: f64,
     pub stages: Vec<(Stage, f64)>,
     /// Shader invocations per stage (empty without pipeline statistics).
-    pub invocations: Vec<(Stage, hroc::Invocations)>,
+    pub invocations: Vec<(Stage, hroc::stats::Invocations)>,
     pub lists: Vec<DrawList>,
     /// The camera of a camera view's frame (`None`: a shadow cascade's).
     pub camera: Option<Camera>,
@@ -149,7 +150,7 @@ impl<'g> Session<'g> {
         // The renderer's pipelines take the culler's marks layout, and the
         // culler takes the renderer's draws: build the objects first.
         let descs = crate::render::object_descs(&scene);
-        let pipeline_statistics = timestamps && gpu.device.features().contains(hroc::PIPELINE_STATISTICS_FEATURES);
+        let pipeline_statistics = timestamps && gpu.device.features().contains(hroc::device::PIPELINE_STATISTICS_FEATURES);
         let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, pipeline_statistics, capabilities: gpu.capabilities, ..CullerDesc::new(&descs) })?;
         let renderer = Renderer::new(gpu, &scene, (w, h, samples), culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
@@ -280,7 +281,7 @@ impl<'g> Session<'g> {
             boxes.push((i, o.bounds));
         }
         // From the final transforms: an object may move twice in one call.
-        let oriented: Vec<(u32, Option<hroc::OrientedBox>)> = if self.oriented_boxes {
+        let oriented: Vec<(u32, Option<hroc::geometry::OrientedBox>)> = if self.oriented_boxes {
             moves.iter().map(|&(i, _)| (i, crate::render::oriented_box(&self.scene, &self.scene.objects[i as usize]))).filter(|(_, b)| b.is_some()).collect()
         } else {
             Vec::new()
@@ -304,7 +305,7 @@ impl<'g> Session<'g> {
     /// away, from the next frame on.
     pub fn set_oriented_boxes(&mut self, on: bool) -> Result<()> {
         let scene = &self.scene;
-        let boxes: Vec<(u32, Option<hroc::OrientedBox>)> = (0..scene.objects.len() as u32)
+        let boxes: Vec<(u32, Option<hroc::geometry::OrientedBox>)> = (0..scene.objects.len() as u32)
             .filter(|&i| self.culler.is_live(i))
             .map(|i| (i, on.then(|| crate::render::oriented_box(scene, &scene.objects[i as usize])).flatten()))
             .collect();

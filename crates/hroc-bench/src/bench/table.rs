@@ -1,7 +1,8 @@
 //! Plain-text and Markdown tables of a bench report.
 
 use super::{BenchReport, InvocationsMean, MethodRow};
-use hroc::{Method, Stage, Stat};
+use hroc::stats::{Stage, Stat};
+use hroc::Method;
 use std::collections::BTreeSet;
 use std::fmt::Write;
 
@@ -169,7 +170,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
     out.push_str(&grid(&head, &rows, markdown));
     for x in r.rows.iter().filter(|x| !x.frame_methods.is_empty()) {
         let shares: Vec<String> = x.choices().iter().map(|(m, s)| format!("{m} {:.0} %", 100.0 * s)).collect();
-        let probes = x.stats.get(&hroc::Stat::Probe).copied().unwrap_or(0.0) * r.frames as f64;
+        let probes = x.stats.get(&hroc::stats::Stat::Probe).copied().unwrap_or(0.0) * r.frames as f64;
         let _ = writeln!(out, "\n{} ran: {} of {} frames ({probes:.0} probe frames)", x.method, shares.join(", "), x.frame_methods.len());
     }
     let stray: Vec<String> = r.rows.iter().filter(|x| x.stray_pixels > 0).map(|x| format!("{} {}", x.method, x.stray_pixels)).collect();

@@ -13,7 +13,18 @@ use glam::{Mat4, Vec3};
 use crate::error::{Error, Result};
 use crate::gpu::Headless;
 use crate::scene::Scene;
-pub use hroc::DrawList;
+
+/// A list the culler handed the renderer, kept to check the frame: the
+/// draw's buffers (shared handles) and its bound.
+#[derive(Clone, Debug)]
+pub struct DrawList {
+    /// `DrawIndexedIndirectArgs`, `first_instance` the object.
+    pub commands: wgpu::Buffer,
+    /// One u32: how many commands to draw.
+    pub count: wgpu::Buffer,
+    /// Upper bound on the count.
+    pub max_count: u32,
+}
 
 pub const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
@@ -114,11 +125,11 @@ pub fn object_descs(scene: &Scene) -> Vec<hroc::ObjectDesc> {
 /// its transform, when the transform turns axes away from axes: otherwise
 /// that box is just the object's world box, and testing it twice gains
 /// nothing. `None` also for a transform that cannot be inverted.
-pub fn oriented_box(scene: &Scene, o: &hroc_scene::Object) -> Option<hroc::OrientedBox> {
+pub fn oriented_box(scene: &Scene, o: &hroc_scene::Object) -> Option<hroc::geometry::OrientedBox> {
     if hroc_scene::keeps_axes(&o.transform) {
         return None;
     }
-    let b = hroc::OrientedBox::new(scene.meshes[o.mesh as usize].part_local_bounds(o.cluster), glam::Affine3A::from_mat4(o.transform));
+    let b = hroc::geometry::OrientedBox::new(scene.meshes[o.mesh as usize].part_local_bounds(o.cluster), glam::Affine3A::from_mat4(o.transform));
     b.to_local().map(|_| b)
 }
 
@@ -141,7 +152,7 @@ pub struct ViewUniform {
 /// The renderer's shader: its own structs and passes, then hroc's marks
 /// snippet at group 1.
 pub fn draw_wgsl() -> String {
-    format!("{}\n{}", include_str!("draw.wgsl"), hroc::marks_wgsl(1))
+    format!("{}\n{}", include_str!("draw.wgsl"), hroc::device::marks_wgsl(1))
 }
 
 pub struct Renderer {

@@ -286,7 +286,7 @@ impl<'g> App<'g> {
         let r = self.session.run_camera(&mut self.culler, *camera, self.clock)?;
         self.status.wall_ms = r.wall_ms;
         self.status.stages = r.stages.iter().map(|(s, ms)| (s.name(), *ms)).collect();
-        self.status.stats = self.culler.stats(&self.session.culler)?.into_iter().filter(|(s, _)| *s != hroc::Stat::Chosen).map(|(s, v)| (s.name(), v)).collect();
+        self.status.stats = self.culler.stats(&self.session.culler)?.into_iter().filter(|(s, _)| *s != hroc::stats::Stat::Chosen).map(|(s, v)| (s.name(), v)).collect();
         self.status.culled_by = self.culler.culled_by().name();
         match (check, &truth) {
             (true, Some(t)) => {

@@ -6,6 +6,7 @@ use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
 use crate::capabilities::{Capabilities, DrawCount, Marks};
 use crate::cull::{DrawList, Method, MethodContext, MethodOptions, WorkCounts};
 use crate::error::{Error, Result};
+use crate::geometry::OrientedBox;
 use crate::gpu::Uploads;
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter};
 use crate::id_marks::IdMarks;
@@ -13,7 +14,7 @@ use crate::layout::{DrawCommand, FrameUniform, ObjectBounds, OrientedBounds};
 use crate::list_pass::ListPass;
 use crate::reflect::Layout;
 use crate::tally::DrawTally;
-use crate::{Aabb, OrientedBox};
+use crate::Aabb;
 
 /// What a culler needs of its objects before the first frame.
 #[derive(Clone, Debug)]
@@ -113,7 +114,7 @@ pub struct Culler {
 impl Culler {
     /// Creates a culler on the host's device. Errors, never panics, when the
     /// device lacks the features of the capabilities asked for
-    /// ([`CullerDesc::capabilities`]; at least [`crate::REQUIRED_FEATURES`]) or
+    /// ([`CullerDesc::capabilities`]; at least [`crate::device::REQUIRED_FEATURES`]) or
     /// a limit the culler's shared passes need (or [`TIMESTAMP_FEATURES`] when
     /// asked for timestamps, [`PIPELINE_STATISTICS_FEATURES`] when asked
     /// for pipeline statistics), when an object's box is not finite, or when the

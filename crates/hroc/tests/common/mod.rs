@@ -42,7 +42,7 @@ pub fn depth_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
     })
 }
 
-/// A host's pipeline built before any culler (`hroc::marks_layout`):
+/// A host's pipeline built before any culler (`hroc::device::marks_layout`):
 /// positions at location 0, `view_proj` at group 0, hroc's marks at
 /// group 1; with `mark`, the fragment stage forces early-Z and marks its
 /// object (without, it has neither of the two hroc lines: what a host
@@ -67,7 +67,7 @@ pub fn host_pipeline_on(device: &wgpu::Device, ids: bool, mark: bool, at: &stree
          struct Out {{ @builtin(position) clip: vec4<f32>, @location(0) @interpolate(flat) object: u32 }}\n\
          @vertex fn vs(@location(0) p: vec3<f32>, @builtin(instance_index) i: u32) -> Out {{ return Out(view_proj * vec4<f32>(p, 1.0), i); }}\n\
          @fragment {early}fn fs(in: Out){output} {{{marking}{ret} }}\n",
-        if mark { hroc::marks_wgsl(1) } else { String::new() }
+        if mark { hroc::device::marks_wgsl(1) } else { String::new() }
     );
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("host"), source: wgpu::ShaderSource::Wgsl(source.into()) });
     let camera_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -79,7 +79,7 @@ pub fn host_pipeline_on(device: &wgpu::Device, ids: bool, mark: bool, at: &stree
             count: None,
         }],
     });
-    let marks = hroc::marks_layout(device);
+    let marks = hroc::device::marks_layout(device);
     let layout =
         device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("host"), bind_group_layouts: &[Some(&camera_layout), Some(&marks)], immediate_size: 0 });
     let targets = [Some(wgpu::ColorTargetState { format: at.ids_format(), blend: None, write_mask: wgpu::ColorWrites::ALL })];

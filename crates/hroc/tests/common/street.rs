@@ -2,7 +2,8 @@
 //! it: one pipeline writing depth and `object + 1`, marking its object.
 
 use glam::{Mat4, Vec3};
-use hroc::{Aabb, Culler, DepthRange, Draw, DrawCount, FrameInput, ObjectDesc, ObjectFlags, View, ViewDesc, ViewTargets};
+use hroc::device::DrawCount;
+use hroc::{Aabb, Culler, DepthRange, Draw, FrameInput, ObjectDesc, ObjectFlags, View, ViewDesc, ViewTargets};
 use wgpu::util::DeviceExt;
 
 /// Width and height of the targets.

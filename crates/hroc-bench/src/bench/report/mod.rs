@@ -19,7 +19,8 @@ use crate::bvh::{Bvh, Split};
 use crate::error::{Error, Result};
 use crate::gpu::Headless;
 use crate::scene::{self, generators, Scene};
-use hroc::{Method, MethodOptions, Variant};
+use hroc::options::Variant;
+use hroc::{Method, MethodOptions};
 
 /// The default set: the HROC paper's three large scenes (RC, FC, ST), sized
 /// so that the whole report takes under 15 minutes on a 2-core CPU with lavapipe.
@@ -353,7 +354,7 @@ impl Runner<'_> {
             progress: true,
             moving: 0.0,
             dynamic: false,
-            motion: hroc::MotionOptions::default(),
+            motion: hroc::options::MotionOptions::default(),
             method_options: MethodOptions::default(),
             // The report plots HROC's stages (the paper's Figure 6).
             timestamps: true,

@@ -8,7 +8,8 @@ use super::{hroc_variants, ReportData, SceneResult};
 use crate::bench::plot::{self, LinePlot, Series, StackedBars};
 use crate::bench::{BenchReport, MethodRow};
 use crate::error::Result;
-use hroc::{Method, Stage, Stat};
+use hroc::stats::{Stage, Stat};
+use hroc::Method;
 
 const PLOT: (u32, u32) = (900, 500);
 
@@ -150,7 +151,7 @@ fn splits(doc: &mut Doc, d: &ReportData) {
         for r in std::iter::once(&s.main).chain(&s.splits) {
             let mut cells = vec![s.spec.clone(), r.split.clone(), row(r, Method::Noc).map_or("-".into(), |x| ms(x.ms_mean))];
             cells.extend(hroc_variants().iter().map(|&v| row(r, v).map_or("-".into(), |x| ms(x.ms_mean))));
-            cells.push(row(r, Method::Hroc(hroc::Variant::CR_OF)).map_or("-".into(), |x| format!("{:.3}", x.c_over_r)));
+            cells.push(row(r, Method::Hroc(hroc::options::Variant::CR_OF)).map_or("-".into(), |x| format!("{:.3}", x.c_over_r)));
             t.row(cells);
         }
     }

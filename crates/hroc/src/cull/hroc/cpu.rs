@@ -5,7 +5,8 @@
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
 use crate::bvh::Bvh;
-use crate::{frustum::aabb_in_frustum, Aabb, OrientedBox, ViewGeometry};
+use crate::geometry::{OrientedBox, ViewGeometry};
+use crate::{frustum::aabb_in_frustum, Aabb};
 
 /// Node state: not reached from any occluder (paper Algorithm 1).
 pub const NIL: u32 = 0;
@@ -37,7 +38,7 @@ pub fn node_states(bvh: &Bvh, occluders: &[bool]) -> Vec<u32> {
 pub const PIXEL_PAD: f32 = 0.0625;
 
 /// `pixel_angle` in common.wgsl: a pixel's height at distance d from the
-/// eye is `a + b d`, `(a, b)` ([`crate::ViewGeometry::footprint`]).
+/// eye is `a + b d`, `(a, b)` ([`crate::geometry::ViewGeometry::footprint`]).
 pub fn pixel_angle(g: &ViewGeometry, size: (u32, u32)) -> Vec2 {
     let f = g.footprint(size);
     Vec2::new(f.x, f.y)
