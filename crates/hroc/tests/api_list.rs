@@ -42,7 +42,7 @@ fn without_module_bodies(code: &str) -> String {
     let mut out = String::new();
     let mut rest = code;
     while let Some(at) = rest.find("pub mod ") {
-        let name_end = at + rest[at..].find(|c: char| c == ';' || c == '{').expect("a module ends its name");
+        let name_end = at + rest[at..].find([';', '{']).expect("a module ends its name");
         out.push_str(&rest[..name_end]);
         if rest[name_end..].starts_with(';') {
             rest = &rest[name_end..];
