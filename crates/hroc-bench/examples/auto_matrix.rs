@@ -25,8 +25,8 @@
 //! at 60 frames per path second a run covers the path's first S seconds
 //! (default 4: 241 frames).
 
+use hroc::Method;
 use hroc_bench::bench::{self, BenchOptions, BenchReport, MethodRow};
-use hroc_bench::cull::Method;
 use hroc_bench::gpu::Headless;
 use hroc_bench::scene::CameraPath;
 

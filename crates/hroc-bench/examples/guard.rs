@@ -15,9 +15,10 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
+use hroc::options::Variant;
+use hroc::{Method, MethodOptions};
 use hroc_bench::bench::{self, BenchOptions, BenchReport, MethodRow};
 use hroc_bench::bvh::{Bvh, Split};
-use hroc_bench::cull::{Method, MethodOptions, Variant};
 use hroc_bench::gpu::Headless;
 
 #[path = "shared/random_boxes.rs"]

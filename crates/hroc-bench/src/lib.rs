@@ -9,15 +9,13 @@
 
 pub mod bench;
 pub mod headless;
-/// The headless device and the culler's GPU helpers.
+/// The headless device.
 pub mod gpu {
     pub use crate::headless::{Backend, Headless, Tier};
-    pub use hroc::testing::gpu::{dispatch_size, GpuTimer};
 }
 pub mod render;
 
 pub use hroc::bvh;
-pub use hroc::testing::cull;
 pub use hroc_scene as scene;
 
 /// Errors: the scene crate's, which wraps the culler's.

@@ -298,7 +298,7 @@ fn query_batches_chain_query_sets() {
         Ok(())
     };
     let cam = s.cameras[1];
-    s.run_camera_with(&mut v, cam, 0.0, false, Some(&mut body)).unwrap();
+    s.run_camera_with(&mut v, cam, 0.0, false, &mut |view, culler, enc, input, host| view.cull_with(culler, enc, input, host, &mut body)).unwrap();
     assert_eq!(big.len(), testable.len());
     assert_eq!(big, small);
     let visible = big.iter().filter(|&&x| x > 0).count();

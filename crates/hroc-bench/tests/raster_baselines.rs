@@ -240,7 +240,8 @@ fn hzb_object_test_matches_cpu_reference() {
             let hiz = hzb(&view).pyramid().read(s.gpu).unwrap();
             let mips = &hzb(&view).pyramid().mips;
             let gpu_vis = hzb(&view).test_result(s.gpu).unwrap();
-            let u = s.frame_uniform(k).unwrap();
+            let u =
+                s.view_desc(&s.cameras[k]).geometry().unwrap().uniform((s.renderer.targets.width, s.renderer.targets.height), s.renderer.object_count, s.bvh().nodes.len() as u32);
             for (o, b) in boxes.iter().enumerate() {
                 let strict = hzb_cpu::test(mips, &hiz, &u, *b, -0.02, -2e-6);
                 let loose = hzb_cpu::test(mips, &hiz, &u, *b, 0.02, 2e-6);

@@ -4,10 +4,10 @@ use clap::{Parser, Subcommand};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use hroc::options::Seed;
+use hroc::{Method, MethodOptions};
 use hroc_bench::bench::{self, parse_resolution, BenchOptions, MethodList, Session};
 use hroc_bench::bvh::{Bvh, Split};
-use hroc_bench::cull;
-use hroc_bench::cull::Method;
 use hroc_bench::gpu::{Backend, Headless, Tier};
 use hroc_bench::render::pictures::{self, Picture};
 use hroc_bench::{Error, Result};
@@ -110,13 +110,24 @@ fn parse_msaa(s: &str) -> std::result::Result<u32, String> {
     Ok(n)
 }
 
+/// `START:BOTTOM`, BVH depths from the root (0), START <= BOTTOM (`--ioc-range`).
+fn parse_ioc_range(s: &str) -> std::result::Result<(u32, u32), String> {
+    let (a, b) = s.split_once(':').ok_or_else(|| format!("IOC range '{s}' is not START:BOTTOM"))?;
+    let start: u32 = a.trim().parse().map_err(|_| format!("bad start depth in IOC range '{s}'"))?;
+    let bottom: u32 = b.trim().parse().map_err(|_| format!("bad bottom depth in IOC range '{s}'"))?;
+    if start > bottom {
+        return Err(format!("IOC range '{s}': start depth {start} is deeper than the bottom depth {bottom}"));
+    }
+    Ok((start, bottom))
+}
+
 fn open_device(backend: Backend, tier: Option<Tier>) -> Result<Headless> {
     let mut gpu = Headless::open(backend)?;
     gpu.capabilities = tier.map(Tier::capabilities);
     Ok(gpu)
 }
 
-/// Method parameters (`cull::MethodOptions`; defaults as documented there).
+/// Method parameters (`hroc::MethodOptions`; defaults as documented there).
 #[derive(clap::Args)]
 struct MethodArgs {
     /// soq: BASE_TIME of Kovalčík & Sochor 2005, seconds of camera path.
@@ -136,12 +147,12 @@ struct MethodArgs {
     chc_smax: f32,
     /// ioc: BVH depths START:BOTTOM tested level by level (root = 0;
     /// default: the middle of the BVH, depth/2-1:depth/2+1).
-    #[arg(long, value_parser = cull::ioc::parse_range)]
+    #[arg(long, value_parser = parse_ioc_range)]
     ioc_range: Option<(u32, u32)>,
     /// hroc: when a coarse ray grid seeds the occluders: cuts (and where
     /// the occluders' depth leaves holes), cuts-only, always, never.
     #[arg(long, default_value = "cuts")]
-    hroc_seed: cull::Seed,
+    hroc_seed: Seed,
     /// hroc: pixels per side of the occlusion test's blocks, 1 to 8 (one
     /// ray per block; the largest size up to this that divides the resolution).
     #[arg(long, default_value_t = 2, value_parser = clap::value_parser!(u32).range(1..=8))]
@@ -153,7 +164,7 @@ struct MethodArgs {
     /// hroc: rounds of occludee rendering, 1 to 4 (1: the paper's, every
     /// occludee drawn; more: front to back, each round drawing the
     /// occludees nearest in some block and testing the rest again).
-    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=cull::hroc::MAX_ROUNDS as i64))]
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=MethodOptions::MAX_HROC_ROUNDS as i64))]
     hroc_rounds: u32,
     /// hroc: draw V front to back too: the objects nearest in some block
     /// first, then those still in front of them; the rest join the
@@ -171,8 +182,8 @@ struct MethodArgs {
 }
 
 impl MethodArgs {
-    fn options(&self) -> cull::MethodOptions {
-        cull::MethodOptions {
+    fn options(&self) -> MethodOptions {
+        MethodOptions {
             soq_base_time: self.soq_base_time,
             chc_batch: self.chc_batch as usize,
             chc_nav: self.chc_nav,
@@ -540,4 +551,16 @@ fn scene_info(spec: &str, objects: Option<usize>) -> Result<()> {
         println!("{:<6} {:>10} {:>6} {:>10.1} {:>10.1}", split.to_string(), bvh.nodes.len(), bvh.depth(), bvh.build_ms, bvh.sah_cost());
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn ioc_ranges_parse() {
+        assert_eq!(super::parse_ioc_range("9:11"), Ok((9, 11)));
+        assert_eq!(super::parse_ioc_range("0:0"), Ok((0, 0)));
+        for bad in ["11:9", "9", "a:3", "3:", "-1:2"] {
+            assert!(super::parse_ioc_range(bad).is_err(), "{bad}");
+        }
+    }
 }

@@ -307,5 +307,6 @@ pub mod options {
 /// passes derive from a view.
 pub mod geometry {
     pub use crate::aabb::{Aabb, OrientedBox};
+    pub use crate::cull::hroc::cpu::tested_box;
     pub use crate::frustum::*;
 }

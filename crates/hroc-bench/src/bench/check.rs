@@ -159,8 +159,7 @@ impl Stray {
         let ndc = Vec2::new(x / w * 2.0 - 1.0, 1.0 - y / h * 2.0);
         let dir = (self.ray_dirs * Vec4::new(ndc.x, ndc.y, 1.0, 0.0)).truncate();
         let eye = self.camera.eye;
-        let cpu = hroc::testing::cull::hroc::cpu::padded_px;
-        let b = cpu(*bounds, eye, self.pixel, hroc::testing::cull::hroc::cpu::block_pad_px(1, self.samples));
+        let b = hroc::geometry::tested_box(*bounds, eye, self.pixel, self.samples);
         let (t0, t1) = ((b.min - eye) / dir, (b.max - eye) / dir);
         let (enter, exit) = (t0.min(t1).max_element().max(1.0), t0.max(t1).min_element());
         if exit.is_nan() || enter.is_nan() || exit < enter {

@@ -62,6 +62,9 @@ impl std::str::FromStr for Projection {
     }
 }
 
+/// How a session's frame has its view culled: `view.cull(culler, encoder, input, host)`, or a stand-in.
+pub type CullCall<'c> = dyn FnMut(&mut View, &Culler, &mut wgpu::CommandEncoder, &FrameInput, &mut dyn hroc::DrawHost) -> hroc::Result<()> + 'c;
+
 /// What a [`Session`] is made of, besides its scene.
 #[derive(Clone, Debug)]
 pub struct SessionDesc {
@@ -371,7 +374,7 @@ impl<'g> Session<'g> {
     /// flight), timed as [`run_frame`](Self::run_frame); `time` is the
     /// frame's [`FrameInput::time`].
     pub fn run_camera(&mut self, view: &mut View, camera: Camera, time: f32) -> Result<FrameResult> {
-        self.run_camera_with(view, camera, time, false, None)
+        self.run_camera_with(view, camera, time, false, &mut |view, culler, enc, input, host| view.cull(culler, enc, input, host))
     }
 
     /// [`run_frame`](Self::run_frame) with a camera-cut signal
@@ -379,12 +382,12 @@ impl<'g> Session<'g> {
     /// are measured as they cope with them.
     pub fn run_frame_cut(&mut self, view: &mut View, k: usize, cut: bool) -> Result<FrameResult> {
         let k = k.min(self.cameras.len() - 1);
-        self.run_camera_with(view, self.cameras[k], self.times[k], cut, None)
+        self.run_camera_with(view, self.cameras[k], self.times[k], cut, &mut |view, culler, enc, input, host| view.cull(culler, enc, input, host))
     }
 
-    /// [`run_camera`](Self::run_camera) with `body` recorded in place of
-    /// the method's frame ([`View::cull_with`]).
-    pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, cut: bool, body: Option<hroc::testing::cull::FrameBody>) -> Result<FrameResult> {
+    /// [`run_camera`](Self::run_camera) with the view's frame recorded by
+    /// `cull` (for a test of a method's building blocks).
+    pub fn run_camera_with(&mut self, view: &mut View, camera: Camera, time: f32, cut: bool, cull: &mut CullCall) -> Result<FrameResult> {
         let start = std::time::Instant::now();
         let r = &self.renderer;
         r.write_view(self.gpu, &(self.proj(&camera) * camera.view()));
@@ -392,10 +395,7 @@ impl<'g> Session<'g> {
         r.clear(&mut enc);
         let input = FrameInput { view: self.view_desc(&camera), cut, time };
         let mut host = Recorder { renderer: r, lists: Vec::new() };
-        match body {
-            Some(body) => view.cull_with(&self.culler, &mut enc, &input, &mut host, body)?,
-            None => view.cull(&self.culler, &mut enc, &input, &mut host)?,
-        }
+        cull(view, &self.culler, &mut enc, &input, &mut host)?;
         let lists = host.lists;
         self.finish_frame(view, enc, start, lists, Some(camera))
     }
@@ -403,12 +403,6 @@ impl<'g> Session<'g> {
     /// The view of camera `camera` as the culler sees it.
     pub fn view_desc(&self, camera: &Camera) -> ViewDesc {
         ViewDesc { view: camera.view(), proj: self.proj(camera), unclipped_depth: false }
-    }
-
-    /// The `Frame` uniform the culler writes for camera `k` (CPU references).
-    pub fn frame_uniform(&self, k: usize) -> Result<hroc::testing::layout::FrameUniform> {
-        let g = self.view_desc(&self.cameras[k]).geometry()?;
-        Ok(g.uniform((self.renderer.targets.width, self.renderer.targets.height), self.renderer.object_count, self.bvh().nodes.len() as u32))
     }
 
     /// Renders frame `k` with `noc` and reads back the truth.

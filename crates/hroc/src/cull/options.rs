@@ -101,6 +101,11 @@ impl FromStr for Seed {
     }
 }
 
+impl MethodOptions {
+    /// The most occludee rounds [`MethodOptions::hroc_rounds`] takes (more are clamped to it).
+    pub const MAX_HROC_ROUNDS: u32 = super::hroc::MAX_ROUNDS;
+}
+
 impl Default for MethodOptions {
     fn default() -> Self {
         MethodOptions {

@@ -62,6 +62,17 @@ pub fn padded_px(b: Aabb, eye: Vec3, pixel: Vec2, px: f32) -> Aabb {
     Aabb::new(b.min - Vec3::splat(pad), b.max + Vec3::splat(pad))
 }
 
+/// The box the box tests rasterize for an object's box `b`, seen from
+/// `eye` through pixels `pixel = (a, b)` wide (`a + b d` at distance d;
+/// [`crate::geometry::ViewGeometry::footprint`]) on targets of `samples`
+/// samples per pixel: `b` grown by the margins the shaders add
+/// (`box_pad` in common.wgsl, one-pixel blocks). A host that compares its
+/// pictures with and without culling can tell a rasterizer's stray
+/// fragment by it: one in front of this box is no box test's to keep.
+pub fn tested_box(b: Aabb, eye: Vec3, pixel: Vec2, samples: u32) -> Aabb {
+    padded_px(b, eye, pixel, block_pad_px(1, samples))
+}
+
 /// `box_pad` in common.wgsl: the world distance [`padded_px`] grows a box by.
 pub fn box_pad(b: Aabb, eye: Vec3, pixel: Vec2, px: f32) -> f32 {
     let far = (b.min - eye).abs().max((b.max - eye).abs()).length();

@@ -30,17 +30,6 @@ use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::gpu::{dispatch_size, Gpu};
 use crate::shaders::source as shader_source;
 
-/// Parses `START:BOTTOM` (BVH depths, root = 0; START <= BOTTOM).
-pub fn parse_range(s: &str) -> std::result::Result<(u32, u32), String> {
-    let (a, b) = s.split_once(':').ok_or_else(|| format!("IOC range '{s}' is not START:BOTTOM"))?;
-    let start: u32 = a.trim().parse().map_err(|_| format!("bad start depth in IOC range '{s}'"))?;
-    let bottom: u32 = b.trim().parse().map_err(|_| format!("bad bottom depth in IOC range '{s}'"))?;
-    if start > bottom {
-        return Err(format!("IOC range '{s}': start depth {start} is deeper than the bottom depth {bottom}"));
-    }
-    Ok((start, bottom))
-}
-
 /// Per-frame counts of the last frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct IocCounts {
