@@ -60,7 +60,7 @@ fn main() -> hroc_bench::Result<()> {
         let (_, truth) = s.truth(k)?;
         let r = s.run_frame(&mut hroc, k)?;
         drawn += s.check(&r, &truth)?.drawn;
-        let occluders = hroc.method_state::<hroc::testing::cull::hroc::Hroc>().expect("hroc-of").debug_state(s.gpu)?.occluders;
+        let occluders = hroc.method_state::<hroc::testing::cull::hroc::Hroc>().expect("hroc-of").debug_state(&core_gpu(s.gpu))?.occluders;
         let mut own_pixel = vec![false; n];
         truth.visible.iter().for_each(|&o| own_pixel[o as usize] = true);
         v += occluders.iter().filter(|&&x| x).count();
@@ -130,4 +130,9 @@ fn main() -> hroc_bench::Result<()> {
     println!("| hroc-of (its own occlusion maps) | {:.0} | {:.3} |", drawn as f64 / f, c_over_r(drawn));
     println!("hroc-of: |V| {:.0} per frame, of which {:.0} own no pixel this frame", v as f64 / f, v_hidden as f64 / f);
     Ok(())
+}
+
+/// The culler's own GPU helper on the bench's device (for its debug read-backs).
+fn core_gpu(g: &hroc_bench::gpu::Headless) -> hroc::testing::gpu::Gpu {
+    hroc::testing::gpu::Gpu::from_device(&g.device, &g.queue)
 }

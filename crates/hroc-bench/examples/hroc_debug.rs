@@ -29,7 +29,7 @@ fn main() -> hroc_bench::Result<()> {
             continue;
         }
         let drawn = s.drawn(&r.lists)?;
-        let dbg = h.method_state::<Hroc>().unwrap().debug_state(&gpu)?;
+        let dbg = h.method_state::<Hroc>().unwrap().debug_state(&core_gpu(&gpu))?;
         let cam = s.cameras[k];
         println!("frame {k}: fn {} missing {} eye {:?}", chk.false_negatives, chk.missing_pixels, cam.eye);
         let size = (s.renderer.targets.width, s.renderer.targets.height);
@@ -90,4 +90,9 @@ fn main() -> hroc_bench::Result<()> {
         }
     }
     Ok(())
+}
+
+/// The culler's own GPU helper on the bench's device (for its debug read-backs).
+fn core_gpu(g: &hroc_bench::gpu::Headless) -> hroc::testing::gpu::Gpu {
+    hroc::testing::gpu::Gpu::from_device(&g.device, &g.queue)
 }

@@ -16,7 +16,7 @@ fn main() -> hroc_bench::Result<()> {
     for k in 0..s.cameras.len() {
         let (_, truth) = s.truth(k)?;
         s.run_frame(&mut h, k)?;
-        let dbg = h.method_state::<Hroc>().unwrap().debug_state(&gpu)?;
+        let dbg = h.method_state::<Hroc>().unwrap().debug_state(&core_gpu(&gpu))?;
         for (o, &u) in dbg.occludees.iter().enumerate() {
             if u {
                 let name = s.scene.meshes[s.scene.objects[o].mesh as usize].name.clone();
@@ -35,4 +35,9 @@ fn main() -> hroc_bench::Result<()> {
         println!("{name:<24} U visible {vis:6}  U hidden {w:6}");
     }
     Ok(())
+}
+
+/// The culler's own GPU helper on the bench's device (for its debug read-backs).
+fn core_gpu(g: &hroc_bench::gpu::Headless) -> hroc::testing::gpu::Gpu {
+    hroc::testing::gpu::Gpu::from_device(&g.device, &g.queue)
 }

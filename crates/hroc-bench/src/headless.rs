@@ -2,8 +2,6 @@
 //! the CLI, the viewer and the tests: the "host" side opens its own device,
 //! as any renderer would, and hands it to [`hroc::Culler`].
 
-use std::ops::Deref;
-
 use crate::error::{Error, Result};
 
 /// What the benchmark needs of a device: what every culler needs, and GPU
@@ -121,7 +119,10 @@ pub const LLVMPIPE_HINT: &str = "install Mesa's EGL and GL drivers (llvmpipe): s
 /// How to get a Vulkan device on a machine without a GPU.
 pub const LAVAPIPE_HINT: &str = "install the Vulkan software driver (lavapipe): sudo apt-get install -y mesa-vulkan-drivers libvulkan1";
 
-/// An opened adapter and device; derefs to [`hroc::testing::gpu::Gpu`]'s helpers.
+mod helpers;
+
+/// An opened adapter and its device and queue, with the helpers the bench
+/// records and reads back with (`helpers.rs`).
 pub struct Headless {
     /// The adapter the device was opened on.
     pub adapter: wgpu::Adapter,
@@ -130,14 +131,12 @@ pub struct Headless {
     /// What the cullers made on this device run with: `None`, the most it
     /// allows (`--tier`).
     pub capabilities: Option<hroc::device::Capabilities>,
-    base: hroc::testing::gpu::Gpu,
-}
-
-impl Deref for Headless {
-    type Target = hroc::testing::gpu::Gpu;
-    fn deref(&self) -> &hroc::testing::gpu::Gpu {
-        &self.base
-    }
+    /// The device.
+    pub device: wgpu::Device,
+    /// Its queue.
+    pub queue: wgpu::Queue,
+    /// The first error the device reported, kept for [`Headless::check`].
+    errors: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
 fn rank(t: wgpu::DeviceType) -> u32 {
@@ -205,9 +204,9 @@ impl Headless {
             })
             .await
             .map_err(|e| Error::Gpu(format!("cannot open {}: {e}", info.name)))?;
-        let base = hroc::testing::gpu::Gpu::from_device(&device, &queue);
-        base.capture_errors();
-        Ok(Headless { adapter, info, capabilities: None, base })
+        let gpu = Headless { adapter, info, capabilities: None, device, queue, errors: Default::default() };
+        gpu.capture_errors();
+        Ok(gpu)
     }
 
     /// Adapter name, type and driver, for tables and reports.

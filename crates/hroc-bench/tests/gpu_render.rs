@@ -141,8 +141,8 @@ fn gpu_compaction_keeps_order_and_counts() {
         let sb = gpu.buffer_init("src", bytemuck::cast_slice(&src), U::STORAGE);
         let db = gpu.buffer("dst", n as u64 * 20, U::STORAGE | U::COPY_SRC);
         let cb = gpu.buffer("count", 4, U::STORAGE | U::COPY_SRC);
-        let c = Compactor::new(gpu, n);
-        let job = c.job(gpu, &fb, &sb, &db, &cb);
+        let c = Compactor::new(&core_gpu(gpu), n);
+        let job = c.job(&core_gpu(gpu), &fb, &sb, &db, &cb);
         let mut enc = gpu.encoder("test");
         c.record(&mut enc, &hroc::testing::gpu::PassCount::NONE, &job);
         gpu.queue.submit([enc.finish()]);
@@ -151,4 +151,9 @@ fn gpu_compaction_keeps_order_and_counts() {
         assert_eq!(count as usize, expect.len(), "n = {n}");
         assert_eq!(gpu.read::<DrawCommand>(&db, 0, count as u64).unwrap(), expect, "n = {n}");
     }
+}
+
+/// The culler's own GPU helper on the bench's device (for its debug read-backs).
+fn core_gpu(g: &hroc_bench::gpu::Headless) -> hroc::testing::gpu::Gpu {
+    hroc::testing::gpu::Gpu::from_device(&g.device, &g.queue)
 }

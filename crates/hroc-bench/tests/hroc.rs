@@ -115,7 +115,7 @@ fn gpu_group_extraction_and_ray_marking_match_cpu_references() {
         let aspect = s.renderer.aspect();
         for k in 0..s.cameras.len() {
             let depth = frame_with_occlusion_map(&mut s, &mut h, k);
-            let dbg = h.method_state::<Hroc>().unwrap().debug_state(s.gpu).unwrap();
+            let dbg = h.method_state::<Hroc>().unwrap().debug_state(&core_gpu(s.gpu)).unwrap();
             let cam = s.cameras[k];
             // Group extraction: node states and groups exactly as Algorithm 1.
             let state = cpu::node_states(s.bvh(), &dbg.occluders);
@@ -208,8 +208,8 @@ fn gpu_late_test_matches_cpu_reference() {
         for k in 0..s.cameras.len() {
             s.run_frame(&mut h, k).unwrap();
             let st = h.method_state::<Hroc>().unwrap();
-            let u = st.debug_state(s.gpu).unwrap().occludees;
-            let (front, next) = st.round_marks(s.gpu, 0).unwrap().unwrap();
+            let u = st.debug_state(&core_gpu(s.gpu)).unwrap().occludees;
+            let (front, next) = st.round_marks(&core_gpu(s.gpu), 0).unwrap().unwrap();
             let mut enc = s.gpu.encoder("late test depth");
             s.renderer.clear(&mut enc);
             s.renderer.draw(&mut enc, &host_list(st.occluder_list()), None);
@@ -403,7 +403,7 @@ fn stall_free_overflow_draws_what_the_estimate_misses() {
         let c_sf = s.check(&r, &truth).unwrap();
         assert_eq!((c_sf.false_negatives, c_sf.missing_pixels), (0, 0), "frame {k}");
         let h = sf.method_state::<Hroc>().unwrap();
-        let (est, c) = (h.estimates().unwrap(), h.set_sizes(s.gpu).unwrap());
+        let (est, c) = (h.estimates().unwrap(), h.set_sizes(&core_gpu(s.gpu)).unwrap());
         overflowed += (c.v > est[0]) as usize + (c.g > est[1]) as usize + (c.u > est[2]) as usize;
         let r = s.run_frame(&mut na, k).unwrap();
         let c_na = s.check(&r, &truth).unwrap();
@@ -471,7 +471,7 @@ fn pipeline_statistics_count_every_stage() {
         let mut h = s.create("hroc-na".parse().unwrap()).unwrap();
         let r = s.run_frame(&mut h, k).unwrap();
         let ge = get(&r.invocations, Stage::GroupExtraction);
-        let dbg = h.method_state::<Hroc>().unwrap().debug_state(s.gpu).unwrap();
+        let dbg = h.method_state::<Hroc>().unwrap().debug_state(&core_gpu(s.gpu)).unwrap();
         assert!(dbg.walked > 0 && dbg.candidates > 0, "frame {k}: {} walked, {} candidates", dbg.walked, dbg.candidates);
         // A view's first frame is seeded (no refill): a thread per object
         // for the walk and one per candidate (and the root's) for the
@@ -545,7 +545,7 @@ fn occluder_filtering_samples_every_stride() {
                     }
                 }
             }
-            assert_eq!(h.method_state::<Hroc>().unwrap().next_occluders(s.gpu).unwrap(), want, "stride {stride} frame {k}");
+            assert_eq!(h.method_state::<Hroc>().unwrap().next_occluders(&core_gpu(s.gpu)).unwrap(), want, "stride {stride} frame {k}");
         }
         if stride > 1 {
             assert_variants_conservative(&mut s, "radial-city, filter stride 3");
@@ -556,4 +556,9 @@ fn occluder_filtering_samples_every_stride() {
 /// A list of the culler's internals as the renderer keeps lists.
 fn host_list(l: &hroc::testing::cull::DrawList) -> hroc_bench::render::DrawList {
     hroc_bench::render::DrawList { commands: l.commands.clone(), count: l.count.clone(), max_count: l.max_count }
+}
+
+/// The culler's own GPU helper on the bench's device (for its debug read-backs).
+fn core_gpu(g: &hroc_bench::gpu::Headless) -> hroc::testing::gpu::Gpu {
+    hroc::testing::gpu::Gpu::from_device(&g.device, &g.queue)
 }

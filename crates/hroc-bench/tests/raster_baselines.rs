@@ -146,10 +146,10 @@ fn ioc_level_queues_match_cpu_reference() {
         let (start, bottom) = ioc(&view).range();
         let mut deeper = 0;
         for k in 0..s.cameras.len() {
-            let (v, _) = ioc(&view).sets(s.gpu).unwrap();
+            let (v, _) = ioc(&view).sets(&core_gpu(s.gpu)).unwrap();
             s.run_frame(&mut view, k).unwrap();
-            let marks = ioc(&view).node_marks(s.gpu).unwrap();
-            let (_, fresh) = ioc(&view).sets(s.gpu).unwrap();
+            let marks = ioc(&view).node_marks(&core_gpu(s.gpu)).unwrap();
+            let (_, fresh) = ioc(&view).sets(&core_gpu(s.gpu)).unwrap();
             let passed = |n: u32| {
                 let m = marks[n as usize];
                 m & 4 != 0 || (m & 2 != 0 && m & 1 != 0)
@@ -200,13 +200,13 @@ fn hi_z_pyramid_matches_cpu_on_npot_sizes() {
     for (w, h) in [(160, 96), (37, 23), (1, 7), (64, 64), (701, 403)] {
         let scene = hroc_bench::scene::load("figures", Some(600), 1).unwrap();
         let mut s = Session::new(gpu, scene, None, 3, (w, h), Split::Sah).unwrap();
-        let pyramid = Pyramid::new(gpu, &s.renderer.targets.depth_view, (w, h, 1), hroc::DepthRange::Standard);
+        let pyramid = Pyramid::new(&core_gpu(gpu), &s.renderer.targets.depth_view, (w, h, 1), hroc::DepthRange::Standard);
         for k in 0..s.cameras.len() {
             let (_, truth) = s.truth(k).unwrap();
             let mut enc = gpu.encoder("pyramid");
             pyramid.record_from_depth(&mut enc, &hroc::testing::gpu::PassCount::NONE);
             gpu.queue.submit([enc.finish()]);
-            let got = pyramid.read(gpu).unwrap();
+            let got = pyramid.read(&core_gpu(gpu)).unwrap();
             let want = hzb_cpu::build(&truth.depth, w, h);
             assert_eq!(got.len(), want.len());
             let diff = got.iter().zip(&want).filter(|(a, b)| a != b).count();
@@ -219,7 +219,7 @@ fn hi_z_pyramid_matches_cpu_on_npot_sizes() {
                 let mut enc = gpu.encoder("pyramid");
                 pyramid.record_reduce(&mut enc, &hroc::testing::gpu::PassCount::NONE);
                 gpu.queue.submit([enc.finish()]);
-                assert!(pyramid.read(gpu).unwrap() == want, "{w}x{h} frame {k}: reduction from level 0 differs");
+                assert!(pyramid.read(&core_gpu(gpu)).unwrap() == want, "{w}x{h} frame {k}: reduction from level 0 differs");
             }
             assert!(truth.depth.iter().any(|&d| d < 1.0), "{w}x{h}: nothing drawn");
         }
@@ -237,9 +237,9 @@ fn hzb_object_test_matches_cpu_reference() {
         let (mut occluded, mut tested) = (0, 0);
         for k in 0..s.cameras.len() {
             s.run_frame(&mut view, k).unwrap();
-            let hiz = hzb(&view).pyramid().read(s.gpu).unwrap();
+            let hiz = hzb(&view).pyramid().read(&core_gpu(s.gpu)).unwrap();
             let mips = &hzb(&view).pyramid().mips;
-            let gpu_vis = hzb(&view).test_result(s.gpu).unwrap();
+            let gpu_vis = hzb(&view).test_result(&core_gpu(s.gpu)).unwrap();
             let u =
                 s.view_desc(&s.cameras[k]).geometry().unwrap().uniform((s.renderer.targets.width, s.renderer.targets.height), s.renderer.object_count, s.bvh().nodes.len() as u32);
             for (o, b) in boxes.iter().enumerate() {
@@ -313,4 +313,9 @@ fn hzb_keeps_a_far_object_one_ulp_in_front() {
         let c = s.check(&r, &truth).unwrap();
         assert_eq!((c.false_negatives, c.missing_pixels), (0, 0), "frame {k}");
     }
+}
+
+/// The culler's own GPU helper on the bench's device (for its debug read-backs).
+fn core_gpu(g: &hroc_bench::gpu::Headless) -> hroc::testing::gpu::Gpu {
+    hroc::testing::gpu::Gpu::from_device(&g.device, &g.queue)
 }

@@ -160,7 +160,7 @@ fn id_marks_read_every_sample_of_msaa_ids() {
     }
     queue.submit([enc.finish()]);
     // The target holds what was written, sample for sample.
-    assert_eq!(gpu.read_ids(&texture).unwrap(), ids, "the per-sample IDs as written");
+    assert_eq!(hroc_readback::read_ids(&gpu.device, &gpu.queue, &texture).unwrap(), ids, "the per-sample IDs as written");
     let pass = IdMarks::new(&gpu, objects as u32);
     let marks = gpu.buffer("marks", objects as u64 * 4, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC);
     let bound = pass.bind(&gpu, &view, ((w, h), samples), &marks, None);

@@ -4,7 +4,6 @@
 mod readback;
 pub mod shape;
 pub mod stats;
-mod target_read;
 pub mod timer;
 mod uploads;
 
@@ -159,27 +158,6 @@ impl Gpu {
     pub fn read_list(&self, commands: &wgpu::Buffer, count: &wgpu::Buffer, max_count: u32) -> Result<Vec<crate::layout::DrawCommand>> {
         let n = self.read::<u32>(count, 0, 1)?[0].min(max_count);
         self.read(commands, 0, n as u64)
-    }
-
-    /// Reads a 2D texture of 4-byte texels (R32Uint, R32Float, Depth32Float, Rgba8) row by row.
-    pub fn read_texture<T: bytemuck::Pod>(&self, tex: &wgpu::Texture, aspect: wgpu::TextureAspect) -> Result<Vec<T>> {
-        let (w, h) = (tex.width(), tex.height());
-        let row = (w * 4).next_multiple_of(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT);
-        let staging = self.buffer("texture read-back", (row * h) as u64, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST);
-        let mut enc = self.encoder("texture read-back");
-        enc.copy_texture_to_buffer(
-            wgpu::TexelCopyTextureInfo { texture: tex, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect },
-            wgpu::TexelCopyBufferInfo { buffer: &staging, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row), rows_per_image: Some(h) } },
-            wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-        );
-        self.queue.counted_submit([enc.finish()]);
-        let bytes = self.map_read(&staging, (row * h) as u64)?;
-        let mut out = Vec::with_capacity((w * h) as usize);
-        for y in 0..h as usize {
-            let r = &bytes[y * row as usize..][..w as usize * 4];
-            out.extend_from_slice(&bytemuck::pod_collect_to_vec::<u8, T>(r));
-        }
-        Ok(out)
     }
 
     /// A WGSL module.

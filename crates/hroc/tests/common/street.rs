@@ -290,7 +290,7 @@ impl Host {
     /// pixel's in turn), 0 where nothing is.
     pub fn ids(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<u32> {
         if self.at.samples > 1 {
-            return hroc::testing::gpu::Gpu::from_device(device, queue).read_ids(&self.ids).unwrap();
+            return hroc_readback::read_ids(device, queue, &self.ids).unwrap();
         }
         let mut enc = device.create_command_encoder(&Default::default());
         let buf = self.copy_ids(device, &mut enc);
