@@ -26,7 +26,7 @@ pub enum DrawCount {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Marks {
     /// The host's fragment shaders are declared `@early_depth_test(force)`
-    /// and call `hroc_mark(object)` ([`crate::device::marks_wgsl`]): a mark means a
+    /// and call `hroc_mark(object)` ([`crate::host::marks_wgsl`]): a mark means a
     /// fragment passed the depth test (`SHADER_EARLY_DEPTH_TEST`: Vulkan,
     /// GL 4.2+). The culler's own box tests mark the same way.
     EarlyZ,

@@ -103,7 +103,7 @@ pub struct Draw<'a> {
     pub marks: &'a wgpu::BindGroup,
     /// True when the method reads the marks: the fragment shader must call
     /// `hroc_mark`. False: `marks` is a sink, and the host may skip marking
-    /// (always false with [`crate::device::Marks::Ids`], where the culler reads the
+    /// (always false with [`crate::capabilities::Marks::Ids`], where the culler reads the
     /// ID target instead).
     pub mark: bool,
     /// The pipeline-statistics slot of this draw, if the view counts.
@@ -157,7 +157,7 @@ pub struct ViewTargets<'a> {
     /// each frame. `R32Uint` holds the index + 1 whole; `Rg16Uint`, which
     /// wgpu can multisample on every backend (`R32Uint` only where the
     /// adapter allows it), its low 16 bits in r and its high 16 in g.
-    /// Needed by HROC with OF, and with [`crate::device::Marks::Ids`] by every
+    /// Needed by HROC with OF, and with [`crate::capabilities::Marks::Ids`] by every
     /// method that reads marks. The culler reads its layer 0, mip 0, every
     /// sample.
     pub ids: Option<&'a wgpu::Texture>,

@@ -16,7 +16,7 @@
 //! test (HROC's O), the set is the list's own objects, so no such pixel
 //! marks an object that was neither drawn nor tested.
 //!
-//! [`Marks::Ids`]: crate::device::Marks::Ids
+//! [`Marks::Ids`]: crate::capabilities::Marks::Ids
 
 use crate::gpu::shape::PassShape;
 use std::sync::{Arc, Mutex};
@@ -77,11 +77,11 @@ impl IdPass {
 }
 
 /// Where the host's draws of a list mark their objects, as the culler
-/// runs: in the fragment shader ([`crate::device::Marks::EarlyZ`]), or by the
-/// culler's pass over the ID target after the list ([`crate::device::Marks::Ids`]).
+/// runs: in the fragment shader ([`crate::capabilities::Marks::EarlyZ`]), or by the
+/// culler's pass over the ID target after the list ([`crate::capabilities::Marks::Ids`]).
 #[derive(Clone, Debug)]
 pub enum MarkTarget {
-    /// The marks bind group the host binds ([`crate::device::marks_wgsl`]).
+    /// The marks bind group the host binds ([`crate::host::marks_wgsl`]).
     Host(wgpu::BindGroup),
     /// The pass that marks from the ID target; the host binds a sink.
     Ids(IdPass),

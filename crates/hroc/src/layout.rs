@@ -9,20 +9,20 @@ use bytemuck::{Pod, Zeroable};
 pub struct FrameUniform {
     /// `proj * view`, column-major.
     pub view_proj: [[f32; 4]; 4],
-    /// Near-plane offsets of a pixel ray ([`crate::geometry::ViewGeometry::ray_dirs`]).
+    /// Near-plane offsets of a pixel ray ([`crate::frustum::ViewGeometry::ray_dirs`]).
     pub ray_dirs: [[f32; 4]; 4],
-    /// Origin of a pixel ray ([`crate::geometry::ViewGeometry::ray_origins`]).
+    /// Origin of a pixel ray ([`crate::frustum::ViewGeometry::ray_origins`]).
     pub ray_origins: [[f32; 4]; 4],
     /// xyz: the eye in world space.
     pub eye: [f32; 4],
     /// width, height, 1/width, 1/height of the depth attachment.
     pub viewport: [f32; 4],
-    /// A pixel's size `a + b × distance` ([`crate::geometry::ViewGeometry::footprint`]):
+    /// A pixel's size `a + b × distance` ([`crate::frustum::ViewGeometry::footprint`]):
     /// (a, b) of its height, then of the larger of its width and height.
     pub footprint: [f32; 4],
     /// Frustum planes, `n·p + d >= 0` inside, plane 4 the near plane.
     pub planes: [[f32; 4]; 6],
-    /// The near plane ([`crate::geometry::ViewGeometry::near_plane`]).
+    /// The near plane ([`crate::frustum::ViewGeometry::near_plane`]).
     pub near_plane: [f32; 4],
     /// Objects registered with the culler.
     pub object_count: u32,

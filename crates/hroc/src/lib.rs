@@ -254,9 +254,11 @@ mod capabilities;
 mod compact;
 mod contract;
 mod cull;
+pub mod device;
 mod error;
 mod flag_split;
 mod frustum;
+pub mod geometry;
 mod gpu;
 mod host;
 mod id_marks;
@@ -264,8 +266,10 @@ mod layout;
 mod list_pass;
 mod metrics;
 mod objects;
+pub mod options;
 mod reflect;
 mod shaders;
+pub mod stats;
 mod tally;
 #[doc(hidden)]
 pub mod testing;
@@ -275,38 +279,3 @@ pub use cull::{Method, MethodOptions};
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc};
 pub use host::{Culler, CullerDesc, Draw, DrawHost, FrameInput, ObjectDesc, ObjectFlags, Phase, View, ViewTargets};
-
-/// What the device must have and what the culler runs with on it: the
-/// features and limits to request, the [`device::Capabilities`] a culler
-/// uses (its tier), and the marks shaders' WGSL and bind-group layout.
-pub mod device {
-    pub use crate::capabilities::{features, limits, Capabilities, DrawCount, Marks, FULL_FEATURES, REQUIRED_FEATURES};
-    pub use crate::host::{marks_layout, marks_wgsl, PIPELINE_STATISTICS_FEATURES, TIMESTAMP_FEATURES};
-}
-
-/// What a view measures: per-frame statistics every method shares
-/// ([`stats::FrameStats`], with its recorded [`stats::FrameShape`]),
-/// per-stage times and shader invocations, each method's own counts
-/// ([`stats::Stat`]) and what an object update cost.
-pub mod stats {
-    pub use crate::cull::{Stage, Stat};
-    pub use crate::gpu::{FrameShape, Invocations};
-    pub use crate::host::UpdateStats;
-    pub use crate::tally::FrameStats;
-}
-
-/// Options beyond the method's name: HROC's variants (its counters, its
-/// occluder seed) and how moving objects update the BVH.
-pub mod options {
-    pub use crate::cull::{Counters, Seed, Variant};
-    pub use crate::host::{MotionOptions, Refit};
-}
-
-/// Boxes and views: object boxes (world and oriented), the view
-/// conventions (depth range, projections) and the geometry the culling
-/// passes derive from a view.
-pub mod geometry {
-    pub use crate::aabb::{Aabb, OrientedBox};
-    pub use crate::cull::hroc::cpu::tested_box;
-    pub use crate::frustum::*;
-}

@@ -154,9 +154,9 @@ named_enum!(
         /// count, only those up to the GPU's count.
         CommandSlots => "command_slots",
         /// Passes over the object-ID target that mark the objects a list
-        /// drew ([`crate::device::Marks::Ids`]; 0 with early-Z marks).
+        /// drew ([`crate::capabilities::Marks::Ids`]; 0 with early-Z marks).
         IdPasses => "id_passes",
-        /// The frame's shape ([`crate::stats::FrameShape`]): compute passes the culler opened.
+        /// The frame's shape ([`crate::gpu::FrameShape`]): compute passes the culler opened.
         ComputePasses => "compute_passes",
         /// Render passes the culler opened (box tests, depth reductions).
         RenderPasses => "render_passes",

@@ -1,9 +1,9 @@
 //! The objects a host registers: their flags, descriptions, GPU buffers
 //! and the per-object checks.
 
+use crate::aabb::OrientedBox;
 use crate::contract::DrawList;
 use crate::error::{Error, Result};
-use crate::geometry::OrientedBox;
 use crate::gpu::Gpu;
 use crate::layout::{DrawCommand, ObjectBounds, OrientedBounds};
 use crate::Aabb;

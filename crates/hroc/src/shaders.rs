@@ -115,7 +115,7 @@ pub const MANUAL_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 /// What a box-test pass renders into: the depth it tests against, attached
 /// read-only ([`BoxDepth::Test`]), or, where the culler runs without
 /// early-Z marks, or its test samples the depth it would attach without
-/// read-only depth attachments ([`crate::device::Capabilities::read_only_depth`]),
+/// read-only depth attachments ([`crate::capabilities::Capabilities::read_only_depth`]),
 /// a colour target of [`MANUAL_TARGET`] that nothing writes
 /// ([`BoxDepth::Manual`]).
 pub struct BoxTarget(Option<wgpu::TextureView>);
@@ -123,8 +123,8 @@ pub struct BoxTarget(Option<wgpu::TextureView>);
 impl BoxTarget {
     /// The target of box tests over `size` pixels of `samples` samples
     /// with `caps`, by whether they sample the depth they test against
-    /// ([`crate::device::Capabilities`]).
-    pub fn new(gpu: &Gpu, caps: crate::device::Capabilities, samples_depth: bool, (size, samples): ((u32, u32), u32)) -> BoxTarget {
+    /// ([`crate::capabilities::Capabilities`]).
+    pub fn new(gpu: &Gpu, caps: crate::capabilities::Capabilities, samples_depth: bool, (size, samples): ((u32, u32), u32)) -> BoxTarget {
         BoxTarget((!caps.attached_box_tests(samples_depth)).then(|| {
             gpu.device
                 .create_texture(&wgpu::TextureDescriptor {

@@ -42,7 +42,7 @@ pub struct FrameStats {
     /// summed): what an emulated draw count walks.
     pub command_slots: u64,
     /// Passes over the object-ID target that marked what a list drew
-    /// ([`crate::device::Marks::Ids`]).
+    /// ([`crate::capabilities::Marks::Ids`]).
     pub id_passes: u64,
     /// What the culler recorded in the frame: passes, dispatches, draws,
     /// clears, copies, queries, objects created, submits and maps.

@@ -16,7 +16,6 @@ fn lib_rs() -> String {
 /// hidden `testing` module.
 fn exported(lib: &str) -> BTreeSet<String> {
     let code: String = lib.lines().filter(|l| !l.trim_start().starts_with("//")).collect::<Vec<_>>().join("\n");
-    let code = without_module_bodies(&code);
     let mut out = BTreeSet::new();
     for stmt in code.split(';') {
         // Attributes (`#![...]`, `#[doc(hidden)]`) are not part of the item.
@@ -33,34 +32,6 @@ fn exported(lib: &str) -> BTreeSet<String> {
         }
     }
     out.remove("testing");
-    out
-}
-
-/// `code` with each inline `pub mod name { ... }` written `pub mod name;`:
-/// a module is one name at the root, whatever it holds.
-fn without_module_bodies(code: &str) -> String {
-    let mut out = String::new();
-    let mut rest = code;
-    while let Some(at) = rest.find("pub mod ") {
-        let name_end = at + rest[at..].find([';', '{']).expect("a module ends its name");
-        out.push_str(&rest[..name_end]);
-        if rest[name_end..].starts_with(';') {
-            rest = &rest[name_end..];
-            continue;
-        }
-        let mut depth = 0;
-        let close = rest[name_end..]
-            .char_indices()
-            .find(|&(_, c)| {
-                depth += (c == '{') as i32 - (c == '}') as i32;
-                depth == 0
-            })
-            .expect("a module body closes")
-            .0;
-        out.push(';');
-        rest = &rest[name_end + close + 1..];
-    }
-    out.push_str(rest);
     out
 }
 

@@ -42,16 +42,7 @@ fn id_marks_match_the_cpu_reference() {
                 _ => 1 + below(objects as u64 / 2 + 1) as u32,
             })
             .collect();
-        let texture = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("ids"),
-            size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Uint,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
+        let texture = common::texture(&device, wgpu::TextureFormat::R32Uint, (w, h, 1), 1, 1, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST);
         queue.write_texture(
             texture.as_image_copy(),
             bytemuck::cast_slice(&ids),
@@ -122,16 +113,7 @@ fn id_marks_read_every_sample_of_msaa_ids() {
         multiview_mask: None,
         cache: None,
     });
-    let texture = device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("msaa ids"),
-        size: wgpu::Extent3d { width: w, height: h, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: samples,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rg16Uint,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
-        view_formats: &[],
-    });
+    let texture = common::texture(&device, wgpu::TextureFormat::Rg16Uint, (w, h, 1), 1, samples, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT);
     let view = texture.create_view(&Default::default());
     let source_ids = gpu.buffer_init("ids", bytemuck::cast_slice(&ids), wgpu::BufferUsages::STORAGE);
     let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {

@@ -124,18 +124,8 @@ fn an_id_target_unlike_the_depth_target_is_an_error() {
     let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street_on(&device, Depth { samples: 4, ..Depth::default() });
     let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
-    let ids = |format, samples| {
-        device.create_texture(&wgpu::TextureDescriptor {
-            label: None,
-            size: wgpu::Extent3d { width: common::street::SIZE, height: common::street::SIZE, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: samples,
-            dimension: wgpu::TextureDimension::D2,
-            format,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT,
-            view_formats: &[],
-        })
-    };
+    let size = (common::street::SIZE, common::street::SIZE, 1);
+    let ids = |format, samples| common::texture(&device, format, size, 1, samples, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT);
     use wgpu::TextureFormat as F;
     let targets = host.targets();
     assert!(culler.view(Method::HROC, &targets.with_ids(&ids(F::Rg16Uint, 4))).is_ok());

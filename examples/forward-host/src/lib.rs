@@ -2,7 +2,8 @@
 //! device, vertex layout (interleaved position/normal/uv), per-instance
 //! transforms in a storage buffer, a lit shader and one alpha-blended
 //! material. It uses neither hroc's benchmark nor its renderer: only the
-//! public culling API and the scene crate's generators.
+//! public culling API, the scene crate's generators, and `hroc-readback`
+//! for its tests' read-backs.
 //!
 //! What hroc adds to the renderer, all in [`ForwardHost::frame`]:
 //! a [`hroc::Culler`] over the objects, a [`hroc::View`], and a draw
@@ -17,7 +18,6 @@ use hroc::{Culler, CullerDesc, DepthRange, FrameInput, Method, ObjectDesc, Objec
 use hroc_scene::Scene;
 
 mod demo;
-mod readback;
 mod shadows;
 
 pub use demo::Demo;
@@ -448,15 +448,13 @@ impl ForwardHost {
         let (device, queue) = (&self.device, &self.queue);
         let mut drawn = vec![false; self.n as usize];
         for (commands, count, max) in &self.lists {
-            for cmd in readback::list(device, queue, commands, count, *max)? {
-                if cmd.instance_count > 0 && cmd.index_count > 0 {
-                    drawn[cmd.first_instance as usize] = true;
-                }
+            for [index_count, instance_count, _, _, object] in drawn_list(device, queue, commands, count, *max)? {
+                drawn[object as usize] |= instance_count > 0 && index_count > 0;
             }
         }
-        let seen: Vec<u32> = readback::buffer(device, queue, &self.seen, self.n as u64)?;
+        let seen: Vec<u32> = hroc_readback::read(device, queue, &self.seen, 0, self.n as u64).map_err(read_error)?;
         let mut visible: Vec<bool> = (0..self.n as usize).map(|o| self.blended[o] && seen[o] != 0).collect();
-        for id in readback::ids(device, queue, &self.ids)? {
+        for id in hroc_readback::read_ids(device, queue, &self.ids).map_err(read_error)? {
             if id > 0 {
                 visible[id as usize - 1] = true;
             }
@@ -465,8 +463,8 @@ impl ForwardHost {
         for lists in &self.shadows.lists {
             let mut drawn = vec![false; self.n as usize];
             for (commands, count, max) in lists {
-                for cmd in readback::list(device, queue, commands, count, *max)? {
-                    drawn[cmd.first_instance as usize] |= cmd.instance_count > 0 && cmd.index_count > 0;
+                for [index_count, instance_count, _, _, object] in drawn_list(device, queue, commands, count, *max)? {
+                    drawn[object as usize] |= instance_count > 0 && index_count > 0;
                 }
             }
             cascade_drawn.push(drawn);
@@ -475,8 +473,8 @@ impl ForwardHost {
         Ok(FrameOutput {
             visible,
             drawn,
-            depth: readback::depth(device, queue, &self.depth, 0)?,
-            color: bytemuck::cast_slice::<u32, u8>(&readback::texture::<u32>(device, queue, color, wgpu::TextureAspect::All)?).to_vec(),
+            depth: hroc_readback::read_depth(device, queue, &self.depth, 0).map_err(read_error)?,
+            color: hroc_readback::read_texture::<u8>(device, queue, color, wgpu::TextureAspect::All).map_err(read_error)?,
             cascade_depth: self.shadows.depth(device, queue)?,
             cascade_drawn,
         })
@@ -505,6 +503,18 @@ impl ForwardHost {
     pub fn size(&self) -> (u32, u32) {
         self.size
     }
+}
+
+/// The host's read-backs, for its tests and printout (not part of culling).
+fn read_error(e: hroc_readback::Error) -> hroc::Error {
+    hroc::Error::Gpu(e.to_string())
+}
+
+/// The commands of a [`hroc::Draw`] list within its count (at most
+/// `max_count`): index count, instances, first index, base vertex, object.
+fn drawn_list(device: &wgpu::Device, queue: &wgpu::Queue, commands: &wgpu::Buffer, count: &wgpu::Buffer, max_count: u32) -> hroc::Result<Vec<[u32; 5]>> {
+    let n = hroc_readback::read::<u32>(device, queue, count, 0, 1).map_err(read_error)?[0].min(max_count);
+    hroc_readback::read(device, queue, commands, 0, n as u64).map_err(read_error)
 }
 
 /// A render pass on the host's targets: clears them for `Some(depth range)`,

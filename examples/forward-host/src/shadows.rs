@@ -10,8 +10,6 @@ use glam::{Mat4, Vec3};
 use hroc::device::Marks;
 use hroc::{Culler, DepthRange, FrameInput, Method, View, ViewDesc, ViewTargets};
 
-use crate::readback;
-
 /// Width and height of every cascade.
 pub const CASCADE_SIZE: u32 = 256;
 
@@ -193,7 +191,7 @@ impl Shadows {
 
     /// Each cascade's depth after the last frame, row by row.
     pub(crate) fn depth(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> hroc::Result<Vec<Vec<f32>>> {
-        (0..self.count).map(|c| readback::depth(device, queue, &self.map, c)).collect()
+        (0..self.count).map(|c| hroc_readback::read_depth(device, queue, &self.map, c).map_err(crate::read_error)).collect()
     }
 }
 

@@ -300,8 +300,8 @@ pub struct MethodContext<'a> {
     /// Method parameters.
     pub options: &'a MethodOptions,
     /// What the culler runs with.
-    pub capabilities: crate::device::Capabilities,
-    /// The ID-marks pass, with [`crate::device::Marks::Ids`].
+    pub capabilities: crate::capabilities::Capabilities,
+    /// The ID-marks pass, with [`crate::capabilities::Marks::Ids`].
     pub(crate) id_marks: Option<&'a IdMarks>,
     /// `auto`'s candidates (empty for every other method).
     pub(crate) auto: &'a [Method],
@@ -315,9 +315,9 @@ impl MethodContext<'_> {
     /// objects, where a mark skips an object's test), else of any.
     pub fn mark_target(&self, marks: &wgpu::Buffer, within: Option<&wgpu::Buffer>) -> MarkTarget {
         match (self.capabilities.marks, self.id_marks, &self.targets.ids) {
-            (crate::device::Marks::EarlyZ, _, _) => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks])),
-            (crate::device::Marks::Ids, Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, (self.targets.size, self.targets.samples), marks, within)),
-            (crate::device::Marks::Ids, _, _) => unreachable!("Culler::view_with checks the ID target of methods that read marks, and ID marks build the pass"),
+            (crate::capabilities::Marks::EarlyZ, _, _) => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks])),
+            (crate::capabilities::Marks::Ids, Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, (self.targets.size, self.targets.samples), marks, within)),
+            (crate::capabilities::Marks::Ids, _, _) => unreachable!("Culler::view_with checks the ID target of methods that read marks, and ID marks build the pass"),
         }
     }
 }

@@ -19,7 +19,7 @@ pub enum Counters {
     /// without waiting, plus a margin; a second indirect-count draw takes
     /// whatever overflows the estimate, its count (count − estimate, at
     /// least 0) computed on the GPU, so nothing is dropped. With an
-    /// emulated draw count ([`crate::device::DrawCount::Emulated`]) every list is
+    /// emulated draw count ([`crate::capabilities::DrawCount::Emulated`]) every list is
     /// drawn to its capacity anyway, and this runs as [`Counters::Capacity`];
     /// so are lists of at most 4,096 commands, where the overflow's pass
     /// costs more than the bound saves.
@@ -194,7 +194,7 @@ impl Method {
     }
 
     /// True when the method reads which objects the host's draws left
-    /// visible (`roc`, `ioc`, HROC): with [`crate::device::Marks::Ids`] its views
+    /// visible (`roc`, `ioc`, HROC): with [`crate::capabilities::Marks::Ids`] its views
     /// need the object-ID target.
     pub fn reads_marks(self) -> bool {
         matches!(self, Method::Roc | Method::Ioc | Method::Hroc(_))

@@ -21,7 +21,7 @@
 //!   before it still counts (early-Z is order-dependent), so V stays a
 //!   superset of what owns pixels; what is dropped from V had no visible
 //!   fragment and is tested again next frame. With ID marks
-//!   ([`crate::device::Marks::Ids`]) V is exactly what owns a pixel after step 1
+//!   ([`crate::capabilities::Marks::Ids`]) V is exactly what owns a pixel after step 1
 //!   or 3, and the same holds.
 //!
 //! Both are conservative: an object owning a pixel is in V (drawn), or its

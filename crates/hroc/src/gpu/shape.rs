@@ -6,7 +6,7 @@
 //! The culler records through counted calls (`EncoderShape`,
 //! `PassShape`, `RenderShape`, `DeviceShape`, `QueueShape`); each adds to
 //! the recording thread's tally, and a view takes the difference around
-//! its frame ([`crate::stats::FrameStats::shape`]).
+//! its frame ([`crate::tally::FrameStats::shape`]).
 
 use std::cell::Cell;
 use std::ops::{Range, Sub};

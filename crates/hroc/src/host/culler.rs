@@ -2,11 +2,11 @@
 
 use super::serving::check_limits;
 use super::*;
+use crate::aabb::OrientedBox;
 use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
 use crate::capabilities::{Capabilities, DrawCount, Marks};
 use crate::cull::{DrawList, Method, MethodContext, MethodOptions, WorkCounts};
 use crate::error::{Error, Result};
-use crate::geometry::OrientedBox;
 use crate::gpu::Uploads;
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter};
 use crate::id_marks::IdMarks;
@@ -114,7 +114,7 @@ pub struct Culler {
 impl Culler {
     /// Creates a culler on the host's device. Errors, never panics, when the
     /// device lacks the features of the capabilities asked for
-    /// ([`CullerDesc::capabilities`]; at least [`crate::device::REQUIRED_FEATURES`]) or
+    /// ([`CullerDesc::capabilities`]; at least [`crate::capabilities::REQUIRED_FEATURES`]) or
     /// a limit the culler's shared passes need (or [`TIMESTAMP_FEATURES`] when
     /// asked for timestamps, [`PIPELINE_STATISTICS_FEATURES`] when asked
     /// for pipeline statistics), when an object's box is not finite, or when the

@@ -28,18 +28,16 @@ pub fn device_with(features: wgpu::Features, limits: impl FnOnce(&wgpu::Adapter)
     pollster::block_on(adapter.request_device(&desc)).expect("a device with the features and limits asked for")
 }
 
+/// A 2D texture of `format`, `(width, height, layers)`, `mips` and `samples`.
+pub fn texture(device: &wgpu::Device, format: wgpu::TextureFormat, (width, height, layers): (u32, u32, u32), mips: u32, samples: u32, usage: wgpu::TextureUsages) -> wgpu::Texture {
+    let size = wgpu::Extent3d { width, height, depth_or_array_layers: layers };
+    let dimension = wgpu::TextureDimension::D2;
+    device.create_texture(&wgpu::TextureDescriptor { label: None, size, mip_level_count: mips, sample_count: samples, dimension, format, usage, view_formats: &[] })
+}
+
 /// A `Depth32Float` target of `size` × `size`, drawn into and sampled.
 pub fn depth_texture(device: &wgpu::Device, size: u32) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("depth"),
-        size: wgpu::Extent3d { width: size, height: size, depth_or_array_layers: 1 },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Depth32Float,
-        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-        view_formats: &[],
-    })
+    texture(device, wgpu::TextureFormat::Depth32Float, (size, size, 1), 1, 1, wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING)
 }
 
 /// A host's pipeline built before any culler (`hroc::device::marks_layout`):

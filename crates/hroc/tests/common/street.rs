@@ -108,26 +108,9 @@ impl Host {
             layout: &camera_layout,
             entries: &[wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() }],
         });
-        let ids = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("ids"),
-            size: wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
-            mip_level_count: 1,
-            sample_count: at.samples,
-            dimension: wgpu::TextureDimension::D2,
-            format: at.ids_format(),
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_SRC,
-            view_formats: &[],
-        });
-        let depth = device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("depth"),
-            size: wgpu::Extent3d { width: SIZE << at.mip, height: SIZE << at.mip, depth_or_array_layers: at.layers },
-            mip_level_count: at.mips,
-            sample_count: at.samples,
-            dimension: wgpu::TextureDimension::D2,
-            format: at.format,
-            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        });
+        use wgpu::TextureUsages as U;
+        let ids = super::texture(device, at.ids_format(), (SIZE, SIZE, 1), 1, at.samples, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC);
+        let depth = super::texture(device, at.format, (SIZE << at.mip, SIZE << at.mip, at.layers), at.mips, at.samples, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING);
         Host {
             at,
             marking,
@@ -289,13 +272,7 @@ impl Host {
     /// The object-ID image now: `object + 1` per pixel (per sample, each
     /// pixel's in turn), 0 where nothing is.
     pub fn ids(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<u32> {
-        if self.at.samples > 1 {
-            return hroc_readback::read_ids(device, queue, &self.ids).unwrap();
-        }
-        let mut enc = device.create_command_encoder(&Default::default());
-        let buf = self.copy_ids(device, &mut enc);
-        queue.submit([enc.finish()]);
-        read_ids(device, queue, &buf)
+        hroc_readback::read_ids(device, queue, &self.ids).unwrap()
     }
 
     /// The objects that own a pixel of the ID image.
@@ -309,7 +286,7 @@ impl Host {
 
 /// Reads an ID image copied by [`Host::copy_ids`] (submitted).
 pub fn read_ids(device: &wgpu::Device, queue: &wgpu::Queue, buf: &wgpu::Buffer) -> Vec<u32> {
-    hroc::testing::gpu::Gpu::from_device(device, queue).read(buf, 0, (SIZE * SIZE) as u64).unwrap()
+    hroc_readback::read(device, queue, buf, 0, (SIZE * SIZE) as u64).unwrap()
 }
 
 /// The street's objects and a host holding its cubes.

@@ -2,7 +2,7 @@
 //! (`noc`), frustum culling (`vfc`), two-phase Hi-Z (`hzb`) and HROC, by
 //! what each costs on this device, scene and path. A frame:
 //! 1. measurements: the frames whose GPU time and triangles came back
-//!    (timestamps read without a stall, [`crate::stats::FrameStats`]) feed each
+//!    (timestamps read without a stall, [`crate::tally::FrameStats`]) feed each
 //!    candidate's cost model (`chooser.rs`); without `TIMESTAMP_QUERY`,
 //!    the CPU clock's frame period stands in for the GPU time. Every frame
 //!    of a probe, a warm-up or a switch's dwell is timed, a steady frame

@@ -4,8 +4,9 @@
 
 use glam::{Mat4, Vec2, Vec3, Vec4};
 
+use crate::aabb::OrientedBox;
 use crate::bvh::Bvh;
-use crate::geometry::{OrientedBox, ViewGeometry};
+use crate::frustum::ViewGeometry;
 use crate::{frustum::aabb_in_frustum, Aabb};
 
 /// Node state: not reached from any occluder (paper Algorithm 1).
@@ -38,7 +39,7 @@ pub fn node_states(bvh: &Bvh, occluders: &[bool]) -> Vec<u32> {
 pub const PIXEL_PAD: f32 = 0.0625;
 
 /// `pixel_angle` in common.wgsl: a pixel's height at distance d from the
-/// eye is `a + b d`, `(a, b)` ([`crate::geometry::ViewGeometry::footprint`]).
+/// eye is `a + b d`, `(a, b)` ([`crate::frustum::ViewGeometry::footprint`]).
 pub fn pixel_angle(g: &ViewGeometry, size: (u32, u32)) -> Vec2 {
     let f = g.footprint(size);
     Vec2::new(f.x, f.y)
@@ -64,7 +65,7 @@ pub fn padded_px(b: Aabb, eye: Vec3, pixel: Vec2, px: f32) -> Aabb {
 
 /// The box the box tests rasterize for an object's box `b`, seen from
 /// `eye` through pixels `pixel = (a, b)` wide (`a + b d` at distance d;
-/// [`crate::geometry::ViewGeometry::footprint`]) on targets of `samples`
+/// [`crate::frustum::ViewGeometry::footprint`]) on targets of `samples`
 /// samples per pixel: `b` grown by the margins the shaders add
 /// (`box_pad` in common.wgsl, one-pixel blocks). A host that compares its
 /// pictures with and without culling can tell a rasterizer's stray

@@ -4,7 +4,7 @@
 //!    first (`hroc_seed.wgsl`);
 //! 1. occlusion map — draw V (last frame's visible set, packed in object
 //!    order) with forced early-Z; fragments mark the effective occluders O
-//!    (with ID marks, [`crate::device::Marks::Ids`], O is what owns a pixel of the
+//!    (with ID marks, [`crate::capabilities::Marks::Ids`], O is what owns a pixel of the
 //!    ID target after the draw: fewer objects, so more are tested);
 //!    where V's depth leaves cells of the seed's grid at the far plane,
 //!    their rays' first hits are drawn too (`refill_holes`: no collapse

@@ -52,7 +52,7 @@ pub const SET_SIZE: u32 = wgpu::QUERY_SET_MAX_QUERIES;
 pub struct NodeView {
     /// Frustum planes, plane 4 the near plane (`n·p + d >= 0` inside).
     pub planes: [Vec4; 6],
-    /// The near plane ([`crate::geometry::ViewGeometry::near_plane`]).
+    /// The near plane ([`crate::frustum::ViewGeometry::near_plane`]).
     pub near_plane: Vec4,
     /// Distance from the eye to the near plane.
     pub near: f32,

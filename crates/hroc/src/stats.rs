@@ -1,0 +1,9 @@
+//! What a view measures: per-frame statistics every method shares
+//! ([`FrameStats`], with its recorded [`FrameShape`]),
+//! per-stage times and shader invocations, each method's own counts
+//! ([`Stat`]) and what an object update cost.
+
+pub use crate::cull::{Stage, Stat};
+pub use crate::gpu::{FrameShape, Invocations};
+pub use crate::host::UpdateStats;
+pub use crate::tally::FrameStats;
