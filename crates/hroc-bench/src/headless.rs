@@ -203,7 +203,7 @@ impl Headless {
                 ..Default::default()
             })
             .await
-            .map_err(|e| Error::Gpu(format!("cannot open {}: {e}", info.name)))?;
+            .map_err(|e| Error::Device(format!("cannot open {}: {e}", info.name)))?;
         let gpu = Headless { adapter, info, capabilities: None, device, queue, errors: Default::default() };
         gpu.capture_errors();
         Ok(gpu)

@@ -18,8 +18,5 @@ pub mod render;
 pub use hroc::bvh;
 pub use hroc_scene as scene;
 
-/// Errors: the scene crate's, which wraps the culler's.
-pub mod error {
-    pub use hroc_scene::error::{Error, Result};
-}
+pub mod error;
 pub use error::{Error, Result};

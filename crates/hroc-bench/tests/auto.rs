@@ -89,7 +89,7 @@ fn auto_follows_moving_added_and_removed_objects() {
 /// candidate), with shadow cascades (a chooser per view) and 4× MSAA.
 #[test]
 fn auto_in_the_bench_with_views() {
-    let methods = Method::parse_list("noc,vfc,hzb,hroc,auto").unwrap();
+    let methods = hroc_bench::bench::parse_methods("noc,vfc,hzb,hroc,auto").unwrap();
     for (cascades, msaa) in [(0, 1), (2, 1), (0, 4)] {
         let o = BenchOptions {
             frames: 24,
@@ -115,7 +115,7 @@ fn auto_in_the_bench_with_views() {
 /// fewer than HROC seeding on cuts only.
 #[test]
 fn leaving_a_building_does_not_collapse_hroc() {
-    let methods = Method::parse_list("hzb,hroc").unwrap();
+    let methods = hroc_bench::bench::parse_methods("hzb,hroc").unwrap();
     let run = |seed: hroc::options::Seed| {
         let o = BenchOptions {
             fps: Some(24.0),

@@ -17,7 +17,7 @@ use hroc_bench::gpu::{Backend, Headless};
 fn gl_serves_its_methods_with_no_false_negatives() {
     let gpu = Headless::open(Backend::Gl).expect("OpenGL through EGL (scripts/ensure-gl.sh)");
     assert_eq!(gpu.info.backend, wgpu::Backend::Gl);
-    let methods = Method::parse_list("noc,vfc,hzb,roc,hroc,hroc-na,chc++,auto").unwrap();
+    let methods = hroc_bench::bench::parse_methods("noc,vfc,hzb,roc,hroc,hroc-na,chc++,auto").unwrap();
     for path in [None, Some("hard"), Some("cuts")] {
         let o = BenchOptions { frames: 12, resolution: (160, 90), camera_path: path.map(Into::into), ..BenchOptions::new("radial-city", Some(1500), methods.clone()) };
         let r = bench::run(&gpu, &o).unwrap();
@@ -30,7 +30,7 @@ fn gl_serves_its_methods_with_no_false_negatives() {
     }
     // A tenth of the objects moving every frame (refit on the CPU and the
     // GPU's boxes), for the methods that follow motion.
-    let moving = Method::parse_list("noc,vfc,hzb,roc,hroc").unwrap();
+    let moving = hroc_bench::bench::parse_methods("noc,vfc,hzb,roc,hroc").unwrap();
     let o = BenchOptions { frames: 12, resolution: (160, 90), moving: 0.1, ..BenchOptions::new("radial-city", Some(1500), moving) };
     let r = bench::run(&gpu, &o).unwrap();
     assert!(r.moved_objects > 0);
@@ -53,7 +53,7 @@ fn gl_serves_its_methods_with_no_false_negatives() {
     // wgpu's GL backend samples neither multisampled textures nor a layer
     // other than 0 of an array: such views are refused by name, and the
     // light's cascades (a texture each on GL) cull with 0 false negatives.
-    let o = BenchOptions { frames: 2, resolution: (64, 36), msaa: 4, ..BenchOptions::new("radial-city", Some(200), Method::parse_list("noc,hzb").unwrap()) };
+    let o = BenchOptions { frames: 2, resolution: (64, 36), msaa: 4, ..BenchOptions::new("radial-city", Some(200), hroc_bench::bench::parse_methods("noc,hzb").unwrap()) };
     let Err(e) = bench::run(&gpu, &o) else { panic!("MSAA refused on GL") };
     let text = e.to_string();
     assert!(text.contains("4 samples") && text.contains("GL"), "{text}");
@@ -70,7 +70,7 @@ fn gl_serves_its_methods_with_no_false_negatives() {
     let text = s.culler.view(Method::Hzb, &hroc::ViewTargets::new(&depth, hroc::DepthRange::Standard).at(1, 0)).err().expect("layer 1 refused on GL").to_string();
     assert!(text.contains("layer 1") && text.contains("GL"), "{text}");
     assert!(s.culler.view(Method::Hzb, &hroc::ViewTargets::new(&depth, hroc::DepthRange::Standard)).is_ok());
-    let methods = Method::parse_list("noc,vfc,hzb,roc,hroc").unwrap();
+    let methods = hroc_bench::bench::parse_methods("noc,vfc,hzb,roc,hroc").unwrap();
     let o = BenchOptions { frames: 8, resolution: (160, 90), shadow_cascades: 2, ..BenchOptions::new("radial-city", Some(1500), methods) };
     let r = bench::run(&gpu, &o).unwrap();
     for row in &r.rows {

@@ -31,14 +31,14 @@ fn check(r: &bench::BenchReport, what: &str) {
 #[test]
 fn portable_tier_on_vulkan_has_no_false_negatives() {
     let gpu = portable(Backend::Vulkan);
-    let methods = Method::parse_list("noc,vfc,hzb,roc,roc-all,ioc,hroc,hroc-na,hroc-cr,hroc-sf,chc++,auto").unwrap();
+    let methods = hroc_bench::bench::parse_methods("noc,vfc,hzb,roc,roc-all,ioc,hroc,hroc-na,hroc-cr,hroc-sf,chc++,auto").unwrap();
     for scene in ["radial-city", "factory", "satellites"] {
         for path in ["hard", "cuts"] {
             let o = BenchOptions { frames: 10, resolution: (160, 90), camera_path: Some(path.into()), ..BenchOptions::new(scene, Some(1000), methods.clone()) };
             check(&bench::run(&gpu, &o).unwrap(), &format!("{scene} {path}"));
         }
     }
-    let moving = Method::parse_list("noc,hzb,roc,ioc,hroc,hroc-na").unwrap();
+    let moving = hroc_bench::bench::parse_methods("noc,hzb,roc,ioc,hroc,hroc-na").unwrap();
     let o = BenchOptions { frames: 10, resolution: (160, 90), moving: 0.1, ..BenchOptions::new("radial-city", Some(1000), moving) };
     let r = bench::run(&gpu, &o).unwrap();
     assert!(r.moved_objects > 0);
@@ -48,7 +48,7 @@ fn portable_tier_on_vulkan_has_no_false_negatives() {
 #[test]
 fn portable_tier_on_gl_has_no_false_negatives() {
     let gpu = portable(Backend::Gl);
-    let methods = Method::parse_list("noc,hzb,roc,ioc,hroc,hroc-na,auto").unwrap();
+    let methods = hroc_bench::bench::parse_methods("noc,hzb,roc,ioc,hroc,hroc-na,auto").unwrap();
     for path in ["hard", "cuts"] {
         let o = BenchOptions { frames: 10, resolution: (160, 90), camera_path: Some(path.into()), ..BenchOptions::new("radial-city", Some(1000), methods.clone()) };
         check(&bench::run(&gpu, &o).unwrap(), &format!("GL {path}"));

@@ -263,7 +263,7 @@ fn hzb_object_test_matches_cpu_reference() {
 
 #[test]
 fn bench_rows_carry_stats_and_woc_reports() {
-    let methods = hroc::Method::parse_list("noc,roc,roc-all,ioc,hzb,woc").unwrap();
+    let methods = hroc_bench::bench::parse_methods("noc,roc,roc-all,ioc,hzb,woc").unwrap();
     let o = BenchOptions { frames: 8, resolution: RES, timestamps: true, ..BenchOptions::new("downtown", Some(1200), methods) };
     let report = bench::run(gpu(), &o).unwrap();
     let row = |m: &str| report.rows.iter().find(|r| r.method == m.parse().unwrap()).unwrap();

@@ -12,7 +12,7 @@ use hroc_bench::bench::{self, BenchOptions, Projection};
 use hroc_bench::gpu::{Headless, Tier};
 
 fn methods() -> Vec<Method> {
-    Method::parse_list("noc,vfc,chc++,roc,ioc,hzb,hroc-na,hroc,auto").unwrap()
+    hroc_bench::bench::parse_methods("noc,vfc,chc++,roc,ioc,hzb,hroc-na,hroc,auto").unwrap()
 }
 
 fn check(gpu: &Headless, o: &BenchOptions, views: usize, label: &str) {

@@ -110,6 +110,10 @@ fn parse_msaa(s: &str) -> std::result::Result<u32, String> {
     Ok(n)
 }
 
+/// The methods of `hroc bench` with no `--methods`: no culling, frustum
+/// culling, the ideal and HROC.
+const DEFAULT_TABLE: [Method; 4] = [Method::Noc, Method::Vfc, Method::Ref, Method::HROC];
+
 /// `START:BOTTOM`, BVH depths from the root (0), START <= BOTTOM (`--ioc-range`).
 fn parse_ioc_range(s: &str) -> std::result::Result<(u32, u32), String> {
     let (a, b) = s.split_once(':').ok_or_else(|| format!("IOC range '{s}' is not START:BOTTOM"))?;
@@ -213,7 +217,7 @@ struct BenchArgs {
     #[command(flatten)]
     s: SceneArgs,
     /// Comma-separated methods, or `all`.
-    #[arg(long, default_value_t = MethodList(Method::DEFAULT_TABLE.to_vec()))]
+    #[arg(long, default_value_t = MethodList(DEFAULT_TABLE.to_vec()))]
     methods: MethodList,
     /// Writes the report as JSON.
     #[arg(long)]
@@ -338,14 +342,14 @@ fn run(cli: Cli) -> Result<()> {
     // No subcommand: the default bench.
     let cmd = match cli.cmd {
         Some(c) => c,
-        None => Cli::parse_from(["hroc", "bench"]).cmd.ok_or_else(|| Error::Arg("no command".into()))?,
+        None => Cli::parse_from(["hroc", "bench"]).cmd.ok_or_else(|| Error::Options("no command".into()))?,
     };
     match cmd {
         Cmd::Bench(a) => bench_cmd(a),
         Cmd::Render(a) => render_cmd(a),
         Cmd::Scene { cmd: SceneCmd::Info { scene, objects } } => scene_info(&scene, objects),
         Cmd::Scene { cmd: SceneCmd::Export { scene, objects, out, single_mesh, path_out } } => {
-            let mut s = loading(&scene, || hroc_bench::scene::load(&scene, objects, 0))?;
+            let mut s = loading(&scene, || Ok(hroc_bench::scene::load(&scene, objects, 0)?))?;
             if single_mesh {
                 s = s.merged();
             }
@@ -376,7 +380,7 @@ fn run(cli: Cli) -> Result<()> {
 
 fn check_frames(frames: usize) -> Result<()> {
     if frames == 0 {
-        return Err(Error::Arg("--frames must be at least 1".into()));
+        return Err(Error::Options("--frames must be at least 1".into()));
     }
     Ok(())
 }
@@ -439,8 +443,8 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
             [one] => serde_json::to_string_pretty(one),
             all => serde_json::to_string_pretty(all),
         }
-        .map_err(|e| Error::Arg(e.to_string()))?;
-        std::fs::write(&path, text).map_err(|e| Error::Io { path, source: e })?;
+        .map_err(|e| Error::Options(e.to_string()))?;
+        std::fs::write(&path, text).map_err(|e| Error::Write { path, source: e })?;
     }
     Ok(())
 }
@@ -449,10 +453,10 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     check_frames(a.s.frames)?;
     let method = a.method;
     if a.frame >= a.s.frames {
-        return Err(Error::Arg(format!("--frame {} is past the last frame ({} frames)", a.frame, a.s.frames)));
+        return Err(Error::Options(format!("--frame {} is past the last frame ({} frames)", a.frame, a.s.frames)));
     }
     let s = &a.s;
-    let mut scene = loading(&s.scene, || hroc_bench::scene::load(&s.scene, s.objects, 0))?;
+    let mut scene = loading(&s.scene, || Ok(hroc_bench::scene::load(&s.scene, s.objects, 0)?))?;
     if let Some(t) = s.clusters.triangles(&s.scene) {
         scene = scene.clustered(hroc_bench::scene::ClusterOptions::new(t))?;
     }
@@ -474,7 +478,7 @@ fn render_cmd(a: RenderArgs) -> Result<()> {
     let px = if a.view == Picture::Groups {
         let nodes = culler
             .tested_nodes(&session.culler)?
-            .ok_or_else(|| Error::Arg(format!("{method} tests no boxes; the groups view is for box-testing methods (hroc, roc, roc-all, ioc)")))?;
+            .ok_or_else(|| Error::Options(format!("{method} tests no boxes; the groups view is for box-testing methods (hroc, roc, roc-all, ioc)")))?;
         let mut px = pictures::capture(&gpu, &session.renderer, Picture::Color, &lists)?;
         let boxes: Vec<_> = nodes.iter().map(|&n| (session.bvh().aabb(n), if session.bvh().is_leaf(n) { [255, 220, 0, 255] } else { [255, 40, 40, 255] })).collect();
         let vp = session.cameras[a.frame].view_proj(session.renderer.aspect());
@@ -533,7 +537,7 @@ fn loading<T>(what: &str, load: impl FnOnce() -> Result<T>) -> Result<T> {
 
 fn scene_info(spec: &str, objects: Option<usize>) -> Result<()> {
     let t = std::time::Instant::now();
-    let scene = loading(spec, || hroc_bench::scene::load(spec, objects, 0))?;
+    let scene = loading(spec, || Ok(hroc_bench::scene::load(spec, objects, 0)?))?;
     let load_ms = t.elapsed().as_secs_f64() * 1e3;
     let st = scene.stats();
     println!("scene      {}", scene.name);

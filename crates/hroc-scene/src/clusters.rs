@@ -45,7 +45,7 @@ impl ClusterOptions {
 
     fn check(&self) -> crate::Result<()> {
         if self.triangles < 4 || !self.triangles.is_multiple_of(4) || self.triangles > 1 << 20 {
-            return Err(crate::Error::InvalidScene(format!("clusters of {} triangles: use a multiple of 4 from 4 to 1048576", self.triangles)));
+            return Err(crate::Error::Invalid(format!("clusters of {} triangles: use a multiple of 4 from 4 to 1048576", self.triangles)));
         }
         Ok(())
     }

@@ -1,6 +1,5 @@
-//! One error type for everything a user of the scenes, the benchmark and the
-//! CLI can get wrong: files, scenes, arguments, devices. Every variant prints
-//! as one clear line; the CLI exits non-zero with it.
+//! What loading, generating, checking and writing a scene can fail with:
+//! files and their contents. Every variant prints as one clear line.
 
 use std::path::PathBuf;
 
@@ -19,23 +18,15 @@ pub enum Error {
     #[error("malformed {format} file {path}: {msg}")]
     Malformed { format: &'static str, path: PathBuf, msg: String },
     #[error("invalid scene: {0}")]
-    InvalidScene(String),
+    Invalid(String),
     #[error("empty scene: {0}")]
     EmptyScene(String),
     #[error("unsafe URI '{uri}' in {path}: buffers and images must lie inside the asset's folder")]
     UnsafeUri { uri: String, path: PathBuf },
     #[error("malformed camera path {path}: {msg}")]
     CameraPath { path: PathBuf, msg: String },
-    #[error("scene too large for this device: {0}")]
-    OverDeviceLimits(String),
-    #[error("{0}")]
-    NoAdapter(String),
-    #[error("GPU error: {0}")]
-    Gpu(String),
-    #[error("invalid argument: {0}")]
-    Arg(String),
-    #[error(transparent)]
-    Cull(#[from] hroc::Error),
+    #[error("cannot write '{0}': expected a .obj or .glb file name")]
+    UnknownExport(PathBuf),
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;

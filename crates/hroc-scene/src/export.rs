@@ -127,7 +127,7 @@ pub fn write_glb(scene: &Scene, path: &Path) -> Result<()> {
         text.push(b' ');
     }
     let total = 12 + 8 + text.len() + 8 + bin.len();
-    let total = u32::try_from(total).map_err(|_| Error::InvalidScene(format!("{} bytes do not fit one .glb (4 GiB)", total)))?;
+    let total = u32::try_from(total).map_err(|_| Error::Invalid(format!("{} bytes do not fit one .glb (4 GiB)", total)))?;
     let f = std::fs::File::create(path).map_err(io(path))?;
     let mut w = std::io::BufWriter::new(f);
     let mut put = |b: &[u8]| w.write_all(b).map_err(io(path));
@@ -154,6 +154,6 @@ pub fn write(scene: &Scene, path: &Path) -> Result<()> {
     match path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase).as_deref() {
         Some("obj") => write_obj(scene, path),
         Some("glb") => write_glb(scene, path),
-        _ => Err(Error::Arg(format!("cannot write '{}': expected a .obj or .glb file name", path.display()))),
+        _ => Err(Error::UnknownExport(path.to_path_buf())),
     }
 }

@@ -160,25 +160,25 @@ impl Scene {
         }
         for (mi, m) in self.meshes.iter().enumerate() {
             if m.indices.len() % 3 != 0 {
-                return Err(Error::InvalidScene(format!("mesh {mi} ('{}'): index count {} is not a multiple of 3", m.name, m.indices.len())));
+                return Err(Error::Invalid(format!("mesh {mi} ('{}'): index count {} is not a multiple of 3", m.name, m.indices.len())));
             }
             if let Some(&i) = m.indices.iter().find(|&&i| i as usize >= m.vertices.len()) {
-                return Err(Error::InvalidScene(format!("mesh {mi} ('{}'): index {i} out of range ({} vertices)", m.name, m.vertices.len())));
+                return Err(Error::Invalid(format!("mesh {mi} ('{}'): index {i} out of range ({} vertices)", m.name, m.vertices.len())));
             }
             if let Some(v) = m.vertices.iter().find(|v| !v.position.iter().chain(&v.normal).all(|c| c.is_finite())) {
-                return Err(Error::InvalidScene(format!("mesh {mi} ('{}'): non-finite vertex {:?}", m.name, v.position)));
+                return Err(Error::Invalid(format!("mesh {mi} ('{}'): non-finite vertex {:?}", m.name, v.position)));
             }
         }
         for (oi, o) in self.objects.iter().enumerate() {
             if o.mesh as usize >= self.meshes.len() {
-                return Err(Error::InvalidScene(format!("object {oi}: mesh {} out of range", o.mesh)));
+                return Err(Error::Invalid(format!("object {oi}: mesh {} out of range", o.mesh)));
             }
             if !o.transform.is_finite() {
-                return Err(Error::InvalidScene(format!("object {oi}: non-finite transform")));
+                return Err(Error::Invalid(format!("object {oi}: non-finite transform")));
             }
             let mesh = &self.meshes[o.mesh as usize];
             if mesh.indices.is_empty() {
-                return Err(Error::InvalidScene(format!("object {oi}: mesh {} has no triangles", o.mesh)));
+                return Err(Error::Invalid(format!("object {oi}: mesh {} has no triangles", o.mesh)));
             }
             if let Some(c) = o.cluster {
                 let ok = mesh
@@ -186,11 +186,11 @@ impl Scene {
                     .get(c as usize)
                     .is_some_and(|c| c.index_count > 0 && c.index_count % 3 == 0 && c.first_index as u64 + c.index_count as u64 <= mesh.indices.len() as u64);
                 if !ok {
-                    return Err(Error::InvalidScene(format!("object {oi}: cluster {c} of mesh {} is not a run of its triangles", o.mesh)));
+                    return Err(Error::Invalid(format!("object {oi}: cluster {c} of mesh {} is not a run of its triangles", o.mesh)));
                 }
             }
             if !(o.bounds.min.is_finite() && o.bounds.max.is_finite()) || o.bounds.is_empty() {
-                return Err(Error::InvalidScene(format!("object {oi}: invalid bounds {:?}", o.bounds)));
+                return Err(Error::Invalid(format!("object {oi}: invalid bounds {:?}", o.bounds)));
             }
         }
         Ok(())

@@ -416,7 +416,7 @@ fn index_out_of_range() {
     let dir = tmp("index_out_of_range");
     let doc = tri_doc(&TRI, &[0, 1, 5]);
     let e = load(write_doc(&dir, "a.gltf", &doc)).unwrap_err();
-    assert!(matches!(e, Error::InvalidScene(_)), "{e:?}");
+    assert!(matches!(e, Error::Invalid(_)), "{e:?}");
     message(&e, "index 5 out of range");
 }
 
@@ -426,7 +426,7 @@ fn nan_vertex_position() {
     let mut p = TRI;
     p[4] = f32::NAN;
     let e = load(write_doc(&dir, "a.gltf", &tri_doc(&p, &[0, 1, 2]))).unwrap_err();
-    assert!(matches!(e, Error::InvalidScene(_)), "{e:?}");
+    assert!(matches!(e, Error::Invalid(_)), "{e:?}");
     message(&e, "non-finite vertex");
 }
 

@@ -74,7 +74,7 @@ fn obj_nan_coordinates() {
     let dir = tmp("obj_nan");
     for text in ["v nan 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "v 0 0 0\nv inf 0 0\nv 0 1 0\nf 1 2 3\n"] {
         let e = load(write(&dir, "a.obj", text)).unwrap_err();
-        assert!(matches!(e, Error::InvalidScene(_)), "{text:?}: {e:?}");
+        assert!(matches!(e, Error::Invalid(_)), "{text:?}: {e:?}");
         message(&e, "non-finite vertex");
     }
 }

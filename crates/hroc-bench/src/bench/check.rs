@@ -24,7 +24,7 @@ impl Truth {
         let mut seen = vec![false; objects as usize];
         for &id in &ids {
             if let Some(o) = id.checked_sub(1) {
-                *seen.get_mut(o as usize).ok_or_else(|| crate::Error::Gpu(format!("object ID {id} in noc's picture, of {objects} objects")))? = true;
+                *seen.get_mut(o as usize).ok_or_else(|| crate::Error::Device(format!("object ID {id} in noc's picture, of {objects} objects")))? = true;
             }
         }
         let visible = (0..objects).filter(|&o| seen[o as usize]).collect();
@@ -62,7 +62,7 @@ impl Session<'_> {
     /// Checks cascade `c`'s frame just rendered against `truth` (every
     /// differing texel counts: the stray-fragment test is the camera's).
     pub fn check_cascade(&self, c: u32, r: &FrameResult, truth: &Truth) -> Result<Check> {
-        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
+        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Options("the session has no shadow cascades".into()))?;
         let (texture, layer) = s.cascades.depth_of(c);
         let depth = self.gpu.read_depth_layer(texture, layer)?;
         self.check_with(r, truth, &depth, None)

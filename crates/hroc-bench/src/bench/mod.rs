@@ -20,15 +20,28 @@ pub use rows::{BenchReport, InvocationsMean, MethodRow};
 pub use run::{frame_count, load_inputs, load_path, run, run_scene, warmup_frames};
 pub use session::{FrameResult, Projection, Session, SessionDesc};
 
-/// Methods on the command line: `a,b,c` or `all` ([`Method::parse_list`]),
-/// written back as their names.
+/// Methods as lists name them: `a,b,c` (in the order given, without
+/// repeats) or `all` ([`Method::ALL`]), written back as their names.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct MethodList(pub Vec<Method>);
 
 impl std::str::FromStr for MethodList {
     type Err = crate::Error;
-    fn from_str(s: &str) -> Result<MethodList> {
-        Ok(MethodList(Method::parse_list(s)?))
+    fn from_str(spec: &str) -> Result<MethodList> {
+        if spec.trim() == "all" {
+            return Ok(MethodList(Method::ALL.to_vec()));
+        }
+        let mut out = Vec::new();
+        for m in spec.split(',').map(str::trim).filter(|m| !m.is_empty()) {
+            let m: Method = m.parse()?;
+            if !out.contains(&m) {
+                out.push(m);
+            }
+        }
+        if out.is_empty() {
+            return Err(crate::Error::Options("no methods given".into()));
+        }
+        Ok(MethodList(out))
     }
 }
 
@@ -38,9 +51,9 @@ impl std::fmt::Display for MethodList {
     }
 }
 
-/// Parses `a,b,c` or `all` into methods ([`Method::parse_list`]).
+/// Parses `a,b,c` or `all` into methods ([`MethodList`]).
 pub fn parse_methods(spec: &str) -> Result<Vec<Method>> {
-    Ok(Method::parse_list(spec)?)
+    Ok(spec.parse::<MethodList>()?.0)
 }
 
 /// Year, month, day of a day count since 1970-01-01 (H. Hinnant's `civil_from_days`).
@@ -98,6 +111,16 @@ pub fn capabilities_name(c: hroc::device::Capabilities) -> String {
 #[cfg(test)]
 mod tests {
     use super::civil_from_days;
+
+    #[test]
+    fn method_lists_parse_in_order_without_repeats() {
+        use hroc::{options::Variant, Method};
+        let list = |s: &str| super::parse_methods(s);
+        assert_eq!(list("vfc, hroc-cr+of,vfc").unwrap(), [Method::Vfc, Method::Hroc(Variant::CR_OF)]);
+        assert_eq!(list("hroc,hroc-sf+of").unwrap(), [Method::HROC]);
+        assert_eq!(list("all").unwrap(), Method::ALL);
+        assert!(list(" ").is_err());
+    }
 
     #[test]
     fn days_become_dates() {

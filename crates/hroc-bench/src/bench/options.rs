@@ -90,7 +90,7 @@ impl BenchOptions {
     /// [`super::run_scene`] makes it; a front end may make it before it
     /// loads anything.
     pub fn check(&self) -> Result<()> {
-        let arg = |msg: String| Err(crate::Error::Arg(msg));
+        let arg = |msg: String| Err(crate::Error::Options(msg));
         if !(0.0..=1.0).contains(&self.moving) {
             return arg(format!("--moving {} is not a fraction from 0 to 1", self.moving));
         }

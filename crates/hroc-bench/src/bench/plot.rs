@@ -57,13 +57,13 @@ impl Figure {
     pub fn save(&self, dir: &Path, stem: &str) -> Result<(PathBuf, PathBuf)> {
         // A stem with a separator would write outside DIR.
         if stem.is_empty() || stem.contains(['/', '\\']) || stem == "." || stem == ".." {
-            return Err(Error::Arg(format!("figure file stem '{stem}' must be a plain file name")));
+            return Err(Error::Options(format!("figure file stem '{stem}' must be a plain file name")));
         }
-        std::fs::create_dir_all(dir).map_err(|source| Error::Io { path: dir.to_path_buf(), source })?;
+        std::fs::create_dir_all(dir).map_err(|source| Error::Write { path: dir.to_path_buf(), source })?;
         let svg = dir.join(format!("{stem}.svg"));
         let png = dir.join(format!("{stem}.png"));
-        std::fs::write(&svg, &self.svg).map_err(|source| Error::Io { path: svg.clone(), source })?;
-        std::fs::write(&png, &self.png).map_err(|source| Error::Io { path: png.clone(), source })?;
+        std::fs::write(&svg, &self.svg).map_err(|source| Error::Write { path: svg.clone(), source })?;
+        std::fs::write(&png, &self.png).map_err(|source| Error::Write { path: png.clone(), source })?;
         Ok((svg, png))
     }
 }
@@ -111,7 +111,7 @@ fn ensure_font() -> Result<()> {
     if ok {
         Ok(())
     } else {
-        Err(Error::Arg("the embedded font assets/fonts/DejaVuSans.ttf is not a valid font".into()))
+        Err(Error::Options("the embedded font assets/fonts/DejaVuSans.ttf is not a valid font".into()))
     }
 }
 
@@ -126,10 +126,10 @@ trait Draw {
 fn render(d: &impl Draw, size: (u32, u32)) -> Result<Figure> {
     let (w, h) = size;
     if w < MIN_SIZE.0 || h < MIN_SIZE.1 || w > MAX_SIDE || h > MAX_SIDE {
-        return Err(Error::Arg(format!("figure '{}': size {w}x{h} outside {}x{}..={MAX_SIDE}x{MAX_SIDE}", d.title(), MIN_SIZE.0, MIN_SIZE.1)));
+        return Err(Error::Options(format!("figure '{}': size {w}x{h} outside {}x{}..={MAX_SIDE}x{MAX_SIDE}", d.title(), MIN_SIZE.0, MIN_SIZE.1)));
     }
     ensure_font()?;
-    let fail = |e: String| Error::Arg(format!("cannot draw figure '{}': {e}", d.title()));
+    let fail = |e: String| Error::Options(format!("cannot draw figure '{}': {e}", d.title()));
     let mut svg = String::new();
     {
         let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
@@ -313,7 +313,7 @@ impl Draw for Lines<'_> {
 /// axis, are skipped; it is an error if no series has a point left.
 pub fn line_plot(p: &LinePlot, size: (u32, u32)) -> Result<Figure> {
     if p.series.is_empty() {
-        return Err(Error::Arg(format!("line plot '{}': no series", p.title)));
+        return Err(Error::Options(format!("line plot '{}': no series", p.title)));
     }
     let keep = |&(x, y): &(f64, f64)| x.is_finite() && y.is_finite() && (!p.log_x || x > 0.0) && (!p.log_y || y > 0.0);
     let points: Vec<Vec<(f64, f64)>> = p.series.iter().map(|s| s.points.iter().copied().filter(keep).collect()).collect();
@@ -325,13 +325,13 @@ pub fn line_plot(p: &LinePlot, size: (u32, u32)) -> Result<Figure> {
     }
     if all().next().is_none() {
         let domain = if p.log_x || p.log_y { " (positive on the log axes)" } else { "" };
-        return Err(Error::Arg(format!("line plot '{}': no finite points{domain}", p.title)));
+        return Err(Error::Options(format!("line plot '{}': no finite points{domain}", p.title)));
     }
     let x = if p.log_x { log_range(x.0, x.1) } else { linear_range(x.0, x.1) };
     let y = if p.log_y { log_range(y.0, y.1) } else { linear_range(y.0, y.1) };
     // Data near f64::MAX can pad past it.
     if ![x.0, x.1, y.0, y.1].iter().all(|v| v.is_finite()) {
-        return Err(Error::Arg(format!("line plot '{}': values too large to plot", p.title)));
+        return Err(Error::Options(format!("line plot '{}': values too large to plot", p.title)));
     }
     render(&Lines { p, points, x, y }, size)
 }
@@ -415,7 +415,7 @@ impl Draw for Bars<'_> {
 /// none is finite, if any is negative, or if a layer's length differs from
 /// the number of categories.
 pub fn stacked_bars(p: &StackedBars, size: (u32, u32)) -> Result<Figure> {
-    let bad = |msg: String| Err(Error::Arg(format!("stacked bars '{}': {msg}", p.title)));
+    let bad = |msg: String| Err(Error::Options(format!("stacked bars '{}': {msg}", p.title)));
     if p.categories.is_empty() {
         return bad("no categories".into());
     }

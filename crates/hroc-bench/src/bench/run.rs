@@ -38,7 +38,7 @@ pub fn load_inputs(o: &BenchOptions) -> Result<(Scene, Option<CameraPath>)> {
 pub fn load_path(scene: &Scene, spec: &std::path::Path) -> Result<CameraPath> {
     match spec.to_str().and_then(|name| crate::scene::paths::builtin(scene, name)) {
         Some(builtin) => Ok(builtin),
-        None => CameraPath::from_file(spec),
+        None => Ok(CameraPath::from_file(spec)?),
     }
 }
 

@@ -57,7 +57,7 @@ impl std::str::FromStr for Projection {
         match s {
             "perspective" => Ok(Projection::Perspective),
             "orthographic" => Ok(Projection::Orthographic),
-            _ => Err(crate::Error::Arg(format!("--projection {s}: perspective or orthographic"))),
+            _ => Err(crate::Error::Options(format!("--projection {s}: perspective or orthographic"))),
         }
     }
 }
@@ -94,7 +94,7 @@ impl SessionDesc {
 pub fn check_samples(samples: u32) -> Result<()> {
     match samples {
         1 | 4 => Ok(()),
-        _ => Err(crate::Error::Arg(format!(
+        _ => Err(crate::Error::Options(format!(
             "--msaa {samples}: samples per pixel are 1 or 4 (wgpu multisamples 4 times on every device; other counts need TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES)"
         ))),
     }
@@ -217,14 +217,14 @@ impl<'g> Session<'g> {
 
     /// A view of cascade `c` culled by `method`, with [`Session::options`].
     pub fn create_cascade(&self, method: Method, c: u32) -> Result<View> {
-        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
+        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Options("the session has no shadow cascades".into()))?;
         Ok(self.culler.view_with(method, &s.cascades.view_targets(c), &self.options)?)
     }
 
     /// Runs one frame of cascade `c` seen as `cascade` with `view`, timed
     /// as [`Session::run_frame`].
     pub fn run_cascade(&mut self, view: &mut View, c: u32, cascade: &CascadeView, time: f32) -> Result<FrameResult> {
-        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
+        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Options("the session has no shadow cascades".into()))?;
         let start = std::time::Instant::now();
         s.cascades.write_view(self.gpu, c, cascade);
         let mut enc = self.gpu.encoder("cascade");
@@ -249,7 +249,7 @@ impl<'g> Session<'g> {
 
     /// Renders cascade `c` seen as `cascade` with `noc`, and reads back its truth.
     pub fn cascade_truth(&mut self, c: u32, cascade: &CascadeView, time: f32) -> Result<(FrameResult, Truth)> {
-        let s = self.shadows.as_mut().ok_or_else(|| crate::Error::Arg("the session has no shadow cascades".into()))?;
+        let s = self.shadows.as_mut().ok_or_else(|| crate::Error::Options("the session has no shadow cascades".into()))?;
         let mut noc = std::mem::take(&mut s.noc);
         let r = self.run_cascade(&mut noc[c as usize], c, cascade, time);
         self.shadows.as_mut().expect("checked above").noc = noc;
@@ -277,7 +277,7 @@ impl<'g> Session<'g> {
         let mut boxes = Vec::with_capacity(moves.len());
         for &(i, m) in moves {
             let Some(o) = self.scene.objects.get_mut(i as usize) else {
-                return Err(crate::Error::Arg(format!("object {i} out of range")));
+                return Err(crate::Error::Options(format!("object {i} out of range")));
             };
             o.transform = m;
             o.bounds = self.scene.meshes[o.mesh as usize].part_bounds(o.cluster, &m);
@@ -330,7 +330,7 @@ impl<'g> Session<'g> {
     pub fn add_objects(&mut self, adds: &[(u32, glam::Mat4)]) -> Result<()> {
         for &(i, m) in adds {
             let Some(o) = self.scene.objects.get_mut(i as usize) else {
-                return Err(crate::Error::Arg(format!("object {i} out of range")));
+                return Err(crate::Error::Options(format!("object {i} out of range")));
             };
             o.transform = m;
             o.bounds = self.scene.meshes[o.mesh as usize].part_bounds(o.cluster, &m);
@@ -341,7 +341,7 @@ impl<'g> Session<'g> {
         let got = self.culler.add_objects(&descs)?;
         let want: Vec<u32> = adds.iter().map(|a| a.0).collect();
         if got != want {
-            return Err(crate::Error::Arg(format!("objects {want:?} came back in slots {got:?}: add them in ascending order after removing them")));
+            return Err(crate::Error::Options(format!("objects {want:?} came back in slots {got:?}: add them in ascending order after removing them")));
         }
         let colors: Vec<[f32; 3]> = self.scene.objects.iter().map(|o| o.color).collect();
         self.renderer.set_transforms(self.gpu, adds, &colors);

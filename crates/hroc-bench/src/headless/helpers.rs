@@ -24,7 +24,7 @@ pub struct DrawCommand {
 }
 
 fn read_error(e: hroc_readback::Error) -> Error {
-    Error::Gpu(e.to_string())
+    Error::Device(e.to_string())
 }
 
 impl Headless {
@@ -78,14 +78,14 @@ impl Headless {
 
     /// Blocks until the submitted work is done; reports any device error.
     pub fn wait(&self) -> Result<()> {
-        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Gpu(format!("poll: {e}")))?;
+        self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Device(format!("poll: {e}")))?;
         self.check()
     }
 
     /// The first error the device reported since it was opened, if any.
     pub fn check(&self) -> Result<()> {
         match self.errors.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
-            Some(e) => Err(Error::Gpu(e.clone())),
+            Some(e) => Err(Error::Device(e.clone())),
             None => Ok(()),
         }
     }

@@ -68,7 +68,7 @@ impl Cascades {
     /// `count` cascades (1 to [`MAX_CASCADES`]) drawn with `r`'s shader.
     pub fn new(gpu: &Headless, r: &Renderer, count: u32) -> Result<Cascades> {
         if !(1..=MAX_CASCADES).contains(&count) {
-            return Err(Error::Arg(format!("--shadow-cascades {count}: a light has 1 to {MAX_CASCADES} cascades")));
+            return Err(Error::Options(format!("--shadow-cascades {count}: a light has 1 to {MAX_CASCADES} cascades")));
         }
         let depth: Vec<wgpu::Texture> = match gpu.info.backend {
             wgpu::Backend::Gl => (0..count).map(|_| target_of(gpu, "shadow cascade", (CASCADE_SIZE, CASCADE_SIZE, 1), 1, DEPTH_FORMAT)).collect(),

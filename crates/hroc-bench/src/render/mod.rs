@@ -56,11 +56,11 @@ pub fn check_limits(scene: &Scene, limits: &wgpu::Limits) -> Result<()> {
     ];
     for (what, need, limit) in checks {
         if need > limit {
-            return Err(Error::OverDeviceLimits(format!("{what} needs {need} bytes, the device allows {limit}")));
+            return Err(Error::TooLarge(format!("{what} needs {need} bytes, the device allows {limit}")));
         }
     }
     if idx > u32::MAX as u64 || verts > i32::MAX as u64 {
-        return Err(Error::OverDeviceLimits(format!("{idx} indices / {verts} vertices exceed 32-bit draw offsets")));
+        return Err(Error::TooLarge(format!("{idx} indices / {verts} vertices exceed 32-bit draw offsets")));
     }
     // The culler checks its own buffers and the object count (`Culler::new`).
     Ok(())
@@ -232,7 +232,7 @@ impl Renderer {
         check_limits(scene, &gpu.limits())?;
         let max_dim = gpu.limits().max_texture_dimension_2d;
         if width == 0 || height == 0 || width > max_dim || height > max_dim {
-            return Err(Error::Arg(format!("resolution {width}x{height} outside 1..={max_dim}")));
+            return Err(Error::Options(format!("resolution {width}x{height} outside 1..={max_dim}")));
         }
         // Pool all meshes; remember where each starts.
         let (mut verts, mut idx, mut ranges) = (Vec::new(), Vec::new(), Vec::new());
@@ -481,7 +481,7 @@ mod tests {
         assert!(check_limits(&scene, &wgpu::Limits::default()).is_ok());
         let tiny = wgpu::Limits { max_buffer_size: 4096, max_storage_buffer_binding_size: 4096, ..Default::default() };
         let e = check_limits(&scene, &tiny).unwrap_err();
-        assert!(matches!(e, Error::OverDeviceLimits(_)), "{e}");
+        assert!(matches!(e, Error::TooLarge(_)), "{e}");
         assert!(e.to_string().contains("the device allows 4096"), "{e}");
     }
 

@@ -65,13 +65,13 @@ pub fn capture(gpu: &Headless, r: &Renderer, view: Picture, lists: &[DrawList]) 
         Picture::Color => gpu.read_texture(&r.targets.color, wgpu::TextureAspect::All)?,
         Picture::Id => gpu.read_texture::<u32>(&r.targets.id, wgpu::TextureAspect::All)?.into_iter().map(id_color).collect(),
         Picture::Overdraw => r.overdraw(gpu, lists)?.into_iter().map(heat).collect(),
-        Picture::Groups => return Err(Error::Arg("the groups view needs the tested boxes: use draw_boxes".into())),
+        Picture::Groups => return Err(Error::Options("the groups view needs the tested boxes: use draw_boxes".into())),
     })
 }
 
 pub fn save_png(path: &Path, width: u32, height: u32, pixels: &[[u8; 4]]) -> Result<()> {
-    let img = image::RgbaImage::from_raw(width, height, bytemuck::cast_slice(pixels).to_vec()).ok_or_else(|| Error::Arg("image size mismatch".into()))?;
-    img.save(path).map_err(|e| Error::Io { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) })
+    let img = image::RgbaImage::from_raw(width, height, bytemuck::cast_slice(pixels).to_vec()).ok_or_else(|| Error::Options("image size mismatch".into()))?;
+    img.save(path).map_err(|e| Error::Write { path: path.to_path_buf(), source: std::io::Error::other(e.to_string()) })
 }
 
 /// Draws the 12 edges of each box over `pixels` (clipped at the near plane).

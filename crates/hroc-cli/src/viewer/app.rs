@@ -140,15 +140,15 @@ impl<'g> App<'g> {
         let gpu = self.session.gpu;
         let t = &self.session.renderer.targets;
         let attrs = Window::default_attributes().with_title(format!("hroc view: {}", self.session.scene.name)).with_inner_size(winit::dpi::PhysicalSize::new(t.width, t.height));
-        let window = Arc::new(event_loop.create_window(attrs).map_err(|e| Error::Gpu(format!("cannot open a window: {e}")))?);
-        let surface = self.instance.create_surface(window.clone()).map_err(|e| Error::Gpu(format!("cannot draw into the window: {e}")))?;
+        let window = Arc::new(event_loop.create_window(attrs).map_err(|e| Error::Device(format!("cannot open a window: {e}")))?);
+        let surface = self.instance.create_surface(window.clone()).map_err(|e| Error::Device(format!("cannot draw into the window: {e}")))?;
         if !gpu.adapter.is_surface_supported(&surface) {
             return Err(Error::NoAdapter(format!("{} cannot present to this window", gpu.info.name)));
         }
         let size = window.inner_size();
         let mut config = surface
             .get_default_config(&gpu.adapter, size.width.max(1), size.height.max(1))
-            .ok_or_else(|| Error::Gpu(format!("{} offers no format for this window", gpu.info.name)))?;
+            .ok_or_else(|| Error::Device(format!("{} offers no format for this window", gpu.info.name)))?;
         // egui blends in gamma space and prefers a non-sRGB target.
         let formats = surface.get_capabilities(&gpu.adapter).formats;
         config.format = formats.iter().copied().find(|f| !f.is_srgb()).unwrap_or(config.format);
@@ -346,7 +346,7 @@ impl<'g> App<'g> {
             }
             wgpu::CurrentSurfaceTexture::Validation => {
                 gpu.check()?;
-                return Err(Error::Gpu("the window's surface failed validation".into()));
+                return Err(Error::Device("the window's surface failed validation".into()));
             }
         };
 

@@ -67,7 +67,7 @@ pub struct ViewArgs {
 pub fn run(args: ViewArgs) -> Result<()> {
     let method = Method::ALL.iter().position(|&m| m == args.method).unwrap_or_default();
     if args.frames == Some(0) {
-        return Err(Error::Arg("--frames must be at least 1".into()));
+        return Err(Error::Options("--frames must be at least 1".into()));
     }
     // Bad inputs fail before a window opens.
     let mut scene = hroc_bench::scene::load(&args.scene, args.objects, 0)?;
@@ -90,6 +90,6 @@ pub fn run(args: ViewArgs) -> Result<()> {
     let session = Session::new(&gpu, scene, path, 1, args.resolution, args.split)?;
     let opts = app::Options { method, view: args.view, frames: args.frames, screenshot: args.screenshot };
     let mut app = app::App::new(&instance, session, opts)?;
-    event_loop.run_app(&mut app).map_err(|e| Error::Gpu(format!("event loop: {e}")))?;
+    event_loop.run_app(&mut app).map_err(|e| Error::Device(format!("event loop: {e}")))?;
     app.finish()
 }

@@ -112,7 +112,7 @@ pub fn generate(g: &Generator, objects: usize, seed: u64) -> Result<Scene> {
         other => return Err(Error::UnknownScene(other.to_string(), keys().join(", "))),
     };
     if b.scene.objects.len() != n {
-        return Err(Error::InvalidScene(format!("generator '{}' made {} objects instead of {n}", g.key, b.scene.objects.len())));
+        return Err(Error::Invalid(format!("generator '{}' made {} objects instead of {n}", g.key, b.scene.objects.len())));
     }
     b.scene.path = path;
     b.scene.validate()?;

@@ -113,10 +113,6 @@ impl Method {
         Method::Auto,
     ];
 
-    /// The methods of `hroc bench` with no `--methods`: no culling, frustum
-    /// culling, the ideal and HROC.
-    pub const DEFAULT_TABLE: [Method; 4] = [Method::Noc, Method::Vfc, Method::Ref, Method::HROC];
-
     /// The name on the command line and in tables. `hroc` and `hroc-sf+of`
     /// are the same method; this returns `hroc` for it, and
     /// [`Method::names`] lists both names.
@@ -258,25 +254,6 @@ impl Method {
     /// True when the method takes reversed depth (`woc`'s warp does not).
     pub fn supports_reversed_depth(self) -> bool {
         self != Method::Woc
-    }
-
-    /// Parses `a,b,c` or `all` ([`Method::ALL`]) into methods, in the
-    /// order given, without repeats.
-    pub fn parse_list(spec: &str) -> Result<Vec<Method>> {
-        if spec.trim() == "all" {
-            return Ok(Method::ALL.to_vec());
-        }
-        let mut out = Vec::new();
-        for m in spec.split(',').map(str::trim).filter(|m| !m.is_empty()) {
-            let m: Method = m.parse()?;
-            if !out.contains(&m) {
-                out.push(m);
-            }
-        }
-        if out.is_empty() {
-            return Err(Error::Arg("no methods given".into()));
-        }
-        Ok(out)
     }
 
     pub(crate) fn create(self, cx: &MethodContext) -> Result<Box<dyn CullMethod>> {

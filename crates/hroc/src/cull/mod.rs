@@ -116,10 +116,6 @@ mod tests {
         assert_eq!("hroc-sf+of".parse::<Method>().unwrap(), Method::HROC);
         let e = "hroc-xyz".parse::<Method>().unwrap_err().to_string();
         assert!(e.contains("unknown method 'hroc-xyz'") && e.contains("chc++"), "{e}");
-        assert_eq!(Method::parse_list("vfc, hroc-cr+of,vfc").unwrap(), [Method::Vfc, Method::Hroc(Variant::CR_OF)]);
-        assert_eq!(Method::parse_list("hroc,hroc-sf+of").unwrap(), [Method::HROC]);
-        assert_eq!(Method::parse_list("all").unwrap(), Method::ALL);
-        assert!(Method::parse_list(" ").is_err());
     }
 
     #[test]

@@ -130,38 +130,38 @@ impl Plan {
     fn new(a: &ReportArgs) -> Result<Plan> {
         let scenes = list(&a.scenes);
         if scenes.is_empty() {
-            return Err(Error::Arg("--scenes names no scene".into()));
+            return Err(Error::Options("--scenes names no scene".into()));
         }
         for (flag, n) in [("--frames", a.frames), ("--sweep-frames", a.sweep_frames), ("--hires-frames", a.hires_frames), ("--objects", a.objects)] {
             if n == 0 {
-                return Err(Error::Arg(format!("{flag} must be at least 1")));
+                return Err(Error::Options(format!("{flag} must be at least 1")));
             }
         }
         let heat_frame = a.heat_frame.unwrap_or(a.frames / 2);
         if heat_frame >= a.frames {
-            return Err(Error::Arg(format!("--heat-frame {heat_frame} is past the last frame ({} frames)", a.frames)));
+            return Err(Error::Options(format!("--heat-frame {heat_frame} is past the last frame ({} frames)", a.frames)));
         }
-        let splits = list(&a.splits).iter().map(|s| s.parse::<Split>().map_err(|_| Error::Arg(format!("unknown split '{s}' (sah, mid, eq)")))).collect::<Result<Vec<_>>>()?;
+        let splits = list(&a.splits).iter().map(|s| s.parse::<Split>().map_err(|_| Error::Options(format!("unknown split '{s}' (sah, mid, eq)")))).collect::<Result<Vec<_>>>()?;
         let sweep = if a.sweep.trim() == "none" {
             Vec::new()
         } else {
             list(&a.sweep)
                 .iter()
-                .map(|s| s.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(|| Error::Arg(format!("--sweep: '{s}' is not an object count"))))
+                .map(|s| s.parse::<usize>().ok().filter(|&n| n > 0).ok_or_else(|| Error::Options(format!("--sweep: '{s}' is not an object count"))))
                 .collect::<Result<Vec<_>>>()?
         };
-        let hires = if a.hires.trim() == "none" { None } else { Some(parse_resolution(&a.hires).map_err(Error::Arg)?) };
+        let hires = if a.hires.trim() == "none" { None } else { Some(parse_resolution(&a.hires).map_err(Error::Options)?) };
         let motion = if a.motion.trim() == "none" {
             Vec::new()
         } else {
             list(&a.motion)
                 .iter()
-                .map(|s| s.parse::<f64>().ok().filter(|f| (0.0..=1.0).contains(f)).ok_or_else(|| Error::Arg(format!("--motion: '{s}' is not a fraction from 0 to 1"))))
+                .map(|s| s.parse::<f64>().ok().filter(|f| (0.0..=1.0).contains(f)).ok_or_else(|| Error::Options(format!("--motion: '{s}' is not a fraction from 0 to 1"))))
                 .collect::<Result<Vec<_>>>()?
         };
         let motion_methods = with_noc(a.motion_methods.0.clone());
         if let Some(m) = motion_methods.iter().find(|m| !m.takes_motion()) {
-            return Err(Error::Arg(format!("--motion-methods: {m} takes static scenes only")));
+            return Err(Error::Options(format!("--motion-methods: {m} takes static scenes only")));
         }
         let clusters = if a.clusters.trim() == "none" {
             Vec::new()
@@ -169,7 +169,10 @@ impl Plan {
             list(&a.clusters)
                 .iter()
                 .map(|s| {
-                    s.parse::<u32>().ok().filter(|t| *t >= 4 && t.is_multiple_of(4)).ok_or_else(|| Error::Arg(format!("--clusters: '{s}' is not a cluster size (a multiple of 4)")))
+                    s.parse::<u32>()
+                        .ok()
+                        .filter(|t| *t >= 4 && t.is_multiple_of(4))
+                        .ok_or_else(|| Error::Options(format!("--clusters: '{s}' is not a cluster size (a multiple of 4)")))
                 })
                 .collect::<Result<Vec<_>>>()?
         };
@@ -270,13 +273,13 @@ pub fn run(a: ReportArgs) -> Result<()> {
     let plan = Plan::new(&a)?;
     let started = std::time::Instant::now();
     // Bad scene files fail here, before the GPU starts.
-    let scenes = plan.scenes.iter().map(|s| scene::load(s, Some(a.objects), 0)).collect::<Result<Vec<Scene>>>()?;
+    let scenes = plan.scenes.iter().map(|s| scene::load(s, Some(a.objects), 0)).collect::<hroc_scene::Result<Vec<Scene>>>()?;
     if !plan.clusters.is_empty() {
         scene::load(&a.cluster_scene, Some(a.objects), 0)?;
     }
     let gpu = Headless::new()?;
     for dir in [a.out.clone(), a.out.join("plots"), a.out.join("images")] {
-        std::fs::create_dir_all(&dir).map_err(|e| Error::Io { path: dir, source: e })?;
+        std::fs::create_dir_all(&dir).map_err(|e| Error::Write { path: dir, source: e })?;
     }
     let steps = scenes.len() * (1 + usize::from(plan.splits.iter().any(|&s| s != Split::Sah)))
         + 1
@@ -465,9 +468,9 @@ impl Runner<'_> {
 pub fn write(out: &Path, data: &ReportData) -> Result<()> {
     let put = |name: &str, text: &str| {
         let path = out.join(name);
-        std::fs::write(&path, text).map_err(|e| Error::Io { path, source: e })
+        std::fs::write(&path, text).map_err(|e| Error::Write { path, source: e })
     };
-    put("data.json", &serde_json::to_string_pretty(data).map_err(|e| Error::Arg(e.to_string()))?)?;
+    put("data.json", &serde_json::to_string_pretty(data).map_err(|e| Error::Options(e.to_string()))?)?;
     let doc = sections::build(data, &out.join("plots"))?;
     put("report.md", &doc.markdown())?;
     put("index.html", &doc.html())
