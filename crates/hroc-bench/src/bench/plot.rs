@@ -3,7 +3,7 @@
 //! the embedded DejaVu Sans, so a PNG looks the same on every machine).
 //!
 //! Bad input (no data, non-finite or out-of-domain values, ragged layers)
-//! is an [`Error::Arg`], never a panic: the report calls this with whatever
+//! is an [`Error::Options`], never a panic: the report calls this with whatever
 //! a benchmark produced.
 
 use std::path::{Path, PathBuf};
