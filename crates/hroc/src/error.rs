@@ -12,7 +12,7 @@ pub enum Error {
         missing: wgpu::Features,
     },
     /// A limit of the device is below what the culler needs.
-    #[error("{what} needs the device's {limit} to be at least {needed}, and it is {have}: request hroc::limits(&adapter) when creating the device")]
+    #[error("{what} needs the device's {limit} to be at least {needed}, and it is {have}: request hroc::device::limits(&adapter) when creating the device")]
     DeviceLimit {
         /// What needs it.
         what: String,

@@ -12,7 +12,7 @@
 //! #          objects: &[hroc::ObjectDesc], view: glam::Mat4, proj: glam::Mat4,
 //! #          draw_with_my_pipeline: &mut dyn FnMut(&mut wgpu::CommandEncoder, &hroc::Draw)) -> hroc::Result<()> {
 //! use hroc::{Culler, CullerDesc, DepthRange, FrameInput, Method, ViewDesc, ViewTargets};
-//! // The device was requested with hroc::features(&adapter) and hroc::limits(&adapter).
+//! // The device was requested with hroc::device::features(&adapter) and hroc::device::limits(&adapter).
 //! // Once: the objects (world box + the host's own indexed draw each), then a view.
 //! let culler = Culler::new(device, queue, &CullerDesc::new(objects))?;
 //! let targets = ViewTargets::new(depth, DepthRange::Standard).with_ids(ids);

@@ -2,7 +2,7 @@
 // transform and material per instance (instance_index = hroc's object
 // index), Lambert lighting with a checker from the uvs, shadowed by the
 // light's cascaded shadow map (shadows.rs). With hroc's
-// early-Z marks, marked.wgsl and hroc's marks snippet (hroc::marks_wgsl(1),
+// early-Z marks, marked.wgsl and hroc's marks snippet (hroc::device::marks_wgsl(1),
 // group 1) are appended; with ID marks, this file is the whole shader.
 
 struct Camera {

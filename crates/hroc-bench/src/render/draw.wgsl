@@ -1,6 +1,6 @@
 // hroc's own renderer (src/render/mod.rs): one indirect command per object,
 // instance_index = object index. The host contract of the `hroc` crate:
-// forced early-Z, and `hroc_mark` (appended from hroc::marks_wgsl(1)) when
+// forced early-Z, and `hroc_mark` (appended from hroc::device::marks_wgsl(1)) when
 // the culler asks for marks, so a mark means "owns at least one fragment
 // that passed" (HROC §3.1, ROC).
 
