@@ -3,6 +3,7 @@
 use std::fmt;
 use std::str::FromStr;
 
+use super::facts::Facts;
 use super::*;
 use crate::error::{Error, Result};
 use crate::reflect::Layout;
@@ -113,30 +114,30 @@ impl Method {
         Method::Auto,
     ];
 
+    /// The method's facts, stated in its own file.
+    pub(crate) const fn facts(self) -> Facts {
+        match self {
+            Method::Noc => noc::FACTS,
+            Method::Vfc => vfc::FACTS,
+            Method::Ref => reference::FACTS,
+            Method::Oq => queries::oq::FACTS,
+            Method::Soq => queries::soq::FACTS,
+            Method::Chc => queries::chc::FACTS,
+            Method::Roc => roc::FACTS,
+            Method::RocAll => roc::FACTS_ALL,
+            Method::Ioc => ioc::FACTS,
+            Method::Hzb => hzb::FACTS,
+            Method::Woc => woc::FACTS,
+            Method::Hroc(v) => hroc::facts(v),
+            Method::Auto => auto::FACTS,
+        }
+    }
+
     /// The name on the command line and in tables. `hroc` and `hroc-sf+of`
     /// are the same method; this returns `hroc` for it, and
     /// [`Method::names`] lists both names.
     pub fn name(self) -> &'static str {
-        match self {
-            Method::Noc => "noc",
-            Method::Vfc => "vfc",
-            Method::Ref => "ref",
-            Method::Oq => "oq",
-            Method::Soq => "soq",
-            Method::Chc => "chc++",
-            Method::Roc => "roc",
-            Method::RocAll => "roc-all",
-            Method::Ioc => "ioc",
-            Method::Hzb => "hzb",
-            Method::Woc => "woc",
-            Method::Hroc(Variant { counters: Counters::Capacity, of: false }) => "hroc-na",
-            Method::Hroc(Variant { counters: Counters::ReadBack, of: false }) => "hroc-cr",
-            Method::Hroc(Variant { counters: Counters::Capacity, of: true }) => "hroc-of",
-            Method::Hroc(Variant { counters: Counters::ReadBack, of: true }) => "hroc-cr+of",
-            Method::Hroc(Variant { counters: Counters::StallFree, of: false }) => "hroc-sf",
-            Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "hroc",
-            Method::Auto => "auto",
-        }
+        self.facts().name
     }
 
     /// Every (name, method, one-line description), in table order.
@@ -147,36 +148,17 @@ impl Method {
 
     /// One line on what the method does.
     pub fn description(self) -> &'static str {
-        match self {
-            Method::Noc => "no culling: draw every object",
-            Method::Vfc => "GPU view-frustum culling",
-            Method::Ref => "ideal: draw exactly the objects visible in noc's ID target",
-            Method::Oq => "hierarchical stop-and-wait occlusion queries, front to back (004's simple OC)",
-            Method::Soq => "occlusion queries skipped for recently visible nodes (004's statistical OC)",
-            Method::Chc => "CHC++: batched multiqueries, randomized re-queries, tighter bounds",
-            Method::Roc => "raster occlusion culling: draw V, rasterize the boxes of the rest with early-Z, draw what passed",
-            Method::RocAll => "raster occlusion culling testing every object's box (the HROC paper's ROC)",
-            Method::Ioc => "ROC over BVH levels [start, bottom] with a queue read-back per level (HPG 2020 poster)",
-            Method::Hzb => "two-phase Hi-Z culling (Nanite, niagara, Bevy)",
-            Method::Woc => "warping-based: last frame's depth reprojected, Hi-Z test before drawing (not conservative)",
-            Method::Hroc(Variant { counters: Counters::Capacity, of: false }) => "HROC without accelerations",
-            Method::Hroc(Variant { counters: Counters::ReadBack, of: false }) => "HROC with counter read-back",
-            Method::Hroc(Variant { counters: Counters::Capacity, of: true }) => "HROC with occluder filtering",
-            Method::Hroc(Variant { counters: Counters::ReadBack, of: true }) => "HROC with counter read-back and occluder filtering",
-            Method::Hroc(Variant { counters: Counters::StallFree, of: false }) => "HROC with stall-free counters (earlier frames' counts, GPU overflow draw)",
-            Method::Hroc(Variant { counters: Counters::StallFree, of: true }) => "HROC, the default variant: stall-free counters and occluder filtering (also hroc-sf+of)",
-            Method::Auto => "adaptive: each frame the cheapest of noc, vfc, hzb and hroc, by measured and modelled cost",
-        }
+        self.facts().description
     }
 
     /// False for the methods that may miss visible objects (`woc`).
     pub fn is_conservative(self) -> bool {
-        self != Method::Woc
+        self.facts().conservative
     }
 
     /// True when the method reads the host's object-ID target (HROC with OF).
     pub fn needs_ids(self) -> bool {
-        matches!(self, Method::Hroc(Variant { of: true, .. }))
+        self.facts().needs_ids
     }
 
     /// True when the method reads counts back in the middle of a frame
@@ -186,46 +168,24 @@ impl Method {
     /// previous frame ended in, or after that encoder was submitted (or
     /// dropped); otherwise the cull fails with [`crate::Error::SubmitOrder`].
     pub fn submits_mid_frame(self) -> bool {
-        matches!(self, Method::Hroc(Variant { counters: Counters::ReadBack, .. }) | Method::Ioc | Method::Oq | Method::Soq | Method::Chc)
+        self.facts().submits_mid_frame
     }
 
     /// True when the method reads which objects the host's draws left
     /// visible (`roc`, `ioc`, HROC): with [`crate::capabilities::Marks::Ids`] its views
     /// need the object-ID target.
     pub fn reads_marks(self) -> bool {
-        matches!(self, Method::Roc | Method::Ioc | Method::Hroc(_))
+        self.facts().reads_marks
     }
 
     /// The bind-group layouts of the method's own passes.
     pub(crate) fn layouts(self) -> &'static [Layout] {
-        match self {
-            Method::Noc | Method::Ref => &[],
-            Method::Vfc => &[Layout::Vfc, Layout::Compact],
-            Method::Oq | Method::Soq | Method::Chc => &[Layout::QueryBoxes],
-            Method::Roc | Method::RocAll => &[Layout::RocBoxes, Layout::Roc, Layout::Compact],
-            Method::Ioc => &[Layout::Ioc, Layout::RocBoxes, Layout::Compact],
-            Method::Hzb => &[Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
-            // Its candidates are checked one by one (`Culler::auto_candidates`).
-            Method::Auto => &[],
-            Method::Woc => &[Layout::WocWarp, Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
-            Method::Hroc(_) => &[
-                Layout::HrocSeed,
-                Layout::HrocWalk,
-                Layout::HrocGroups,
-                Layout::HrocNext,
-                Layout::HrocTest,
-                Layout::HrocRounds,
-                Layout::HrocRoundsInit,
-                Layout::HrocReduce,
-                Layout::Overflow,
-                Layout::Compact,
-            ],
-        }
+        self.facts().layouts
     }
 
     /// True for `ref`, which only the benchmark can feed (`View::set_oracle`).
     pub fn is_benchmark_only(self) -> bool {
-        self == Method::Ref
+        self.facts().benchmark_only
     }
 
     /// True when the method follows objects that move ([`crate::Culler::set_bounds`]):
@@ -233,7 +193,7 @@ impl Method {
     /// query methods keep a CPU copy of the BVH (and CHC++ its tighter
     /// bounds) from their creation, so they take static scenes only.
     pub fn takes_motion(self) -> bool {
-        !matches!(self, Method::Oq | Method::Soq | Method::Chc)
+        self.facts().takes_motion
     }
 
     /// True when the method culls objects outside the BVH too:
@@ -241,19 +201,19 @@ impl Method {
     /// build. HROC tests them on their own (its §6 hybrid); the per-object
     /// methods never read the tree. IOC culls through the tree alone.
     pub fn takes_dynamic(self) -> bool {
-        self.takes_motion() && self != Method::Ioc
+        self.facts().takes_dynamic
     }
 
     /// True when the method's per-view state holds the BVH's shape (IOC's
     /// level queues, the query methods' copies): its views start over when
     /// the culler rebuilds the tree.
     pub fn keeps_tree(self) -> bool {
-        matches!(self, Method::Ioc | Method::Oq | Method::Soq | Method::Chc)
+        self.facts().keeps_tree
     }
 
     /// True when the method takes reversed depth (`woc`'s warp does not).
     pub fn supports_reversed_depth(self) -> bool {
-        self != Method::Woc
+        self.facts().reversed_depth
     }
 
     pub(crate) fn create(self, cx: &MethodContext) -> Result<Box<dyn CullMethod>> {

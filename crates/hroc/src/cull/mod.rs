@@ -18,6 +18,7 @@ pub mod roc;
 pub mod vfc;
 pub mod woc;
 
+mod facts;
 mod frame;
 mod method;
 mod options;
@@ -97,6 +98,23 @@ pub trait CullMethod: Any {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Each method's facts, stated in its own file, as the host contract
+    /// lists them: which methods submit mid-frame, keep the tree, take
+    /// motion and objects outside the tree, read marks and IDs.
+    #[test]
+    fn every_method_s_facts_are_the_contract_s() {
+        let with = |fact: fn(Method) -> bool| Method::ALL.into_iter().filter(|&m| fact(m)).map(Method::name).collect::<Vec<_>>().join(",");
+        assert_eq!(with(Method::submits_mid_frame), "oq,soq,chc++,ioc,hroc-cr,hroc-cr+of");
+        assert_eq!(with(Method::keeps_tree), "oq,soq,chc++,ioc");
+        assert_eq!(with(|m| !m.takes_motion()), "oq,soq,chc++");
+        assert_eq!(with(|m| !m.takes_dynamic()), "oq,soq,chc++,ioc");
+        assert_eq!(with(Method::reads_marks), "roc,ioc,hroc-na,hroc-cr,hroc-of,hroc-cr+of,hroc-sf,hroc");
+        assert_eq!(with(Method::needs_ids), "hroc-of,hroc-cr+of,hroc");
+        assert_eq!(with(|m| !m.is_conservative() || !m.supports_reversed_depth()), "woc");
+        assert_eq!(with(Method::is_benchmark_only), "ref");
+        assert_eq!(with(|m| m.layouts().is_empty()), "noc,ref,auto");
+    }
 
     #[test]
     fn the_registry_round_trips_every_name() {

@@ -2,7 +2,11 @@
 
 use super::{CullMethod, Frame, Method, Stage};
 use crate::contract::Phase;
+use crate::cull::facts::Facts;
 use crate::error::Result;
+
+/// `noc`'s facts.
+pub(crate) const FACTS: Facts = Facts { name: "noc", description: "no culling: draw every object", ..Facts::GPU };
 
 /// The `noc` method: every object, no culling, in object order.
 pub struct NoCulling;

@@ -4,11 +4,15 @@
 
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
 use crate::contract::Phase;
+use crate::cull::facts::Facts;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::shape::QueueShape;
 use crate::gpu::Gpu;
 use crate::layout::DrawCommand;
+
+/// `ref`'s facts: the benchmark's ideal.
+pub(crate) const FACTS: Facts = Facts { name: "ref", description: "ideal: draw exactly the objects visible in noc's ID target", benchmark_only: true, ..Facts::GPU };
 
 /// The `ref` method: draws the list set by `set_oracle` (`noc`'s ID image).
 pub struct Reference {

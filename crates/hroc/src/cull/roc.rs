@@ -32,13 +32,28 @@
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
+use crate::cull::facts::Facts;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::shape::{EncoderShape, PassShape, RenderShape};
 use crate::gpu::{dispatch_size, Gpu};
 use crate::layout::DrawArgs;
+use crate::reflect::Layout;
 use crate::shaders::source as shader_source;
 use crate::shaders::{box_pipeline, BoxDepth, BoxTarget};
+
+/// `roc`'s facts: it reads the marks of V's draw.
+pub(crate) const FACTS: Facts = Facts {
+    name: "roc",
+    description: "raster occlusion culling: draw V, rasterize the boxes of the rest with early-Z, draw what passed",
+    reads_marks: true,
+    layouts: &[Layout::RocBoxes, Layout::Roc, Layout::Compact],
+    ..Facts::GPU
+};
+
+/// `roc-all`'s facts: every object's box tested, no marks read.
+pub(crate) const FACTS_ALL: Facts =
+    Facts { name: "roc-all", description: "raster occlusion culling testing every object's box (the HROC paper's ROC)", reads_marks: false, ..FACTS };
 
 /// The box rasterization test (`roc_boxes.wgsl`), shared with IOC: a
 /// pipeline with forced early-Z on a read-only depth attachment, no depth
@@ -63,7 +78,7 @@ impl BoxPass {
     pub(crate) fn new(cx: &MethodContext) -> Self {
         let gpu = cx.gpu;
         let samples = cx.targets.samples;
-        let layout = crate::reflect::Layout::RocBoxes.create_for(gpu, samples);
+        let layout = Layout::RocBoxes.create_for(gpu, samples);
         let pl = crate::reflect::pipeline_layout(gpu, "roc boxes", &layout);
         let module = gpu.shader("roc_boxes.wgsl", &crate::shaders::source_for("roc_boxes.wgsl", samples));
         let target = BoxTarget::new(gpu, cx.capabilities, false, (cx.targets.size, samples));
@@ -87,7 +102,7 @@ impl BoxPass {
         let buffers = [frame, list, boxes, marks].map(|b| b.as_entire_binding());
         let mut resources: Vec<(u32, wgpu::BindingResource)> = buffers.into_iter().enumerate().map(|(i, r)| (i as u32, r)).collect();
         resources.push((4, wgpu::BindingResource::TextureView(&self.depth)));
-        crate::reflect::Layout::RocBoxes.bind(gpu, &self.layout, &resources)
+        Layout::RocBoxes.bind(gpu, &self.layout, &resources)
     }
 
     pub(crate) fn record(&self, f: &mut Frame, bind: &wgpu::BindGroup, count: BoxCount) {
@@ -143,7 +158,7 @@ impl Roc {
         let compactor = Compactor::new(gpu, n);
         let (v_list, v_job) = compactor.packed_list(gpu, "roc V list", &visible, cx.commands);
         let (u_list, u_job) = compactor.packed_list(gpu, "roc U list", if all { &fresh } else { &tested }, cx.commands);
-        let layout = crate::reflect::Layout::Roc.create(gpu);
+        let layout = Layout::Roc.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "roc", &layout);
         let module = gpu.shader("roc.wgsl", &shader_source("roc.wgsl"));
         let constants = [("ALL", if all { 1.0 } else { 0.0 })];

@@ -4,11 +4,16 @@
 use super::{CullMethod, Frame, Method, MethodContext, Stage};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
+use crate::cull::facts::Facts;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::dispatch_size;
 use crate::gpu::shape::{EncoderShape, PassShape};
+use crate::reflect::Layout;
 use crate::shaders::source as shader_source;
+
+/// `vfc`'s facts.
+pub(crate) const FACTS: Facts = Facts { name: "vfc", description: "GPU view-frustum culling", layouts: &[Layout::Vfc, Layout::Compact], ..Facts::GPU };
 
 /// The `vfc` method: per-object frustum test, compacted into one list.
 pub struct FrustumCuller {
@@ -26,7 +31,7 @@ impl FrustumCuller {
         let n = cx.object_count;
         use wgpu::BufferUsages as U;
         let flags = gpu.buffer("vfc flags", n as u64 * 4, U::STORAGE);
-        let layout = crate::reflect::Layout::Vfc.create(gpu);
+        let layout = Layout::Vfc.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "vfc", &layout);
         let module = gpu.shader("vfc.wgsl", &shader_source("vfc.wgsl"));
         let compactor = Compactor::new(gpu, n);

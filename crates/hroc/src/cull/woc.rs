@@ -23,7 +23,9 @@
 //! (60 frames over a 10 s path) they are most of the screen, so it culls
 //! little beyond the frustum.
 
+use crate::cull::facts::Facts;
 use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape};
+use crate::reflect::Layout;
 use glam::{DMat4, Mat4};
 
 use super::hzb::{HizTest, Pyramid};
@@ -33,6 +35,16 @@ use crate::contract::Phase;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::Gpu;
+
+/// `woc`'s facts: not conservative, standard depth only.
+pub(crate) const FACTS: Facts = Facts {
+    name: "woc",
+    description: "warping-based: last frame's depth reprojected, Hi-Z test before drawing (not conservative)",
+    conservative: false,
+    reversed_depth: false,
+    layouts: &[Layout::WocWarp, Layout::HiZBuild, Layout::HiZTest, Layout::Compact],
+    ..Facts::GPU
+};
 
 /// The `woc` method: forward-warped last-frame depth, Hi-Z tested before drawing.
 pub struct Woc {
@@ -74,7 +86,7 @@ impl Woc {
         gpu.queue.write_buffer(&pyramid.levels, 0, bytemuck::cast_slice(&far));
         let holes = gpu.buffer("woc holes", 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let test = HizTest::new(cx, &pyramid, &unused, &flags, false);
-        let layout = crate::reflect::Layout::WocWarp.create_for(gpu, cx.targets.samples);
+        let layout = Layout::WocWarp.create_for(gpu, cx.targets.samples);
         let bind = gpu.device.counted_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("woc warp"),
             layout: &layout,

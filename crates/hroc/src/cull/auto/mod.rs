@@ -39,12 +39,16 @@ mod spend;
 pub use chooser::{Chooser, Decision, Load, Observation, WarmUp};
 pub use params::Params;
 
+use crate::cull::facts::Facts;
 use std::collections::VecDeque;
 
 use super::{CullMethod, Frame, Method, Stat};
 use crate::error::Result;
 use crate::gpu::Gpu;
 use load::FrustumLoad;
+
+/// `auto`'s facts (its candidates are checked one by one: `Culler::auto_candidates`).
+pub(crate) const FACTS: Facts = Facts { name: "auto", description: "adaptive: each frame the cheapest of noc, vfc, hzb and hroc, by measured and modelled cost", ..Facts::GPU };
 
 /// A frame run, awaiting its measurement.
 #[derive(Clone, Copy, Debug)]

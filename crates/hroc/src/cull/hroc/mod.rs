@@ -51,6 +51,7 @@ mod rounds;
 mod setup;
 pub mod stall_free;
 
+use crate::cull::facts::Facts;
 use crate::gpu::shape::{EncoderShape, PassShape, RenderShape};
 pub use blocks::test_scale;
 use blocks::{Blocks, BLOCK_FORMAT};
@@ -69,6 +70,30 @@ use crate::reflect::Layout;
 use crate::shaders::source_for as shader_source_for;
 use crate::shaders::{BoxDepth, BoxTarget};
 use stall_free::{Counted, Spill, StallFree};
+
+/// The facts of HROC's variant `v`: it reads marks, IDs with OF, and
+/// submits mid-frame with counter read-back.
+pub(crate) const fn facts(v: Variant) -> Facts {
+    use super::Counters::{Capacity, ReadBack, StallFree};
+    let (name, description) = match (v.counters, v.of) {
+        (Capacity, false) => ("hroc-na", "HROC without accelerations"),
+        (ReadBack, false) => ("hroc-cr", "HROC with counter read-back"),
+        (Capacity, true) => ("hroc-of", "HROC with occluder filtering"),
+        (ReadBack, true) => ("hroc-cr+of", "HROC with counter read-back and occluder filtering"),
+        (StallFree, false) => ("hroc-sf", "HROC with stall-free counters (earlier frames' counts, GPU overflow draw)"),
+        (StallFree, true) => ("hroc", "HROC, the default variant: stall-free counters and occluder filtering (also hroc-sf+of)"),
+    };
+    use crate::reflect::Layout as L;
+    Facts {
+        name,
+        description,
+        needs_ids: v.of,
+        submits_mid_frame: matches!(v.counters, ReadBack),
+        reads_marks: true,
+        layouts: &[L::HrocSeed, L::HrocWalk, L::HrocGroups, L::HrocNext, L::HrocTest, L::HrocRounds, L::HrocRoundsInit, L::HrocReduce, L::Overflow, L::Compact],
+        ..Facts::GPU
+    }
+}
 
 /// The deepest BVH HROC walks: its traversal stacks hold depth + 2
 /// entries ([`crate::shaders::STACK`]).

@@ -21,11 +21,17 @@ pub mod cpu;
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
+use crate::cull::facts::Facts;
 use crate::cull::DrawList;
 use crate::error::Result;
 use crate::gpu::shape::{DeviceShape, EncoderShape, PassShape};
 use crate::gpu::{dispatch_size, Gpu, PassCount};
+use crate::reflect::Layout;
 use crate::shaders::source as shader_source;
+
+/// `hzb`'s facts.
+pub(crate) const FACTS: Facts =
+    Facts { name: "hzb", description: "two-phase Hi-Z culling (Nanite, niagara, Bevy)", layouts: &[Layout::HiZBuild, Layout::HiZTest, Layout::Compact], ..Facts::GPU };
 pub use cpu::Mip;
 
 /// Levels of at most this many texels are reduced by one workgroup, all of
@@ -58,7 +64,7 @@ impl Pyramid {
         let texels = mips.last().map_or(1, |m| m.offset + 1);
         let levels = gpu.buffer("hi-z levels", texels as u64 * 4, U::STORAGE | U::COPY_SRC | U::COPY_DST);
         let mip_table = gpu.buffer_init("hi-z mips", bytemuck::cast_slice(&mips), U::STORAGE);
-        let layout = crate::reflect::Layout::HiZBuild.create_for(gpu, samples);
+        let layout = Layout::HiZBuild.create_for(gpu, samples);
         let pl = crate::reflect::pipeline_layout(gpu, "hi-z build", &layout);
         let module = gpu.shader("hzb_pyramid.wgsl", &crate::shaders::source_for("hzb_pyramid.wgsl", samples));
         let binds = (0..mips.len() as u32)
@@ -158,7 +164,7 @@ impl HizTest {
     pub(crate) fn new(cx: &MethodContext, pyramid: &Pyramid, visible: &wgpu::Buffer, fresh: &wgpu::Buffer, two_phase: bool) -> Self {
         let gpu = cx.gpu;
         let stats = gpu.buffer("hi-z test stats", 8, wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC);
-        let layout = crate::reflect::Layout::HiZTest.create(gpu);
+        let layout = Layout::HiZTest.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "hi-z test", &layout);
         let module = gpu.shader("hzb_test.wgsl", &shader_source("hzb_test.wgsl"));
         HizTest {

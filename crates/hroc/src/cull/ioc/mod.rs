@@ -24,11 +24,25 @@ use super::roc::{BoxCount, BoxPass};
 use super::{CullMethod, Frame, Method, MethodContext, Stage, Stat};
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
+use crate::cull::facts::Facts;
 use crate::cull::DrawList;
 use crate::error::{Error, Result};
 use crate::gpu::shape::{EncoderShape, PassShape};
 use crate::gpu::{dispatch_size, Gpu};
+use crate::reflect::Layout;
 use crate::shaders::source as shader_source;
+
+/// `ioc`'s facts: level queues read back mid-frame, built from the tree.
+pub(crate) const FACTS: Facts = Facts {
+    name: "ioc",
+    description: "ROC over BVH levels [start, bottom] with a queue read-back per level (HPG 2020 poster)",
+    submits_mid_frame: true,
+    reads_marks: true,
+    takes_dynamic: false,
+    keeps_tree: true,
+    layouts: &[Layout::Ioc, Layout::RocBoxes, Layout::Compact],
+    ..Facts::GPU
+};
 
 /// Per-frame counts of the last frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -104,7 +118,7 @@ impl Ioc {
         let leaf_range = gpu.buffer_init("ioc leaf ranges", bytemuck::cast_slice(&ranges), U::STORAGE);
         let nodes = cx.bvh_nodes.clone();
 
-        let layout = crate::reflect::Layout::Ioc.create(gpu);
+        let layout = Layout::Ioc.create(gpu);
         let pl = crate::reflect::pipeline_layout(gpu, "ioc", &layout);
         let module = gpu.shader("ioc.wgsl", &shader_source("ioc.wgsl"));
         let expand_binds = (0..3)

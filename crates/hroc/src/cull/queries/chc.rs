@@ -30,10 +30,14 @@
 
 use super::{front_to_back, Class, NodeView, QueryRenderer};
 use crate::bvh::{Bvh, NO_PARENT};
+use crate::cull::facts::Facts;
 use crate::cull::{CullMethod, Frame, MethodContext, MethodOptions};
 use crate::cull::{Method, Stage, Stat};
 use crate::error::Result;
 use crate::gpu::Gpu;
+
+/// `chc++`'s facts.
+pub(crate) const FACTS: Facts = Facts { name: "chc++", description: "CHC++: batched multiqueries, randomized re-queries, tighter bounds", ..Facts::QUERIES };
 
 /// The CHC++ parameters (HROC paper §5.1: n_av = 10, b = 4000, d_max = 4,
 /// s_max = 1.4; b = 1000 here, see [`MethodOptions`]).

@@ -7,10 +7,14 @@
 
 use super::{front_to_back, Class, NodeView, QueryRenderer};
 use crate::bvh::Bvh;
+use crate::cull::facts::Facts;
 use crate::cull::{CullMethod, Frame, MethodContext};
 use crate::cull::{Method, Stage, Stat};
 use crate::error::Result;
 use crate::gpu::Gpu;
+
+/// `oq`'s facts.
+pub(crate) const FACTS: Facts = Facts { name: "oq", description: "hierarchical stop-and-wait occlusion queries, front to back (004's simple OC)", ..Facts::QUERIES };
 
 /// What the traversal asks of its host.
 pub enum Visit {

@@ -18,6 +18,7 @@
 //! statistics expire at the same places of the path on any machine. Skipping
 //! a query means treating the node as visible, never culling it untested.
 
+use crate::cull::facts::Facts;
 use std::collections::VecDeque;
 
 use super::{front_to_back, Class, NodeView, QueryRenderer};
@@ -26,6 +27,9 @@ use crate::cull::{CullMethod, Frame, MethodContext};
 use crate::cull::{Method, Stage, Stat};
 use crate::error::Result;
 use crate::gpu::Gpu;
+
+/// `soq`'s facts.
+pub(crate) const FACTS: Facts = Facts { name: "soq", description: "occlusion queries skipped for recently visible nodes (004's statistical OC)", ..Facts::QUERIES };
 
 /// 004's BASE_TIME in seconds of camera path ("2/3 of second").
 pub const DEFAULT_BASE_TIME: f32 = 2.0 / 3.0;
