@@ -25,27 +25,12 @@ pub struct Gpu {
     pub device: wgpu::Device,
     /// The host's queue.
     pub queue: wgpu::Queue,
-    /// Where the host's error handler, if it installed one through
-    /// [`Gpu::capture_errors`], keeps the first device error.
-    errors: std::sync::Arc<std::sync::Mutex<Option<String>>>,
 }
 
 impl Gpu {
     /// Wraps the host's device and queue (clones share them).
     pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Gpu {
-        Gpu { device: device.clone(), queue: queue.clone(), errors: Default::default() }
-    }
-
-    /// Routes the device's uncaptured errors into this wrapper, so
-    /// [`Gpu::wait`] returns them as errors instead of wgpu's default panic.
-    /// For devices the caller owns outright (the benchmark, the tests); a
-    /// host with its own error handler leaves it alone.
-    pub fn capture_errors(&self) {
-        let sink = self.errors.clone();
-        self.device.on_uncaptured_error(std::sync::Arc::new(move |e: wgpu::Error| {
-            let mut slot = sink.lock().unwrap_or_else(|p| p.into_inner());
-            slot.get_or_insert_with(|| e.to_string().lines().map(str::trim).filter(|l| !l.is_empty()).collect::<Vec<_>>().join(": "));
-        }));
+        Gpu { device: device.clone(), queue: queue.clone() }
     }
 
     /// The device's limits.
@@ -103,18 +88,11 @@ impl Gpu {
         self.device.create_command_encoder(&wgpu::CommandEncoderDescriptor { label: Some(label) })
     }
 
-    /// Blocks until all submitted work is done; reports any device error.
+    /// Blocks until all submitted work is done (a lost device is an
+    /// error; other device errors go to the host's own handler).
     pub fn wait(&self) -> Result<()> {
         self.device.poll(wgpu::PollType::wait_indefinitely()).map_err(|e| Error::Gpu(format!("poll: {e}")))?;
-        self.check()
-    }
-
-    /// The first error the device reported since it was opened, if any.
-    pub fn check(&self) -> Result<()> {
-        match self.errors.lock().unwrap_or_else(|p| p.into_inner()).as_ref() {
-            Some(e) => Err(Error::Gpu(e.clone())),
-            None => Ok(()),
-        }
+        Ok(())
     }
 
     /// Copies `size` bytes of `src` from `offset` to the host. Submits and waits.
