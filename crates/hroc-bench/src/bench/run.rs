@@ -42,7 +42,8 @@ pub fn load_path(scene: &Scene, spec: &std::path::Path) -> Result<CameraPath> {
     }
 }
 
-/// Frames of a run: `o.frames`, or `fps × duration + 1` over `path`.
+/// Frames of a run: `o.frames`, or `fps × duration + 1` over `path`,
+/// once the options pass [`BenchOptions::check`].
 pub fn frame_count(o: &BenchOptions, path: &CameraPath) -> Result<usize> {
     o.check()?;
     let Some(fps) = o.fps else { return Ok(o.frames) };
@@ -121,11 +122,11 @@ struct Truths {
 
 impl<'g, 'o> Run<'g, 'o> {
     fn new(gpu: &'g Headless, o: &'o BenchOptions, scene: Scene, path: Option<CameraPath>) -> Result<Self> {
-        o.check()?;
+        // Checks the options (once) before anything uses them.
+        let frames = frame_count(o, path.as_ref().unwrap_or(&scene.path))?;
         let movers = crate::scene::motion::moving_objects(scene.objects.len(), o.moving);
         let base = scene.objects.iter().map(|ob| ob.transform).collect();
         let centre = scene.bounds().center();
-        let frames = frame_count(o, path.as_ref().unwrap_or(&scene.path))?;
         let desc = SessionDesc { path, timestamps: o.timestamps, samples: o.msaa, split: o.split, ..SessionDesc::new(frames, o.resolution) };
         let mut s = Session::with(gpu, scene, desc)?;
         s.set_shadow_cascades(o.shadow_cascades)?;

@@ -83,7 +83,7 @@ pub(crate) const fn facts(v: Variant) -> Facts {
         (StallFree, false) => ("hroc-sf", "HROC with stall-free counters (earlier frames' counts, GPU overflow draw)"),
         (StallFree, true) => ("hroc", "HROC, the default variant: stall-free counters and occluder filtering (also hroc-sf+of)"),
     };
-    use crate::reflect::Layout as L;
+    use Layout as L;
     Facts {
         name,
         description,
