@@ -2,6 +2,7 @@
 //! its layout, the phases, the draws handed to the host, and its targets.
 
 use crate::capabilities::DrawCount;
+use std::future::Future;
 use crate::error::{Error, Result};
 use crate::frustum::DepthRange;
 use crate::gpu::PassCount;
@@ -108,15 +109,27 @@ pub struct Draw<'a> {
     pub mark: bool,
     /// The pipeline-statistics slot of this draw, if the view counts.
     pub(crate) statistics: PassCount,
+    /// Where [`Draw::record`] checks the host's pipelines.
+    pub(crate) pipelines: &'a PipelineCheck,
 }
 
 impl Draw<'_> {
-    /// Records the draw into a render pass whose pipeline, vertex and index
-    /// buffers and other bind groups the host has set; binds the marks at
-    /// `marks_group`. With [`CullerDesc::pipeline_statistics`](crate::CullerDesc::pipeline_statistics), the draw
+    /// Records the draw with the host's `pipeline` into a render pass whose
+    /// vertex and index buffers and other bind groups the host has set;
+    /// binds the marks at `marks_group`. With validation
+    /// ([`CullerDesc::validation`](crate::CullerDesc::validation)), where the draw is marked
+    /// ([`Draw::mark`]), a pipeline whose layout has no marks group at
+    /// `marks_group` ([`device::marks_layout`](crate::device::marks_layout))
+    /// is refused: nothing is recorded, and [`View::cull`](crate::View::cull)
+    /// fails with the reason (checked once per pipeline). With
+    /// [`CullerDesc::pipeline_statistics`](crate::CullerDesc::pipeline_statistics), the draw
     /// is counted in its stage (a host that records the commands itself
     /// goes uncounted).
-    pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, marks_group: u32) {
+    pub fn record(&self, pass: &mut wgpu::RenderPass<'_>, pipeline: &wgpu::RenderPipeline, marks_group: u32) {
+        if self.mark && !self.pipelines.accepts(pipeline, marks_group, self.phase) {
+            return;
+        }
+        pass.set_pipeline(pipeline);
         self.statistics.around(pass, |pass| {
             pass.set_bind_group(marks_group, self.marks, &[]);
             match self.draw_count {
@@ -124,6 +137,59 @@ impl Draw<'_> {
                 DrawCount::Emulated => pass.multi_draw_indexed_indirect(self.commands, 0, self.max_count),
             }
         });
+    }
+}
+
+/// The culler's check that a marked draw's pipeline has the marks group
+/// ([`Draw::record`]): each pipeline and group once, under a validation
+/// error scope.
+pub(crate) struct PipelineCheck {
+    /// The culler validates ([`crate::CullerDesc::validation`]): checks run.
+    enabled: bool,
+    device: wgpu::Device,
+    /// A buffer a marks bind group can hold.
+    sink: wgpu::Buffer,
+    checked: std::sync::Mutex<std::collections::HashMap<(wgpu::RenderPipeline, u32), bool>>,
+    /// The reason the last refused pipeline was refused, until the frame takes it.
+    refused: std::sync::Mutex<Option<String>>,
+}
+
+impl PipelineCheck {
+    pub(crate) fn new(device: &wgpu::Device, sink: &wgpu::Buffer, enabled: bool) -> PipelineCheck {
+        PipelineCheck { enabled, device: device.clone(), sink: sink.clone(), checked: Default::default(), refused: Default::default() }
+    }
+
+    /// True when `pipeline`'s layout takes a marks bind group at `group`.
+    fn accepts(&self, pipeline: &wgpu::RenderPipeline, group: u32, phase: Phase) -> bool {
+        if !self.enabled {
+            return true;
+        }
+        let mut checked = self.checked.lock().unwrap_or_else(|p| p.into_inner());
+        let ok = *checked.entry((pipeline.clone(), group)).or_insert_with(|| {
+            let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+            let layout = pipeline.get_bind_group_layout(group);
+            let _ = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("hroc marks layout check"),
+                layout: &layout,
+                entries: &[wgpu::BindGroupEntry { binding: 0, resource: self.sink.as_entire_binding() }],
+            });
+            // Native error scopes are ready when popped; a backend whose
+            // scope is not yet could not be checked, and is accepted.
+            let mut popped = std::pin::pin!(scope.pop());
+            let mut cx = std::task::Context::from_waker(std::task::Waker::noop());
+            !matches!(popped.as_mut().poll(&mut cx), std::task::Poll::Ready(Some(_)))
+        });
+        if !ok {
+            *self.refused.lock().unwrap_or_else(|p| p.into_inner()) = Some(format!(
+                "the host's pipeline for the {phase:?} phase has no marks group at group {group} (Draw::record's marks_group), and the culler reads this phase's marks: put hroc::device::marks_layout(device) at that group of its layout, and call hroc_mark from its fragment shader (hroc::device::marks_wgsl)"
+            ));
+        }
+        ok
+    }
+
+    /// The reason a pipeline was refused since the last call, if one was.
+    pub(crate) fn take_refusal(&self) -> Option<String> {
+        self.refused.lock().unwrap_or_else(|p| p.into_inner()).take()
     }
 }
 
@@ -203,8 +269,8 @@ pub struct Targets {
     pub size: (u32, u32),
     pub(super) depth_id: wgpu::Texture,
     pub(super) ids_id: Option<wgpu::Texture>,
-    pub(super) layer: u32,
-    pub(super) mip: u32,
+    pub(crate) layer: u32,
+    pub(crate) mip: u32,
 }
 
 impl Targets {

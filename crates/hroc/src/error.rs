@@ -37,6 +37,10 @@ pub enum Error {
     /// A render target the host handed in is unusable.
     #[error("invalid render targets: {0}")]
     InvalidTargets(String),
+    /// A pipeline the host recorded a [`crate::Draw`] with lacks what the
+    /// draw needs (the marks group); the draw was not recorded.
+    #[error("invalid host pipeline: {0}")]
+    InvalidPipeline(String),
     /// A view or projection the host handed in is unusable.
     #[error("invalid view: {0}")]
     InvalidView(String),
@@ -56,6 +60,12 @@ pub enum Error {
     /// The device reported an error, or a read-back failed.
     #[error("GPU error: {0}")]
     Gpu(String),
+    /// Validation ([`crate::CullerDesc::validation`]) found that the
+    /// host's draws broke the host contract in an earlier frame: the
+    /// message names the view, the frame, the object, phase and pixel,
+    /// the mistake and its fix.
+    #[error("validation: {0}")]
+    Validation(String),
     /// A bad parameter (a method name, an option).
     #[error("invalid argument: {0}")]
     Arg(String),

@@ -81,8 +81,9 @@ impl IdPass {
 /// culler's pass over the ID target after the list ([`crate::capabilities::Marks::Ids`]).
 #[derive(Clone, Debug)]
 pub enum MarkTarget {
-    /// The marks bind group the host binds ([`crate::host::marks_wgsl`]).
-    Host(wgpu::BindGroup),
+    /// The marks bind group the host binds ([`crate::host::marks_wgsl`]),
+    /// and the buffer it holds.
+    Host(wgpu::BindGroup, wgpu::Buffer),
     /// The pass that marks from the ID target; the host binds a sink.
     Ids(IdPass),
 }

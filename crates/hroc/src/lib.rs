@@ -271,6 +271,7 @@ mod reflect;
 mod shaders;
 pub mod stats;
 mod tally;
+mod validation;
 #[doc(hidden)]
 pub mod testing;
 

@@ -117,6 +117,19 @@ pub(super) fn check_box(i: u32, b: &Aabb) -> Result<()> {
     Ok(())
 }
 
+/// An object's indices must lie within the host's index buffer, where the
+/// host declared its size ([`crate::CullerDesc::index_count`]).
+pub(super) fn check_indices(i: u32, o: &ObjectDesc, index_count: Option<u32>) -> Result<()> {
+    let end = o.first_index as u64 + o.index_count as u64;
+    match index_count {
+        Some(n) if end > n as u64 => Err(Error::InvalidObject(format!(
+            "object {i}: its indices {}..{end} lie past the host's index buffer of {n} indices (CullerDesc::index_count): give each object its own first_index and index_count within the buffer it is drawn from",
+            o.first_index
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// An oriented box must be finite, non-empty and invertible.
 pub(super) fn check_oriented(i: u32, b: &Option<OrientedBox>) -> Result<()> {
     match b {

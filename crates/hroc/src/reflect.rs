@@ -72,13 +72,19 @@ pub enum Layout {
     HrocReduce,
     /// The stall-free counters' overflow lists.
     Overflow,
+    /// Validation's pass over the host's depth and IDs.
+    Validate,
+    /// Validation's stamps of the objects a list draws.
+    ValidateStamp,
+    /// Validation's check of the objects a group marked.
+    ValidateMarks,
 }
 
 const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 23] = [
+    pub const ALL: [Layout; 26] = [
         Layout::Compact,
         Layout::Refit,
         Layout::FlagSplit,
@@ -102,6 +108,9 @@ impl Layout {
         Layout::HrocRoundsInit,
         Layout::HrocReduce,
         Layout::Overflow,
+        Layout::Validate,
+        Layout::ValidateStamp,
+        Layout::ValidateMarks,
     ];
 
     /// The label of the layout, its pipelines and bind groups.
@@ -130,6 +139,9 @@ impl Layout {
             Layout::HrocRoundsInit => "hroc rounds init",
             Layout::HrocReduce => "hroc reduce",
             Layout::Overflow => "hroc overflow",
+            Layout::Validate => "hroc validation pixels",
+            Layout::ValidateStamp => "hroc validation stamp",
+            Layout::ValidateMarks => "hroc validation marks",
         }
     }
 
@@ -162,6 +174,9 @@ impl Layout {
             Layout::HrocRoundsInit => &[("hroc_test.wgsl", ROUNDS), ("hroc_test.wgsl", &["rounds_init"])],
             Layout::HrocReduce => &[("hroc_test.wgsl", &["reduce_vs", "reduce_fs"])],
             Layout::Overflow => &[("overflow.wgsl", &[])],
+            Layout::Validate => &[("validate.wgsl", &["check_pixels"])],
+            Layout::ValidateStamp => &[("validate.wgsl", &["stamp"])],
+            Layout::ValidateMarks => &[("validate.wgsl", &["marks_of_group"])],
         }
     }
 

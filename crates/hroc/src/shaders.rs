@@ -28,6 +28,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("tally.wgsl", include_str!("../shaders/tally.wgsl")),
     ("tail.wgsl", include_str!("../shaders/tail.wgsl")),
     ("id_marks.wgsl", include_str!("../shaders/id_marks.wgsl")),
+    ("validate.wgsl", include_str!("../shaders/validate.wgsl")),
 ];
 
 /// The shared header: the `Frame` uniform, object boxes, BVH nodes, draw

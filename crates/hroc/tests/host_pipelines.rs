@@ -78,11 +78,10 @@ fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
         let input = FrameInput { view, cut: false, time: frame as f32 };
         v.cull(&culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
             let mut pass = pass(enc, &depth_view, wgpu::LoadOp::Load);
-            pass.set_pipeline(&pipeline);
             pass.set_bind_group(0, &camera, &[]);
             pass.set_vertex_buffer(0, vertex_buf.slice(..));
             pass.set_index_buffer(index_buf.slice(..), wgpu::IndexFormat::Uint32);
-            draw.record(&mut pass, 1);
+            draw.record(&mut pass, &pipeline, 1);
         })
         .unwrap();
         // The host's own quad, through the same pipeline, marking nothing.

@@ -430,11 +430,10 @@ impl ForwardHost {
         // hroc: cull, and draw each list it hands back with our own pipelines.
         self.view.cull(&self.culler, &mut encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
             let mut pass = begin_pass(enc, (&color_view, resolve_view.as_ref()), &ids_view, &depth_view, None);
-            pass.set_pipeline(if draw.phase == Phase::NonOccluders { &self.blend } else { &self.opaque });
             pass.set_bind_group(0, &self.bind, &[]);
             pass.set_vertex_buffer(0, self.vertices.slice(..));
             pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-            draw.record(&mut pass, 1);
+            draw.record(&mut pass, if draw.phase == Phase::NonOccluders { &self.blend } else { &self.opaque }, 1);
             lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count));
         })?;
         self.queue.submit([encoder.finish()]);

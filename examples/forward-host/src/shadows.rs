@@ -177,11 +177,10 @@ impl Shadows {
             let mut lists = Vec::new();
             self.views[c].cull(culler, encoder, &input, &mut |enc: &mut wgpu::CommandEncoder, draw: &hroc::Draw| {
                 let mut pass = depth_pass(enc, layer, None);
-                pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, bind, &[]);
                 pass.set_vertex_buffer(0, vertices.slice(..));
                 pass.set_index_buffer(indices.slice(..), wgpu::IndexFormat::Uint32);
-                draw.record(&mut pass, 1);
+                draw.record(&mut pass, pipeline, 1);
                 lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count));
             })?;
             self.lists[c] = lists;

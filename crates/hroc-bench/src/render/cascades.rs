@@ -164,11 +164,10 @@ impl hroc::DrawHost for CascadeRecorder<'_> {
     fn draw(&mut self, enc: &mut wgpu::CommandEncoder, d: &hroc::Draw<'_>) {
         let s = self.cascades;
         let mut pass = s.pass(enc, self.cascade, false);
-        pass.set_pipeline(if d.mark { &s.draw_mark } else { &s.draw });
         pass.set_bind_group(0, &s.binds[self.cascade as usize], &[]);
         pass.set_vertex_buffer(0, self.renderer.vertices.slice(..));
         pass.set_index_buffer(self.renderer.indices.slice(..), wgpu::IndexFormat::Uint32);
-        d.record(&mut pass, 1);
+        d.record(&mut pass, if d.mark { &s.draw_mark } else { &s.draw }, 1);
         drop(pass);
         self.lists.push(DrawList { commands: d.commands.clone(), count: d.count.clone(), max_count: d.max_count });
     }

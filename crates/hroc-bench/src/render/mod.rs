@@ -444,7 +444,7 @@ impl hroc::DrawHost for Recorder<'_> {
         let mut pass = self.renderer.draw_pass(enc, d.mark.then_some(d.marks));
         // Binds the marks at group 1 and draws, counted in the culler's
         // pipeline statistics.
-        d.record(&mut pass, 1);
+        d.record(&mut pass, if d.mark { &self.renderer.draw_mark } else { &self.renderer.draw }, 1);
         drop(pass);
         self.lists.push(DrawList { commands: d.commands.clone(), count: d.count.clone(), max_count: d.max_count });
     }

@@ -60,6 +60,10 @@ pub struct Frame<'a> {
     pub(crate) culled_by: Method,
     /// CPU milliseconds since the view's previous frame began.
     pub(crate) period_ms: Option<f64>,
+    /// The view's validation, when the culler validates.
+    pub(crate) validation: Option<&'a mut crate::validation::Validation>,
+    /// The check of the host's pipelines ([`Draw::record`]).
+    pub(crate) pipelines: &'a crate::contract::PipelineCheck,
 }
 
 /// Work of one frame that does not depend on how busy the machine is:
@@ -126,6 +130,9 @@ impl<'a> Frame<'a> {
         for list in lists {
             self.split_and_hand(phase, list, marks);
         }
+        if let (Some(MarkTarget::Host(_, buffer)), Some(v)) = (marks, self.validation.as_deref_mut()) {
+            v.after_marks(self.gpu, self.encoder, self.uploads, buffer);
+        }
         if let Some(MarkTarget::Ids(ids)) = marks {
             if !lists.is_empty() {
                 self.work.id_passes += 1;
@@ -160,6 +167,13 @@ impl<'a> Frame<'a> {
             tail.record(self.gpu, self.encoder, self.uploads, &list.commands, &list.count, list.max_count);
         }
         let statistics = self.pass_count();
+        let host_marks = match marks {
+            Some(MarkTarget::Host(_, buffer)) => Some(buffer),
+            _ => None,
+        };
+        if let Some(v) = self.validation.as_deref_mut() {
+            v.before_draw(self.gpu, self.encoder, self.uploads, phase, host_marks);
+        }
         let draw = Draw {
             phase,
             commands: &list.commands,
@@ -167,13 +181,17 @@ impl<'a> Frame<'a> {
             max_count: list.max_count,
             draw_count: self.draw_count,
             marks: match marks {
-                Some(MarkTarget::Host(bind)) => bind,
+                Some(MarkTarget::Host(bind, _)) => bind,
                 _ => self.sink,
             },
-            mark: matches!(marks, Some(MarkTarget::Host(_))),
+            mark: host_marks.is_some(),
             statistics,
+            pipelines: self.pipelines,
         };
         self.host.draw(self.encoder, &draw);
+        if let Some(v) = self.validation.as_deref_mut() {
+            v.after_draw(self.gpu, self.encoder, self.uploads, phase, list);
+        }
         self.tally.count(list);
     }
 
@@ -315,7 +333,7 @@ impl MethodContext<'_> {
     /// objects, where a mark skips an object's test), else of any.
     pub fn mark_target(&self, marks: &wgpu::Buffer, within: Option<&wgpu::Buffer>) -> MarkTarget {
         match (self.capabilities.marks, self.id_marks, &self.targets.ids) {
-            (crate::capabilities::Marks::EarlyZ, _, _) => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks])),
+            (crate::capabilities::Marks::EarlyZ, _, _) => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks]), marks.clone()),
             (crate::capabilities::Marks::Ids, Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, (self.targets.size, self.targets.samples), marks, within)),
             (crate::capabilities::Marks::Ids, _, _) => unreachable!("Culler::view_with checks the ID target of methods that read marks, and ID marks build the pass"),
         }

@@ -14,6 +14,8 @@ use crate::layout::{DrawCommand, FrameUniform, ObjectBounds, OrientedBounds};
 use crate::list_pass::ListPass;
 use crate::reflect::Layout;
 use crate::tally::DrawTally;
+use crate::contract::PipelineCheck;
+use crate::validation::{Validation, ValidationDesc, Validator};
 use crate::Aabb;
 
 /// What a culler needs of its objects before the first frame.
@@ -45,11 +47,29 @@ pub struct CullerDesc<'a> {
     /// ([`Capabilities::of`] its features). Asking for more than the
     /// device has is an error.
     pub capabilities: Option<Capabilities>,
+    /// Check on the GPU, without waiting, that the host's draws keep the
+    /// host contract, and fail [`View::cull`] a frame or two after one
+    /// that did not ([`Error::Validation`], naming the view, frame,
+    /// object, phase and pixel, the mistake and its fix): targets cleared
+    /// or drawn by other passes inside the frame; fragments in front of
+    /// their object's box (boxes too small, wrong transforms, depth bias
+    /// toward the viewer); IDs out of range, naming undrawn objects, or
+    /// missing where depth was drawn; and, with early-Z marks, objects
+    /// drawn visibly but not marked, or marked while hidden (no forced
+    /// early-Z). ID checks need a view whose method reads the ID target.
+    /// On by default in debug builds, off in release. Costs a few compute
+    /// passes over the host's depth and IDs per frame (BENCHMARKS.md).
+    pub validation: bool,
+    /// The size, in indices, of the host's index buffer: objects whose
+    /// indices lie past it are refused ([`Culler::new`],
+    /// [`Culler::add_objects`]). `None`: not checked.
+    pub index_count: Option<u32>,
 }
 
 impl<'a> CullerDesc<'a> {
     /// SAH BVH, no spare slots, default parameters, no timestamps, no
-    /// pipeline statistics.
+    /// pipeline statistics, validation in debug builds, index ranges
+    /// unchecked.
     pub fn new(objects: &'a [ObjectDesc]) -> Self {
         CullerDesc {
             objects,
@@ -60,6 +80,8 @@ impl<'a> CullerDesc<'a> {
             timestamps: false,
             pipeline_statistics: false,
             capabilities: None,
+            validation: cfg!(debug_assertions),
+            index_count: None,
         }
     }
 }
@@ -109,6 +131,12 @@ pub struct Culler {
     pub(super) caps: Capabilities,
     /// The ID-marks pass, with [`Marks::Ids`].
     pub(super) id_marks: Option<IdMarks>,
+    /// The validation passes, when the culler validates.
+    pub(super) validator: Option<Validator>,
+    /// The check of the pipelines of marked draws ([`Draw::record`]).
+    pub(super) pipelines: PipelineCheck,
+    /// [`CullerDesc::index_count`].
+    pub(super) index_count: Option<u32>,
 }
 
 impl Culler {
@@ -148,6 +176,7 @@ impl Culler {
         let objects = desc.objects;
         for (i, o) in objects.iter().enumerate() {
             check_box(i as u32, &o.bounds)?;
+            check_indices(i as u32, o, desc.index_count)?;
             check_oriented(i as u32, &o.oriented)?;
             check_flags(i as u32, o.flags)?;
         }
@@ -167,7 +196,9 @@ impl Culler {
         }
         let marks_layout = marks_layout(device);
         let (shared, bvh_nodes, leaf_of_object) = allocate(&gpu, capacity as u32, &commands, flags);
-        let sink_marks = gpu.bind_buffers(&marks_layout, &[&gpu.buffer("hroc marks sink", 16, wgpu::BufferUsages::STORAGE)]);
+        let sink_buffer = gpu.buffer("hroc marks sink", 16, wgpu::BufferUsages::STORAGE);
+        let sink_marks = gpu.bind_buffers(&marks_layout, &[&sink_buffer]);
+        let pipelines = PipelineCheck::new(device, &sink_buffer, desc.validation);
         let mut culler = Culler {
             sink_marks,
             bvh_nodes,
@@ -194,6 +225,9 @@ impl Culler {
             pipeline_statistics: desc.pipeline_statistics,
             caps,
             id_marks,
+            validator: desc.validation.then(Validator::default),
+            pipelines,
+            index_count: desc.index_count,
         };
         culler.rebuild_tree()?;
         culler.upload_bounds();
@@ -384,6 +418,19 @@ impl Culler {
         let auto = self.auto_candidates(method, &t, options);
         let imp = method.create(&MethodContext { options, auto: &auto, ..self.context(&frame, &t) })?;
         let timer = self.timestamps.then(|| GpuTimer::new(&self.gpu, 64));
+        let reads_ids = method.needs_ids() || (self.caps.marks == Marks::Ids && method.reads_marks()) || method == Method::Auto;
+        let validation = self.validator.as_ref().map(|v| {
+            let desc = ValidationDesc {
+                frame: &frame,
+                bounds: &self.objects.bounds,
+                oriented: &self.objects.oriented,
+                slots: self.objects.count,
+                targets: &t,
+                ids: reads_ids,
+                name: format!("the {method} view of {}x{} (layer {}, mip {})", t.size.0, t.size.1, t.layer, t.mip),
+            };
+            Validation::new(&self.gpu, v, desc)
+        });
         let counter = self.pipeline_statistics.then(|| InvocationCounter::new(&self.gpu, 64));
         Ok(View {
             method,
@@ -410,6 +457,7 @@ impl Culler {
             last_start: None,
             culled_by: method,
             frames: 0,
+            validation,
         })
     }
 

@@ -60,6 +60,8 @@ pub struct View {
     pub(super) last_start: Option<std::time::Instant>,
     /// The method that culled the last frame.
     pub(super) culled_by: Method,
+    /// The view's validation, when the culler validates.
+    pub(super) validation: Option<crate::validation::Validation>,
 }
 
 impl View {
@@ -159,6 +161,9 @@ impl View {
                 g.depth, self.targets.depth
             )));
         }
+        if let Some(v) = self.validation.as_mut() {
+            v.begin(&culler.gpu, encoder, &input.view, self.frames)?;
+        }
         culler.flush_oriented();
         let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32);
         self.uploads.write(encoder, &self.frame, 0, bytemuck::bytes_of(&uniform));
@@ -208,6 +213,8 @@ impl View {
             tree: (&culler.bvh, culler.generation),
             culled_by: self.method,
             period_ms: period_ms(&mut self.last_start),
+            validation: self.validation.as_mut(),
+            pipelines: &culler.pipelines,
         };
         if let Some(always) = culler.objects.always.as_ref() {
             f.stage(Stage::FlaggedObjects);
@@ -233,6 +240,9 @@ impl View {
             let (enc, q) = f.counted();
             let list = s.finish(enc, &q);
             f.hand(Phase::NonOccluders, &list, None);
+        }
+        if let Some(v) = f.validation.as_deref_mut() {
+            v.end(f.gpu, f.encoder, f.uploads);
         }
         f.tally.record(f.gpu, f.encoder, f.uploads, &crate::gpu::PassCount::NONE);
         if let Some(t) = f.timer.take() {
@@ -263,7 +273,10 @@ impl View {
             self.tail = Some(Submission::mark(f.encoder));
         }
         self.frames += 1;
-        Ok(())
+        match culler.pipelines.take_refusal() {
+            Some(reason) => Err(Error::InvalidPipeline(reason)),
+            None => Ok(()),
+        }
     }
 
     /// The statistics every method shares ([`FrameStats`]: objects and

@@ -180,11 +180,10 @@ impl Host {
         let mut lists = Vec::new();
         view.cull(culler, enc, &FrameInput { view: desc, cut, time: 0.0 }, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
             let mut pass = self.pass(enc, false);
-            pass.set_pipeline(if draw.mark { self.marking.as_ref().expect("a mark asked for without early-Z") } else { &self.plain });
             pass.set_bind_group(0, &self.camera_bind, &[]);
             pass.set_vertex_buffer(0, self.vertices.slice(..));
             pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-            draw.record(&mut pass, 1);
+            draw.record(&mut pass, if draw.mark { self.marking.as_ref().expect("a mark asked for without early-Z") } else { &self.plain }, 1);
             lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count, draw.draw_count));
         })
         .unwrap();

@@ -74,10 +74,12 @@ impl Culler {
     /// object that reuses the slot of a removed one enters the BVH by a
     /// refit; others are tested on their own until the next rebuild.
     /// `first_instance` of each object's command is its index. Errors on a
-    /// box that is not finite; nothing changes then.
+    /// box that is not finite, and on indices past
+    /// [`CullerDesc::index_count`]; nothing changes then.
     pub fn add_objects(&mut self, objects: &[ObjectDesc]) -> Result<Vec<u32>> {
         for (k, o) in objects.iter().enumerate() {
             check_box(k as u32, &o.bounds)?;
+            check_indices(k as u32, o, self.index_count)?;
             check_oriented(k as u32, &o.oriented)?;
             check_flags(k as u32, o.flags)?;
         }

@@ -1,0 +1,289 @@
+// Validation (`CullerDesc::validation`, src/validation.rs): checks on the
+// GPU, without waiting, that the host's draws kept the host contract.
+//
+// The host's draws of a frame come in groups: consecutive lists of one
+// phase marking into one buffer (or none). Every list's objects are
+// stamped with the frame's tag and their group (`stamp`); after a group
+// with the host's marks, its marked objects are stamped too (`marks`). The
+// depth and IDs are read at the frame's first draw (`check_pixels` with
+// SNAPSHOT) and again after each group (`check_pixels`), which compares
+// them with what the last read saw: drawing only brings depth nearer and
+// never writes ID 0. The frame's last read (FINAL) checks every sample's
+// ID: in range, naming an object an occluding list drew this frame, and
+// not in front of that object's box along the pixel's ray.
+//
+// What each check found is counted per kind, with its first example, in
+// `results`, which the view reads back a frame or two later.
+
+// Kinds of finding (src/validation.rs `Kind`, in this order).
+const DEPTH_FARTHER: u32 = 0u;
+const IDS_CLEARED: u32 = 1u;
+const ID_RANGE: u32 = 2u;
+const ID_NOT_DRAWN: u32 = 3u;
+const OUTSIDE_BOX: u32 = 4u;
+const DEPTH_WITHOUT_ID: u32 = 5u;
+const MISSING_MARK: u32 = 6u;
+const HIDDEN_MARK: u32 = 7u;
+const INDEX_FOR_ID: u32 = 8u;
+const KINDS: u32 = 9u;
+// Groups of draws a frame tells apart (later ones share the last).
+const GROUPS: u32 = 32u;
+// No object, pixel or group.
+const NONE: u32 = 0xffffffffu;
+
+// `Check::mode` bits.
+const SNAPSHOT: u32 = 1u;
+const CHECK_IDS: u32 = 2u;
+const HOST_MARKS: u32 = 4u;
+const FINAL: u32 = 8u;
+
+// src/validation.rs CheckUniform.
+struct Check {
+    // Clip to view space, and view to world space.
+    inv_proj: mat4x4<f32>,
+    inv_view: mat4x4<f32>,
+    // The frame's tag: bits 8.. of a stamp.
+    tag: u32,
+    // The group checked, stamped or marked.
+    group: u32,
+    mode: u32,
+    _pad: u32,
+}
+
+struct Finding {
+    count: atomic<u32>,
+    object: u32,
+    // x | y << 16
+    pixel: u32,
+    group: u32,
+}
+
+struct Results {
+    findings: array<Finding, KINDS>,
+    // Pixels whose depth or ID a group changed.
+    changed: array<atomic<u32>, GROUPS>,
+    // Objects a group drew and marked.
+    marked: array<atomic<u32>, GROUPS>,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<uniform> check: Check;
+@group(0) @binding(2) var<storage, read_write> results: Results;
+// Per object: tag << 8 | 0x80 (drawn before in the frame) | group.
+@group(0) @binding(3) var<storage, read_write> stamps: array<u32>;
+// Per object: tag << 8 | group, when the group marked it.
+@group(0) @binding(4) var<storage, read_write> marked: array<u32>;
+// Per pixel: the farthest sample's standard depth, sample 0's ID, and
+// sample 0's standard depth at the frame's first draw (the clear).
+@group(0) @binding(5) var<storage, read_write> shadow: array<vec4<u32>>;
+@group(0) @binding(6) var<storage, read> bounds: array<ObjectBounds>;
+@group(0) @binding(7) var<storage, read> oriented: array<OrientedBounds>;
+@group(0) @binding(8) var depth: HostDepth;
+@group(0) @binding(9) var ids: HostIds;
+// The group's marks (the method's buffer), and what they held before it.
+@group(0) @binding(10) var<storage, read> marks: array<u32>;
+@group(0) @binding(11) var<storage, read> before: array<u32>;
+// A list handed to the host.
+@group(0) @binding(12) var<storage, read> commands: array<DrawCommand>;
+@group(0) @binding(13) var<storage, read> count: array<u32>;
+
+fn found(kind: u32, object: u32, pixel: u32, group: u32) {
+    if atomicAdd(&results.findings[kind].count, 1u) == 0u {
+        results.findings[kind].object = object;
+        results.findings[kind].pixel = pixel;
+        results.findings[kind].group = group;
+    }
+}
+
+// Stamps the objects a list draws with the frame's tag and the group.
+@compute @workgroup_size(64)
+fn stamp(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let i = flat_id(wid, nwg, lid, 64u);
+    if i >= min(count[0], arrayLength(&commands)) {
+        return;
+    }
+    let c = commands[i];
+    let o = c.first_instance;
+    if c.instance_count == 0u || c.index_count == 0u || o >= arrayLength(&stamps) {
+        return;
+    }
+    let again = select(0u, 0x80u, (stamps[o] >> 8u) == check.tag);
+    stamps[o] = (check.tag << 8u) | again | min(check.group, GROUPS - 1u);
+}
+
+// After a group drawn with the host's marks: stamps the objects it drew
+// and marked, and checks that none was marked while its box lay behind
+// the depth the group started from (a fragment that failed the depth test
+// ran the fragment shader: no forced early-Z).
+@compute @workgroup_size(64)
+fn marks_of_group(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let o = flat_id(wid, nwg, lid, 64u);
+    if o >= min(arrayLength(&stamps), arrayLength(&marks)) {
+        return;
+    }
+    let s = stamps[o];
+    if (s >> 8u) != check.tag || (s & 0x7fu) != check.group || marks[o] == 0u {
+        return;
+    }
+    marked[o] = (check.tag << 8u) | check.group;
+    atomicAdd(&results.marked[check.group], 1u);
+    if (s & 0x80u) == 0u && before[o] == 0u && box_hidden(bounds[o]) {
+        found(HIDDEN_MARK, o, NONE, check.group);
+    }
+}
+
+// True when every pixel a box can cover holds depth nearer than the box's
+// nearest corner (what the group started from): no fragment inside the
+// box can pass the depth test there. Boxes reaching the near plane, off
+// the view, or over 64 × 64 pixels are left unchecked (false).
+fn box_hidden(b: ObjectBounds) -> bool {
+    var lo = vec2<f32>(3.0e38);
+    var hi = vec2<f32>(-3.0e38);
+    var near = 3.0e38;
+    for (var c = 0u; c < 8u; c++) {
+        let p = select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
+        let clip = frame.view_proj * vec4<f32>(p, 1.0);
+        if clip.w <= 1e-6 {
+            return false;
+        }
+        let ndc = clip.xyz / clip.w;
+        lo = min(lo, ndc.xy);
+        hi = max(hi, ndc.xy);
+        near = min(near, std_depth(frame, ndc.z));
+    }
+    if near <= DEPTH_SLACK || lo.x > 1.0 || lo.y > 1.0 || hi.x < -1.0 || hi.y < -1.0 {
+        return false;
+    }
+    let size = vec2<i32>(frame.viewport.xy);
+    let first = max(vec2<i32>(floor(vec2<f32>(lo.x + 1.0, 1.0 - hi.y) * 0.5 * frame.viewport.xy)) - 1, vec2<i32>(0));
+    let last = min(vec2<i32>(floor(vec2<f32>(hi.x + 1.0, 1.0 - lo.y) * 0.5 * frame.viewport.xy)) + 1, size - 1);
+    if (last.x - first.x + 1) * (last.y - first.y + 1) > 4096 {
+        return false;
+    }
+    for (var y = first.y; y <= last.y; y++) {
+        for (var x = first.x; x <= last.x; x++) {
+            if near <= bitcast<f32>(shadow[u32(y * size.x + x)].x) + DEPTH_SLACK {
+                return false;
+            }
+        }
+    }
+    return true;
+}
+
+// The world point at pixel position `p` (pixels, y down) and depth `d`.
+fn unproject(p: vec2<f32>, d: f32) -> vec3<f32> {
+    let ndc = vec4<f32>(p.x * 2.0 * frame.viewport.z - 1.0, 1.0 - p.y * 2.0 * frame.viewport.w, d, 1.0);
+    let v = check.inv_proj * ndc;
+    return (check.inv_view * vec4<f32>(v.xyz / v.w, 1.0)).xyz;
+}
+
+// True when the pixel ray through `p`'s centre, from its origin to the
+// depth `d`, meets object `o`'s box (and its own box, if it has one)
+// grown by where in the pixel its samples lie and the depth's rounding: a fragment
+// of geometry inside the box lies on or behind where its ray enters it
+// (depth biased away from the viewer lies farther still).
+fn reaches_box(o: u32, p: vec2<i32>, d: f32) -> bool {
+    let c = vec2<f32>(p) + 0.5;
+    let q = unproject(c, d);
+    let ndc = vec2<f32>(c.x * 2.0 * frame.viewport.z - 1.0, 1.0 - c.y * 2.0 * frame.viewport.w);
+    let origin = ray_origin(frame, ndc);
+    let dir = q - origin;
+    let nearer = select(d - 2.0 * DEPTH_SLACK, d + 2.0 * DEPTH_SLACK, frame.reversed != 0u);
+    let b = bounds[o];
+    // One sample per pixel lies at its centre, up to the rasterizer's
+    // snapping; several lie anywhere in it.
+    let px = select(PIXEL_PAD, 0.75, HOST_SAMPLES > 1u);
+    let lateral = distance(unproject(c + vec2<f32>(1.0, 0.0), d), q) + distance(unproject(c + vec2<f32>(0.0, 1.0), d), q);
+    let pad = px * lateral + distance(unproject(c, nearer), q) + 1e-4 * length(b.max - b.min) + 1e-6 * (length(q) + length(origin)) + 1e-7;
+    let inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
+    let world = ray_box(origin, inv, b.min - vec3<f32>(pad), b.max + vec3<f32>(pad));
+    let own = ray_oriented(oriented[o], origin, dir, pad);
+    let enter = max(world.x, own.x);
+    let leave = min(world.y, own.y);
+    return enter <= leave && enter <= 1.0 + 1e-5 && leave >= 0.0;
+}
+
+var<workgroup> changed_here: atomic<u32>;
+
+// Reads the host's depth and IDs: at the frame's first draw (SNAPSHOT), or
+// after a group, comparing with the last read; FINAL also checks every
+// sample's ID.
+@compute @workgroup_size(16, 16)
+fn check_pixels(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let size = textureDimensions(depth);
+    if gid.x < size.x && gid.y < size.y && check_pixel(vec2<i32>(gid.xy), size.x) {
+        atomicAdd(&changed_here, 1u);
+    }
+    workgroupBarrier();
+    let n = atomicLoad(&changed_here);
+    if lid == 0u && n > 0u && (check.mode & SNAPSHOT) == 0u {
+        atomicAdd(&results.changed[min(check.group, GROUPS - 1u)], n);
+    }
+}
+
+// One pixel: true when its depth or ID changed since the last read.
+fn check_pixel(p: vec2<i32>, width: u32) -> bool {
+    let i = u32(p.y) * width + u32(p.x);
+    let far = farthest_host_depth(depth, p, frame.reversed);
+    let with_ids = (check.mode & CHECK_IDS) != 0u;
+    let id0 = select(0u, host_id(ids, p, 0), with_ids);
+    if (check.mode & SNAPSHOT) != 0u {
+        shadow[i] = vec4<u32>(bitcast<u32>(far), id0, bitcast<u32>(std_depth(frame, textureLoad(depth, p, 0).r)), 0u);
+        return false;
+    }
+    let old = shadow[i];
+    let px = u32(p.x) | (u32(p.y) << 16u);
+    if far > bitcast<f32>(old.x) {
+        found(DEPTH_FARTHER, NONE, px, check.group);
+    }
+    if with_ids && old.y != 0u && id0 == 0u {
+        found(IDS_CLEARED, old.y - 1u, px, check.group);
+    }
+    shadow[i] = vec4<u32>(bitcast<u32>(far), id0, old.z, 0u);
+    if with_ids {
+        check_ids(p, px, bitcast<f32>(old.z));
+    }
+    return bitcast<u32>(far) != old.x || id0 != old.y;
+}
+
+// Every sample's ID at pixel `p`: marked when the group checked drew it
+// with the host's marks; and at the frame's end, in range, drawn this
+// frame, within its box, and there wherever depth was drawn.
+fn check_ids(p: vec2<i32>, px: u32, clear: f32) {
+    let last = (check.mode & FINAL) != 0u;
+    let host_marks = (check.mode & HOST_MARKS) != 0u;
+    for (var s = 0; s < i32(HOST_SAMPLES); s++) {
+        let id = host_id(ids, p, s);
+        let d = textureLoad(depth, p, s).r;
+        if id == 0u {
+            if last && std_depth(frame, d) < clear {
+                found(DEPTH_WITHOUT_ID, NONE, px, NONE);
+            }
+            continue;
+        }
+        let o = id - 1u;
+        if o >= arrayLength(&stamps) {
+            if last {
+                found(ID_RANGE, id, px, NONE);
+            }
+            continue;
+        }
+        let st = stamps[o];
+        let drawn = (st >> 8u) == check.tag;
+        if host_marks && drawn && (st & 0x7fu) == check.group && marked[o] != ((check.tag << 8u) | check.group) {
+            found(MISSING_MARK, o, px, check.group);
+        }
+        if !last {
+            continue;
+        }
+        let kept = drawn && (std_depth(frame, d) <= 2.0 * DEPTH_SLACK || reaches_box(o, p, d));
+        if kept {
+            continue;
+        }
+        found(select(ID_NOT_DRAWN, OUTSIDE_BOX, drawn), o, px, select(NONE, st & 0x7fu, drawn));
+        // The value is the object's index, not index + 1?
+        if id < arrayLength(&stamps) && (stamps[id] >> 8u) == check.tag && reaches_box(id, p, d) {
+            found(INDEX_FOR_ID, id, px, stamps[id] & 0x7fu);
+        }
+    }
+}

@@ -1,0 +1,432 @@
+//! Validation ([`crate::CullerDesc::validation`]): every host mistake that
+//! would make a view cull what it must draw, found on the GPU without
+//! waiting, and reported by [`crate::View::cull`] a frame or two later,
+//! naming the object, view, phase and frame, and the fix.
+//!
+//! A frame's draws come in groups: consecutive lists of one phase that
+//! mark into one buffer (or none). `validate.wgsl` stamps each list's
+//! objects with the frame and group, reads the host's depth and IDs at the
+//! frame's first draw and after every group (drawing only brings depth
+//! nearer and never writes ID 0; an object that owns a sample after a
+//! group that the host marks must be marked), checks after a marking group
+//! that no object was marked whose box lay behind the depth the group
+//! started from (a fragment ran that failed the depth test: no forced
+//! early-Z), and at the frame's end checks every sample's ID: in range,
+//! naming an object an occluding list drew, and not in front of that
+//! object's box along the pixel's ray (boxes too small, wrong transforms,
+//! depth bias toward the viewer). What it finds is counted, with a first
+//! example, and read back through a staging ring like the draw tally's.
+//!
+//! The checks are exact, so they raise no alarm on a host that keeps the
+//! contract: each compares what drawing can do with what was drawn,
+//! padded by a pixel and the depth's rounding.
+
+use crate::gpu::shape::{EncoderShape, PassShape};
+use std::collections::HashMap;
+
+use crate::contract::{DrawList, Phase, Targets};
+use crate::error::Error;
+use crate::frustum::ViewDesc;
+use crate::gpu::{dispatch_size, Gpu, Readback, Uploads};
+use crate::reflect::{pipeline_layout, Layout};
+
+/// Groups of draws a frame tells apart (`GROUPS` in `validate.wgsl`).
+const GROUPS: usize = 32;
+
+/// Kinds of finding, in `validate.wgsl`'s order.
+const KINDS: usize = 9;
+
+/// `Check::mode` bits (`validate.wgsl`).
+const SNAPSHOT: u32 = 1;
+const CHECK_IDS: u32 = 2;
+const HOST_MARKS: u32 = 4;
+const FINAL: u32 = 8;
+
+/// Bytes of `Results`: a count, object, pixel and group per kind, then
+/// the pixels changed and the objects marked per group.
+const RESULT_BYTES: u64 = (KINDS * 16 + GROUPS * 8) as u64;
+
+/// Bind groups kept for the lists and marks buffers seen lately.
+const BINDS: usize = 256;
+
+/// `Check` in `validate.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct CheckUniform {
+    /// Clip to view space.
+    pub inv_proj: [[f32; 4]; 4],
+    /// View to world space.
+    pub inv_view: [[f32; 4]; 4],
+    /// The frame's tag (bits 8.. of a stamp).
+    pub tag: u32,
+    /// The group checked, stamped or marked.
+    pub group: u32,
+    /// `SNAPSHOT`, `CHECK_IDS`, `HOST_MARKS`, `FINAL` bits.
+    pub mode: u32,
+    /// Unused.
+    pub _pad: u32,
+}
+
+/// The validation passes of a culler's device, per sample count of the
+/// host's targets, built when a view first needs them.
+#[derive(Default)]
+pub(crate) struct Validator {
+    built: std::sync::Mutex<Vec<(u32, Passes)>>,
+}
+
+/// The three passes and their layouts.
+#[derive(Clone)]
+struct Passes {
+    pixels: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
+    stamp: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
+    marks: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
+}
+
+impl Validator {
+    fn passes(&self, gpu: &Gpu, samples: u32) -> Passes {
+        let mut built = self.built.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some((_, p)) = built.iter().find(|(n, _)| *n == samples) {
+            return p.clone();
+        }
+        let module = gpu.shader("validate.wgsl", &crate::shaders::source_for("validate.wgsl", samples));
+        let make = |layout: Layout, entry: &str| {
+            let bgl = layout.create_for(gpu, samples);
+            (gpu.compute_pipeline(&module, entry, Some(&pipeline_layout(gpu, layout.label(), &bgl)), &[]), bgl)
+        };
+        let p = Passes { pixels: make(Layout::Validate, "check_pixels"), stamp: make(Layout::ValidateStamp, "stamp"), marks: make(Layout::ValidateMarks, "marks_of_group") };
+        built.push((samples, p.clone()));
+        p
+    }
+}
+
+/// What a frame's findings are tagged with: its number, and each group's
+/// phase and whether the host marked it.
+#[derive(Clone, Copy)]
+struct Tag {
+    frame: u64,
+    groups: [Option<(Phase, bool)>; GROUPS],
+}
+
+/// One view's validation: its buffers, and the frame being recorded.
+pub(crate) struct Validation {
+    passes: Passes,
+    check: wgpu::Buffer,
+    results: wgpu::Buffer,
+    stamps: wgpu::Buffer,
+    marked: wgpu::Buffer,
+    before: wgpu::Buffer,
+    shadow: wgpu::Buffer,
+    pixels_bind: wgpu::BindGroup,
+    stamp_binds: HashMap<(wgpu::Buffer, wgpu::Buffer), wgpu::BindGroup>,
+    marks_binds: HashMap<wgpu::Buffer, wgpu::BindGroup>,
+    /// Shared with the binds built later.
+    frame: wgpu::Buffer,
+    bounds: wgpu::Buffer,
+    /// The view checks IDs (its method has the host write them).
+    ids: bool,
+    size: (u32, u32),
+    slots: u32,
+    /// The view, as errors name it.
+    name: String,
+    uniform: CheckUniform,
+    tag: Tag,
+    /// The frame's draws so far: none yet, or the group being drawn (its
+    /// phase and marks buffer).
+    group: Option<(usize, Phase, Option<wgpu::Buffer>)>,
+    ring: Vec<(wgpu::Buffer, Readback<Tag>)>,
+}
+
+/// What a view's validation binds.
+pub(crate) struct ValidationDesc<'a> {
+    pub frame: &'a wgpu::Buffer,
+    pub bounds: &'a wgpu::Buffer,
+    pub oriented: &'a wgpu::Buffer,
+    pub slots: u32,
+    pub targets: &'a Targets,
+    /// The host writes the ID target (the view's method reads it).
+    pub ids: bool,
+    pub name: String,
+}
+
+impl Validation {
+    pub(crate) fn new(gpu: &Gpu, validator: &Validator, d: ValidationDesc) -> Validation {
+        use wgpu::BufferUsages as U;
+        let t = d.targets;
+        let passes = validator.passes(gpu, t.samples);
+        let per_object = |label| gpu.buffer(label, d.slots.max(1) as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+        let check = gpu.buffer("hroc validation check", std::mem::size_of::<CheckUniform>() as u64, U::UNIFORM | U::COPY_DST);
+        let results = gpu.buffer("hroc validation results", RESULT_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC);
+        let shadow = gpu.buffer("hroc validation shadow", (t.size.0 * t.size.1).max(1) as u64 * 16, U::STORAGE);
+        let (stamps, marked, before) = (per_object("hroc validation stamps"), per_object("hroc validation marked"), per_object("hroc validation marks before"));
+        let ids_format = if t.samples > 1 { wgpu::TextureFormat::Rg16Uint } else { wgpu::TextureFormat::R32Uint };
+        let stand_in;
+        let ids = match (&t.ids, d.ids) {
+            (Some(v), true) => v,
+            _ => {
+                stand_in = gpu.stand_in("hroc validation no ids", ids_format, t.samples);
+                &stand_in
+            }
+        };
+        let pixels_bind = Layout::Validate.bind(
+            gpu,
+            &passes.pixels.1,
+            &[
+                (0, d.frame.as_entire_binding()),
+                (1, check.as_entire_binding()),
+                (2, results.as_entire_binding()),
+                (3, stamps.as_entire_binding()),
+                (4, marked.as_entire_binding()),
+                (5, shadow.as_entire_binding()),
+                (6, d.bounds.as_entire_binding()),
+                (7, d.oriented.as_entire_binding()),
+                (8, wgpu::BindingResource::TextureView(&t.depth_sampled)),
+                (9, wgpu::BindingResource::TextureView(ids)),
+            ],
+        );
+        Validation {
+            passes,
+            check,
+            results,
+            stamps,
+            marked,
+            before,
+            shadow,
+            pixels_bind,
+            stamp_binds: HashMap::new(),
+            marks_binds: HashMap::new(),
+            frame: d.frame.clone(),
+            bounds: d.bounds.clone(),
+            ids: d.ids && t.ids.is_some(),
+            size: t.size,
+            slots: d.slots,
+            name: d.name,
+            uniform: CheckUniform::default(),
+            tag: Tag { frame: 0, groups: [None; GROUPS] },
+            group: None,
+            ring: Vec::new(),
+        }
+    }
+
+    /// Starts frame `number` of the view: takes the findings of earlier
+    /// frames that arrived (an error names the first frame that had any),
+    /// and zeroes this frame's.
+    pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, view: &ViewDesc, number: u64) -> Result<(), Error> {
+        let arrived = self.harvest(gpu);
+        enc.counted_clear(&self.results, 0, None);
+        self.uniform = CheckUniform {
+            inv_proj: view.proj.inverse().to_cols_array_2d(),
+            inv_view: view.view.inverse().to_cols_array_2d(),
+            tag: (number % 0xff_ffff) as u32 + 1,
+            ..Default::default()
+        };
+        self.tag = Tag { frame: number, groups: [None; GROUPS] };
+        self.group = None;
+        arrived
+    }
+
+    /// Before the host draws a list of `phase` (marking into `marks`, the
+    /// host's marks buffer, where it marks): at the frame's first draw,
+    /// reads the depth and IDs as cleared; at the first list of a new
+    /// group, checks the group before it.
+    pub(crate) fn before_draw(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, phase: Phase, marks: Option<&wgpu::Buffer>) {
+        if !phase.occludes() {
+            return;
+        }
+        let index = match &self.group {
+            None => {
+                self.pixels(gpu, enc, uploads, 0, SNAPSHOT);
+                0
+            }
+            Some((_, p, m)) if *p == phase && m.as_ref() == marks => return,
+            Some((g, ..)) => {
+                let g = *g;
+                self.pixels(gpu, enc, uploads, g, self.group_mode(g));
+                (g + 1).min(GROUPS - 1)
+            }
+        };
+        self.group = Some((index, phase, marks.cloned()));
+        self.tag.groups[index] = Some((phase, marks.is_some()));
+        if let Some(m) = marks {
+            enc.counted_copy(m, 0, &self.before, 0, Some(m.size().min(self.before.size())));
+        }
+    }
+
+    /// After the host drew `list`: stamps its objects with the group.
+    pub(crate) fn after_draw(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, phase: Phase, list: &DrawList) {
+        let Some((g, ..)) = self.group.as_ref().filter(|_| phase.occludes() && list.max_count > 0) else { return };
+        let g = *g;
+        self.write(enc, uploads, g, 0);
+        if self.stamp_binds.len() > BINDS {
+            self.stamp_binds.clear();
+        }
+        let bind = self
+            .stamp_binds
+            .entry((list.commands.clone(), list.count.clone()))
+            .or_insert_with(|| {
+                Layout::ValidateStamp.bind(
+                    gpu,
+                    &self.passes.stamp.1,
+                    &[
+                        (1, self.check.as_entire_binding()),
+                        (3, self.stamps.as_entire_binding()),
+                        (12, list.commands.as_entire_binding()),
+                        (13, list.count.as_entire_binding()),
+                    ],
+                )
+            })
+            .clone();
+        let (x, y) = dispatch_size(list.max_count, 64);
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation stamp"), timestamp_writes: None });
+        pass.set_pipeline(&self.passes.stamp.0);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.counted_dispatch(x, y, 1);
+    }
+
+    /// After the lists of one call drew with the host's `marks`: stamps
+    /// the objects they marked, and checks that none was marked while
+    /// hidden.
+    pub(crate) fn after_marks(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, marks: &wgpu::Buffer) {
+        let Some((g, ..)) = self.group.as_ref() else { return };
+        let g = *g;
+        self.write(enc, uploads, g, 0);
+        if self.marks_binds.len() > BINDS {
+            self.marks_binds.clear();
+        }
+        let bind = self
+            .marks_binds
+            .entry(marks.clone())
+            .or_insert_with(|| {
+                Layout::ValidateMarks.bind(
+                    gpu,
+                    &self.passes.marks.1,
+                    &[
+                        (0, self.frame.as_entire_binding()),
+                        (1, self.check.as_entire_binding()),
+                        (2, self.results.as_entire_binding()),
+                        (3, self.stamps.as_entire_binding()),
+                        (4, self.marked.as_entire_binding()),
+                        (5, self.shadow.as_entire_binding()),
+                        (6, self.bounds.as_entire_binding()),
+                        (10, marks.as_entire_binding()),
+                        (11, self.before.as_entire_binding()),
+                    ],
+                )
+            })
+            .clone();
+        let (x, y) = dispatch_size(self.slots, 64);
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation marks"), timestamp_writes: None });
+        pass.set_pipeline(&self.passes.marks.0);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.counted_dispatch(x, y, 1);
+    }
+
+    /// Ends the frame: checks the last group and every sample's ID, and
+    /// copies the findings to a staging buffer mapped when `enc` is
+    /// submitted.
+    pub(crate) fn end(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads) {
+        let Some((g, ..)) = self.group.take() else { return };
+        self.pixels(gpu, enc, uploads, g, self.group_mode(g) | FINAL);
+        let slot = match self.ring.iter().position(|(_, s)| s.is_free()) {
+            Some(i) => i,
+            None => {
+                self.ring.push((gpu.buffer("hroc validation staging", RESULT_BYTES, wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST), Readback::Free));
+                self.ring.len() - 1
+            }
+        };
+        let (buf, state) = &mut self.ring[slot];
+        enc.counted_copy(&self.results, 0, buf, 0, Some(RESULT_BYTES));
+        *state = Readback::request(enc, buf, self.tag);
+    }
+
+    fn group_mode(&self, g: usize) -> u32 {
+        let marks = matches!(self.tag.groups[g], Some((_, true)));
+        (if self.ids { CHECK_IDS } else { 0 }) | (if marks { HOST_MARKS } else { 0 })
+    }
+
+    fn write(&mut self, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, group: usize, mode: u32) {
+        self.uniform.group = group as u32;
+        self.uniform.mode = mode;
+        uploads.write(enc, &self.check, 0, bytemuck::bytes_of(&self.uniform));
+    }
+
+    /// The pass over the host's depth and IDs, checking group `group`.
+    fn pixels(&mut self, _gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, group: usize, mode: u32) {
+        let mode = mode | if self.ids { CHECK_IDS } else { 0 };
+        self.write(enc, uploads, group, mode);
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation pixels"), timestamp_writes: None });
+        pass.set_pipeline(&self.passes.pixels.0);
+        pass.set_bind_group(0, &self.pixels_bind, &[]);
+        pass.counted_dispatch(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
+    }
+
+    /// Takes the findings that arrived, polling the device without
+    /// waiting: an error for the earliest frame that had any.
+    fn harvest(&mut self, gpu: &Gpu) -> Result<(), Error> {
+        let _ = gpu.device.poll(wgpu::PollType::Poll);
+        let mut first: Option<(u64, String)> = None;
+        for (buf, slot) in self.ring.iter_mut() {
+            let name = &self.name;
+            if let Some(Some(found)) = slot.take(buf, |tag, bytes| describe(name, tag, bytes)) {
+                if first.as_ref().is_none_or(|(f, _)| found.0 < *f) {
+                    first = Some(found);
+                }
+            }
+        }
+        match first {
+            Some((_, message)) => Err(Error::Validation(message)),
+            None => Ok(()),
+        }
+    }
+}
+
+/// What validation finds: the mistake and its fix, by kind.
+const FINDINGS: [&str; KINDS] = [
+    "the depth became farther between the culler's draws: the depth target was cleared or overwritten inside the frame (a LoadOp::Clear in a draw's pass, or a pass of the host's own). Clear it once, before View::cull, and load it (LoadOp::Load) in the pass of every Draw",
+    "an object's ID was erased between the culler's draws: the ID target was cleared inside the frame. Clear it once, before View::cull, and load it in the pass of every Draw",
+    "the ID target holds a value past the culler's object slots: write the draw's instance_index + 1 (the object index + 1), and clear the target to 0",
+    "the ID target names an object that no occluding list drew this frame: write instance_index + 1 in the occluding draws only (not in the non-occluders' pass nor in passes of the host's own), and clear the target to 0 each frame",
+    "an object drew a fragment in front of its box along the pixel's ray: its box does not bound what it draws (a box too small, a stale or wrong transform, skinning or morphing past the box), or its pass biases depth toward the viewer. Give boxes that hold every vertex of the frame drawn (Culler::set_bounds before the frame), flag deforming objects ObjectFlags::NEVER_CULL, and bias depth only away from the viewer",
+    "depth was drawn where the ID target holds 0: every occluding draw writes the object index + 1 (object 0 writes 1) wherever it writes depth, and nothing else writes depth in the frame",
+    "an object owns a sample after a phase the host marks, and was not marked: the fragment shaders of the phase must be declared @early_depth_test(force) and call hroc_mark(instance_index) (hroc::device::marks_wgsl), with Draw::marks bound at the group the pipeline's layout has it (Draw::record)",
+    "an object was marked although its box lay behind the depth already drawn at every pixel it covers: a fragment that failed the depth test ran the fragment shader, so it is not declared @early_depth_test(force). Declare it on every fragment entry point that calls hroc_mark",
+    "the ID values look like the object index itself: write the index + 1 (instance_index + 1), since 0 means nothing was drawn",
+];
+
+/// The findings of one frame, as one message (`None`: it had none).
+fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<(u64, String)> {
+    let word = |i: usize| bytemuck::pod_read_unaligned::<u32>(&bytes[i * 4..i * 4 + 4]);
+    let phase = |g: u32| match tag.groups.get(g as usize).copied().flatten() {
+        Some((p, _)) => format!(", in the {p:?} phase"),
+        None => String::new(),
+    };
+    let mut lines = Vec::new();
+    // The index diagnosis explains the other ID findings: it comes first.
+    for kind in [8, 0, 1, 2, 3, 5, 4, 6, 7] {
+        let count = word(kind * 4);
+        if count == 0 {
+            continue;
+        }
+        let (object, pixel, group) = (word(kind * 4 + 1), word(kind * 4 + 2), word(kind * 4 + 3));
+        let what = match kind {
+            2 => format!("ID {object}"),
+            _ if object != u32::MAX => format!("object {object}"),
+            _ => String::new(),
+        };
+        let at = if pixel != u32::MAX { format!(" at pixel ({}, {})", pixel & 0xffff, pixel >> 16) } else { String::new() };
+        lines.push(format!("{what}{at}{} ({count} found): {}", phase(group), FINDINGS[kind]));
+    }
+    let changed = KINDS * 4;
+    let marked = changed + GROUPS;
+    for (g, group) in tag.groups.iter().enumerate() {
+        if let Some((p, true)) = group {
+            let (pixels, objects) = (word(changed + g), word(marked + g));
+            if pixels > 0 && objects == 0 {
+                lines.push(format!(
+                    "the {p:?} phase drew {pixels} pixels and marked no object: {}",
+                    FINDINGS[6].split_once(": ").map_or(FINDINGS[6], |(_, fix)| fix)
+                ));
+            }
+        }
+    }
+    (!lines.is_empty()).then(|| (tag.frame, format!("{view}, frame {}: {}", tag.frame, lines.join("; "))))
+}

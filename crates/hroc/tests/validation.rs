@@ -1,0 +1,300 @@
+//! Validation (`CullerDesc::validation`), on lavapipe: each host mistake
+//! that makes a view cull what it must draw, made by a host of a few
+//! lines drawing the street, gives an error naming it and its fix within 3
+//! frames with validation on, and changes nothing with it off; the same
+//! host without mistakes raises none.
+
+use common::street::{boxes, cube, look, SIZE};
+use glam::{Mat4, Vec3};
+use hroc::{Aabb, Culler, CullerDesc, DepthRange, Draw, Error, FrameInput, Method, ObjectDesc, ObjectFlags, View, ViewDesc, ViewTargets};
+use wgpu::util::DeviceExt;
+
+mod common;
+
+/// What the host gets wrong.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mistake {
+    None,
+    /// Depth and IDs cleared in every draw's pass (`LoadOp::Clear`).
+    ClearInDraw,
+    /// Depth bias toward the viewer (constant −2000, slope −4), as a
+    /// shadow pass biased the wrong way.
+    BiasTowardViewer,
+    /// An occluding fragment shader without `hroc_mark` and without
+    /// `@early_depth_test(force)`.
+    NoMark,
+    /// `hroc_mark` without `@early_depth_test(force)`.
+    MarkWithoutEarlyZ,
+    /// IDs written as the object index, not index + 1.
+    IndexForId,
+    /// A marking pipeline whose layout has no marks group.
+    NoMarksGroup,
+    /// Object 20's box 10 % smaller than what it draws, as it moves.
+    SmallBoxMoving,
+}
+
+/// The moving object of [`Mistake::SmallBoxMoving`].
+const MOVER: usize = 20;
+
+/// A host that draws the street with one pipeline for every draw, made
+/// with `mistake`.
+struct Host {
+    mistake: Mistake,
+    pipeline: wgpu::RenderPipeline,
+    camera: wgpu::Buffer,
+    camera_bind: wgpu::BindGroup,
+    vertices: wgpu::Buffer,
+    indices: wgpu::Buffer,
+    corners: Vec<[f32; 3]>,
+    depth: wgpu::Texture,
+    ids: wgpu::Texture,
+}
+
+impl Host {
+    fn new(device: &wgpu::Device, mistake: Mistake) -> (Host, Vec<ObjectDesc>) {
+        let (mut corners, mut indices, mut objects) = (Vec::new(), Vec::new(), Vec::new());
+        for (i, b) in boxes().iter().enumerate() {
+            let (v, idx) = cube(b);
+            let base = corners.len() as u32;
+            corners.extend(v);
+            indices.extend(idx.map(|k| k + base));
+            objects.push(ObjectDesc { bounds: *b, index_count: 36, first_index: 36 * i as u32, base_vertex: 0, flags: ObjectFlags::NONE, oriented: None });
+        }
+        let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
+        let (pipeline, camera_layout) = pipeline(device, mistake);
+        let camera = init("camera", &[0u8; 64], wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
+        let camera_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: None,
+            layout: &camera_layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: camera.as_entire_binding() }],
+        });
+        use wgpu::TextureUsages as U;
+        let host = Host {
+            mistake,
+            pipeline,
+            camera,
+            camera_bind,
+            vertices: init("vertices", bytemuck::cast_slice(&corners), wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST),
+            indices: init("indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX),
+            corners,
+            depth: common::texture(device, wgpu::TextureFormat::Depth32Float, (SIZE, SIZE, 1), 1, 1, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING),
+            ids: common::texture(device, wgpu::TextureFormat::R32Uint, (SIZE, SIZE, 1), 1, 1, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING),
+        };
+        (host, objects)
+    }
+
+    fn targets(&self) -> ViewTargets<'_> {
+        ViewTargets::new(&self.depth, DepthRange::Standard).with_ids(&self.ids)
+    }
+
+    fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, clear: bool) -> wgpu::RenderPass<'e> {
+        let (depth, ids) = (self.depth.create_view(&Default::default()), self.ids.create_view(&Default::default()));
+        fn ops<T>(clear: bool, c: T) -> wgpu::Operations<T> {
+            wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(c) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store }
+        }
+        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("host"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment { view: &ids, depth_slice: None, resolve_target: None, ops: ops(clear, wgpu::Color::TRANSPARENT) })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view: &depth, depth_ops: Some(ops(clear, 1.0)), stencil_ops: None }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+
+    /// Frame `k` of `view` seen from `desc`, submitted and waited for: the
+    /// cull's result.
+    fn frame(&self, device: &wgpu::Device, queue: &wgpu::Queue, culler: &mut Culler, view: &mut View, desc: ViewDesc, k: usize) -> hroc::Result<()> {
+        let mut enc = device.create_command_encoder(&Default::default());
+        if self.mistake == Mistake::SmallBoxMoving {
+            // The mover slides along the street; its box is 10 % too small.
+            let shift = Vec3::new(0.3 * k as f32, 0.0, 0.0);
+            let moved: Vec<[f32; 3]> = self.corners[8 * MOVER..8 * MOVER + 8].iter().map(|&c| (Vec3::from(c) + shift).to_array()).collect();
+            let staging = device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: None, contents: bytemuck::cast_slice(&moved), usage: wgpu::BufferUsages::COPY_SRC });
+            enc.copy_buffer_to_buffer(&staging, 0, &self.vertices, (8 * MOVER * 12) as u64, 96);
+            let b = boxes()[MOVER];
+            let (centre, half) = ((b.min + b.max) * 0.5 + shift, (b.max - b.min) * 0.45);
+            culler.set_bounds(&[(MOVER as u32, Aabb::new(centre - half, centre + half))]).unwrap();
+        }
+        let camera = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: None,
+            contents: bytemuck::bytes_of(&(desc.proj * desc.view)),
+            usage: wgpu::BufferUsages::COPY_SRC,
+        });
+        enc.copy_buffer_to_buffer(&camera, 0, &self.camera, 0, 64);
+        drop(self.pass(&mut enc, true));
+        let result = view.cull(culler, &mut enc, &FrameInput { view: desc, cut: false, time: k as f32 }, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
+            let mut pass = self.pass(enc, self.mistake == Mistake::ClearInDraw);
+            pass.set_bind_group(0, &self.camera_bind, &[]);
+            pass.set_vertex_buffer(0, self.vertices.slice(..));
+            pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
+            draw.record(&mut pass, &self.pipeline, 1);
+        });
+        queue.submit([enc.finish()]);
+        device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+        result
+    }
+}
+
+/// The host's pipeline with `mistake`: positions at location 0,
+/// `view_proj` at group 0, hroc's marks at group 1, depth and the ID
+/// target written.
+fn pipeline(device: &wgpu::Device, mistake: Mistake) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
+    let id = if mistake == Mistake::IndexForId { "in.object" } else { "in.object + 1u" };
+    let early = if matches!(mistake, Mistake::NoMark | Mistake::MarkWithoutEarlyZ | Mistake::NoMarksGroup) { "" } else { "@early_depth_test(force) " };
+    let mark = if matches!(mistake, Mistake::NoMark | Mistake::NoMarksGroup) { "" } else { " hroc_mark(in.object);" };
+    let marks_group = mistake != Mistake::NoMarksGroup;
+    let source = format!(
+        "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\
+         struct Out {{ @builtin(position) clip: vec4<f32>, @location(0) @interpolate(flat) object: u32 }}\n\
+         @vertex fn vs(@location(0) p: vec3<f32>, @builtin(instance_index) i: u32) -> Out {{ return Out(view_proj * vec4<f32>(p, 1.0), i); }}\n\
+         @fragment {early}fn fs(in: Out) -> @location(0) vec4<u32> {{{mark} return vec4<u32>({id}, 0u, 0u, 0u); }}\n",
+        if mark.is_empty() { String::new() } else { hroc::device::marks_wgsl(1) }
+    );
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("host"), source: wgpu::ShaderSource::Wgsl(source.into()) });
+    let camera = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("camera"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::VERTEX,
+            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
+            count: None,
+        }],
+    });
+    let marks = hroc::device::marks_layout(device);
+    let groups: Vec<Option<&wgpu::BindGroupLayout>> = if marks_group { vec![Some(&camera), Some(&marks)] } else { vec![Some(&camera)] };
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("host"), bind_group_layouts: &groups, immediate_size: 0 });
+    let bias = match mistake {
+        Mistake::BiasTowardViewer => wgpu::DepthBiasState { constant: -2000, slope_scale: -4.0, clamp: 0.0 },
+        _ => Default::default(),
+    };
+    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("host"),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 12, step_mode: wgpu::VertexStepMode::Vertex, attributes: &wgpu::vertex_attr_array![0 => Float32x3] })],
+        },
+        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: wgpu::TextureFormat::Depth32Float,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::Less),
+            stencil: Default::default(),
+            bias,
+        }),
+        multisample: Default::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState { format: wgpu::TextureFormat::R32Uint, blend: None, write_mask: wgpu::ColorWrites::ALL })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    });
+    (pipeline, camera)
+}
+
+/// The views: a walk along the street, or (for the biased shadow pass) a
+/// directional light's orthographic cascade looking down the street.
+fn path(mistake: Mistake, k: usize) -> ViewDesc {
+    match mistake {
+        Mistake::BiasTowardViewer => {
+            let light = Vec3::new(0.3 + 0.02 * k as f32, 0.6, 1.0).normalize();
+            let target = Vec3::new(0.0, 0.0, -8.0);
+            ViewDesc { view: Mat4::look_at_rh(target + 30.0 * light, target, Vec3::Y), proj: Mat4::orthographic_rh(-16.0, 16.0, -16.0, 16.0, 1.0, 60.0), unclipped_depth: false }
+        }
+        _ => look(Vec3::new(-3.0 + 0.25 * k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)),
+    }
+}
+
+/// The first 6 frames of `method` culling for a host making `mistake`:
+/// each cull's result.
+fn run(mistake: Mistake, method: Method, validation: bool) -> Vec<hroc::Result<()>> {
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
+    let (host, objects) = Host::new(&device, mistake);
+    let mut culler = Culler::new(&device, &queue, &CullerDesc { validation, ..CullerDesc::new(&objects) }).unwrap();
+    let mut view = culler.view(method, &host.targets()).unwrap();
+    (0..6).map(|k| host.frame(&device, &queue, &mut culler, &mut view, path(mistake, k), k)).collect()
+}
+
+/// With validation, an error within 3 frames whose message has `words`;
+/// without, every frame culls as before.
+fn caught(mistake: Mistake, method: Method, words: &[&str]) {
+    let on = run(mistake, method, true);
+    let first = on.iter().position(|r| r.is_err());
+    assert!(first.is_some_and(|k| k < 3), "{mistake:?} ({method}): no error within 3 frames: {on:?}");
+    let message = on[first.unwrap()].as_ref().unwrap_err().to_string();
+    eprintln!("{mistake:?} ({method}) frame {}: {message}", first.unwrap());
+    for w in words {
+        assert!(message.contains(w), "{mistake:?} ({method}): the error does not say {w:?}: {message}");
+    }
+    let off = run(mistake, method, false);
+    assert!(off.iter().all(|r| r.is_ok()), "{mistake:?} ({method}) without validation: {off:?}");
+}
+
+#[test]
+fn a_host_that_keeps_the_contract_raises_no_alarm() {
+    for method in [Method::HROC, Method::Hroc(hroc::options::Variant::NA), Method::Hzb, Method::Roc, Method::Noc, Method::Auto] {
+        let results = run(Mistake::None, method, true);
+        assert!(results.iter().all(|r| r.is_ok()), "{method}: {results:?}");
+    }
+}
+
+#[test]
+fn a_clear_inside_the_frame_is_caught() {
+    caught(Mistake::ClearInDraw, Method::HROC, &["cleared", "LoadOp::Load"]);
+    caught(Mistake::ClearInDraw, Method::Hzb, &["cleared"]);
+}
+
+#[test]
+fn depth_bias_toward_the_light_is_caught() {
+    caught(Mistake::BiasTowardViewer, Method::HROC, &["in front of its box", "bias depth only away"]);
+}
+
+#[test]
+fn a_shader_that_does_not_mark_is_caught() {
+    caught(Mistake::NoMark, Method::HROC, &["not marked", "hroc_mark"]);
+    caught(Mistake::NoMark, Method::Roc, &["hroc_mark"]);
+}
+
+#[test]
+fn marks_without_forced_early_z_are_caught() {
+    caught(Mistake::MarkWithoutEarlyZ, Method::HROC, &["failed the depth test", "@early_depth_test(force)"]);
+}
+
+#[test]
+fn ids_written_as_the_index_are_caught() {
+    caught(Mistake::IndexForId, Method::HROC, &["index + 1"]);
+}
+
+#[test]
+fn a_pipeline_without_the_marks_group_is_refused() {
+    caught(Mistake::NoMarksGroup, Method::HROC, &["no marks group at group 1", "marks_layout"]);
+    let on = run(Mistake::NoMarksGroup, Method::HROC, true);
+    assert!(matches!(on[0], Err(Error::InvalidPipeline(_))), "refused on the first frame, before the draw: {on:?}");
+}
+
+#[test]
+fn a_box_too_small_around_a_moving_object_is_caught() {
+    caught(Mistake::SmallBoxMoving, Method::HROC, &[&format!("object {MOVER}"), "in front of its box", "set_bounds"]);
+}
+
+#[test]
+fn index_ranges_past_the_declared_buffer_are_refused() {
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
+    let (_, mut objects) = Host::new(&device, Mistake::None);
+    let indices = objects.len() as u32 * 36;
+    objects[3].first_index = 1_000_000;
+    let declared = CullerDesc { index_count: Some(indices), ..CullerDesc::new(&objects) };
+    let refused = Culler::new(&device, &queue, &declared).err().map(|e| e.to_string()).unwrap_or_default();
+    assert!(refused.contains("object 3") && refused.contains("CullerDesc::index_count"), "{refused}");
+    // Added later, too; a host that declares no size is not checked.
+    let (_, good) = Host::new(&device, Mistake::None);
+    let mut culler = Culler::new(&device, &queue, &CullerDesc { index_count: Some(indices), ..CullerDesc::new(&good) }).unwrap();
+    assert!(culler.add_objects(&objects[3..4]).is_err());
+    assert!(Culler::new(&device, &queue, &CullerDesc { validation: false, ..CullerDesc::new(&objects) }).is_ok());
+}
