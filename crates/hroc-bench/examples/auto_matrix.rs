@@ -92,7 +92,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                         continue;
                     }
                     let camera_path = (path_name != "own").then(|| path_name.into());
-                    let o = BenchOptions { fps: Some(fps), camera_path, ..BenchOptions::new(scene_key, Some(n), methods.clone()) };
+                    let o = BenchOptions { fps: Some(fps), camera_path, validate: false, ..BenchOptions::new(scene_key, Some(n), methods.clone()) };
                     let (scene, path) = bench::load_inputs(&o)?;
                     let path = path.unwrap_or_else(|| scene.path.clone());
                     let path = if fps > 30.0 { first_seconds(&path, seconds) } else { path };

@@ -27,7 +27,8 @@ use random_boxes::{random_boxes, Dist};
 
 /// `hroc bench`'s defaults for `scene`, `objects` and `methods`.
 fn options(scene: &str, objects: Option<usize>, methods: &str) -> BenchOptions {
-    BenchOptions::new(scene, objects, bench::parse_methods(methods).expect("known methods"))
+    // Timed and counted as `hroc bench` runs: without validation.
+    BenchOptions { validate: false, ..BenchOptions::new(scene, objects, bench::parse_methods(methods).expect("known methods")) }
 }
 
 fn row(r: &BenchReport, method: Method) -> &MethodRow {

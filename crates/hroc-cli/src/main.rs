@@ -231,6 +231,11 @@ struct BenchArgs {
     /// (pipeline-statistics queries, where the device has them).
     #[arg(long)]
     breakdown: bool,
+    /// Validate every view's draws on the GPU (hroc::CullerDesc::validation):
+    /// a host mistake fails the run with what it was and its fix. Adds a
+    /// few passes to every frame; the table states whether it ran.
+    #[arg(long)]
+    validate: bool,
     /// Samples per pixel of the camera's colour, depth and object-ID
     /// targets: 1 (none) or 4 (the count wgpu multisamples on every
     /// device; the IDs then `Rg16Uint`).
@@ -408,6 +413,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         dynamic: a.dynamic,
         motion: hroc::options::MotionOptions { refit: a.refit, rebuild_sah_growth: a.rebuild_growth, ..Default::default() },
         timestamps: a.breakdown,
+        validate: a.validate,
         msaa: a.msaa,
         shadow_cascades: a.shadow_cascades,
         projection: a.projection,

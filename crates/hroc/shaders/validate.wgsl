@@ -47,7 +47,8 @@ struct Check {
     // The group checked, stamped or marked.
     group: u32,
     mode: u32,
-    _pad: u32,
+    // The list stamped: its place among the frame's lists.
+    list: u32,
 }
 
 struct Finding {
@@ -86,6 +87,11 @@ struct Results {
 // A list handed to the host.
 @group(0) @binding(12) var<storage, read> commands: array<DrawCommand>;
 @group(0) @binding(13) var<storage, read> count: array<u32>;
+// Per object: the place of the list that drew it among the frame's lists.
+@group(0) @binding(14) var<storage, read_write> order: array<u32>;
+// Per object: tag << 8 | group, when it owned a sample after the group
+// that drew it with the host's marks.
+@group(0) @binding(15) var<storage, read_write> owned: array<u32>;
 
 fn found(kind: u32, object: u32, pixel: u32, group: u32) {
     if atomicAdd(&results.findings[kind].count, 1u) == 0u {
@@ -109,6 +115,7 @@ fn stamp(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: ve
     }
     let again = select(0u, 0x80u, (stamps[o] >> 8u) == check.tag);
     stamps[o] = (check.tag << 8u) | again | min(check.group, GROUPS - 1u);
+    order[o] = check.list;
 }
 
 // After a group drawn with the host's marks: stamps the objects it drew
@@ -134,35 +141,20 @@ fn marks_of_group(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups
 
 // True when every pixel a box can cover holds depth nearer than the box's
 // nearest corner (what the group started from): no fragment inside the
-// box can pass the depth test there. Boxes reaching the near plane, off
-// the view, or over 64 × 64 pixels are left unchecked (false).
+// box can pass the depth test there.
 fn box_hidden(b: ObjectBounds) -> bool {
-    var lo = vec2<f32>(3.0e38);
-    var hi = vec2<f32>(-3.0e38);
+    let r = box_pixels(b);
+    if r.x > r.z {
+        return false;
+    }
     var near = 3.0e38;
     for (var c = 0u; c < 8u; c++) {
-        let p = select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
-        let clip = frame.view_proj * vec4<f32>(p, 1.0);
-        if clip.w <= 1e-6 {
-            return false;
-        }
-        let ndc = clip.xyz / clip.w;
-        lo = min(lo, ndc.xy);
-        hi = max(hi, ndc.xy);
-        near = min(near, std_depth(frame, ndc.z));
+        let clip = frame.view_proj * vec4<f32>(select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u)), 1.0);
+        near = min(near, std_depth(frame, clip.z / clip.w));
     }
-    if near <= DEPTH_SLACK || lo.x > 1.0 || lo.y > 1.0 || hi.x < -1.0 || hi.y < -1.0 {
-        return false;
-    }
-    let size = vec2<i32>(frame.viewport.xy);
-    let first = max(vec2<i32>(floor(vec2<f32>(lo.x + 1.0, 1.0 - hi.y) * 0.5 * frame.viewport.xy)) - 1, vec2<i32>(0));
-    let last = min(vec2<i32>(floor(vec2<f32>(hi.x + 1.0, 1.0 - lo.y) * 0.5 * frame.viewport.xy)) + 1, size - 1);
-    if (last.x - first.x + 1) * (last.y - first.y + 1) > 4096 {
-        return false;
-    }
-    for (var y = first.y; y <= last.y; y++) {
-        for (var x = first.x; x <= last.x; x++) {
-            if near <= bitcast<f32>(shadow[u32(y * size.x + x)].x) + DEPTH_SLACK {
+    for (var y = r.y; y <= r.w; y++) {
+        for (var x = r.x; x <= r.z; x++) {
+            if near <= bitcast<f32>(shadow[u32(y * i32(frame.viewport.x) + x)].x) + DEPTH_SLACK {
                 return false;
             }
         }
@@ -170,11 +162,89 @@ fn box_hidden(b: ObjectBounds) -> bool {
     return true;
 }
 
+// After the pixel pass of a group drawn with the host's marks: an object
+// the group drew and marked, that owns no sample now, while every sample
+// of the pixels it can cover is empty or owned by an object drawn before
+// it, never passed the depth test (it would own a sample, or one drawn
+// after it would), so a fragment that failed the test marked it: no
+// forced early-Z. Lists that marks are read from are in object order, so
+// "before" is an earlier list, or the same list and a lower index.
+@compute @workgroup_size(64)
+fn late_marks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+    let a = flat_id(wid, nwg, lid, 64u);
+    if a >= arrayLength(&stamps) {
+        return;
+    }
+    let mine = (check.tag << 8u) | check.group;
+    let s = stamps[a];
+    if s != mine || marked[a] != mine || owned[a] == mine {
+        return;
+    }
+    let r = box_pixels(bounds[a]);
+    if r.x > r.z {
+        return;
+    }
+    for (var y = r.y; y <= r.w; y++) {
+        for (var x = r.x; x <= r.z; x++) {
+            for (var k = 0; k < i32(HOST_SAMPLES); k++) {
+                let id = host_id(ids, vec2<i32>(x, y), k);
+                if id == 0u {
+                    continue;
+                }
+                let b = id - 1u;
+                if b >= arrayLength(&stamps) || (stamps[b] >> 8u) != check.tag || !(order[b] < order[a] || (order[b] == order[a] && b < a)) {
+                    return;
+                }
+            }
+        }
+    }
+    found(HIDDEN_MARK, a, NONE, check.group);
+}
+
+// The pixels a box can cover (x0, y0, x1, y1, a pixel more on each side),
+// or an empty rectangle (x0 > x1) for a box that reaches the near plane,
+// lies off the view or covers over 64 × 64 pixels.
+fn box_pixels(b: ObjectBounds) -> vec4<i32> {
+    var lo = vec2<f32>(3.0e38);
+    var hi = vec2<f32>(-3.0e38);
+    for (var c = 0u; c < 8u; c++) {
+        let p = select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
+        let clip = frame.view_proj * vec4<f32>(p, 1.0);
+        if clip.w <= 1e-6 || std_depth(frame, clip.z / clip.w) <= DEPTH_SLACK {
+            return vec4<i32>(1, 0, 0, 0);
+        }
+        lo = min(lo, clip.xy / clip.w);
+        hi = max(hi, clip.xy / clip.w);
+    }
+    if lo.x > 1.0 || lo.y > 1.0 || hi.x < -1.0 || hi.y < -1.0 {
+        return vec4<i32>(1, 0, 0, 0);
+    }
+    let size = vec2<i32>(frame.viewport.xy);
+    let first = max(vec2<i32>(floor(vec2<f32>(lo.x + 1.0, 1.0 - hi.y) * 0.5 * frame.viewport.xy)) - 1, vec2<i32>(0));
+    let last = min(vec2<i32>(floor(vec2<f32>(hi.x + 1.0, 1.0 - lo.y) * 0.5 * frame.viewport.xy)) + 1, size - 1);
+    if (last.x - first.x + 1) * (last.y - first.y + 1) > 4096 {
+        return vec4<i32>(1, 0, 0, 0);
+    }
+    return vec4<i32>(first, last);
+}
+
 // The world point at pixel position `p` (pixels, y down) and depth `d`.
 fn unproject(p: vec2<f32>, d: f32) -> vec3<f32> {
     let ndc = vec4<f32>(p.x * 2.0 * frame.viewport.z - 1.0, 1.0 - p.y * 2.0 * frame.viewport.w, d, 1.0);
     let v = check.inv_proj * ndc;
     return (check.inv_view * vec4<f32>(v.xyz / v.w, 1.0)).xyz;
+}
+
+// How far from box `b` a point `q` drawn at pixel position `c` and depth
+// `d` of geometry inside it may lie: where in the pixel the sample lies
+// (one sample per pixel lies at its centre, up to the rasterizer's
+// snapping; several anywhere in it), the depth's rounding, and float
+// rounding of the box and the point.
+fn box_margin(b: ObjectBounds, c: vec2<f32>, d: f32, q: vec3<f32>) -> f32 {
+    let nearer = select(d - 2.0 * DEPTH_SLACK, d + 2.0 * DEPTH_SLACK, frame.reversed != 0u);
+    let px = select(PIXEL_PAD, 0.75, HOST_SAMPLES > 1u);
+    let lateral = distance(unproject(c + vec2<f32>(1.0, 0.0), d), q) + distance(unproject(c + vec2<f32>(0.0, 1.0), d), q);
+    return px * lateral + distance(unproject(c, nearer), q) + 1e-4 * length(b.max - b.min) + 1e-6 * length(q) + 1e-7;
 }
 
 // True when the pixel ray through `p`'s centre, from its origin to the
@@ -188,19 +258,32 @@ fn reaches_box(o: u32, p: vec2<i32>, d: f32) -> bool {
     let ndc = vec2<f32>(c.x * 2.0 * frame.viewport.z - 1.0, 1.0 - c.y * 2.0 * frame.viewport.w);
     let origin = ray_origin(frame, ndc);
     let dir = q - origin;
-    let nearer = select(d - 2.0 * DEPTH_SLACK, d + 2.0 * DEPTH_SLACK, frame.reversed != 0u);
     let b = bounds[o];
-    // One sample per pixel lies at its centre, up to the rasterizer's
-    // snapping; several lie anywhere in it.
-    let px = select(PIXEL_PAD, 0.75, HOST_SAMPLES > 1u);
-    let lateral = distance(unproject(c + vec2<f32>(1.0, 0.0), d), q) + distance(unproject(c + vec2<f32>(0.0, 1.0), d), q);
-    let pad = px * lateral + distance(unproject(c, nearer), q) + 1e-4 * length(b.max - b.min) + 1e-6 * (length(q) + length(origin)) + 1e-7;
+    let pad = box_margin(b, c, d, q) + 1e-6 * length(origin);
     let inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
     let world = ray_box(origin, inv, b.min - vec3<f32>(pad), b.max + vec3<f32>(pad));
     let own = ray_oriented(oriented[o], origin, dir, pad);
     let enter = max(world.x, own.x);
     let leave = min(world.y, own.y);
     return enter <= leave && enter <= 1.0 + 1e-5 && leave >= 0.0;
+}
+
+// True when the point drawn at pixel `p`'s centre and depth `d` lies in
+// object `o`'s box (and its own box), grown as `reaches_box` grows it:
+// geometry of `o` drew it.
+fn holds_point(o: u32, p: vec2<i32>, d: f32) -> bool {
+    let c = vec2<f32>(p) + 0.5;
+    let q = unproject(c, d);
+    let b = bounds[o];
+    let pad = box_margin(b, c, d, q);
+    let inside = all(q >= b.min - vec3<f32>(pad)) && all(q <= b.max + vec3<f32>(pad));
+    let own = oriented[o];
+    if own.valid == 0u || !inside {
+        return inside;
+    }
+    let l = vec3<f32>(dot(own.x.xyz, q) + own.x.w, dot(own.y.xyz, q) + own.y.w, dot(own.z.xyz, q) + own.z.w);
+    let g = pad * vec3<f32>(length(own.x.xyz), length(own.y.xyz), length(own.z.xyz)) + 1e-4 * length(own.max - own.min) + 1e-6 * max(max(abs(own.min), abs(own.max)), abs(l));
+    return all(l >= own.min - g) && all(l <= own.max + g);
 }
 
 var<workgroup> changed_here: atomic<u32>;
@@ -270,8 +353,11 @@ fn check_ids(p: vec2<i32>, px: u32, clear: f32) {
         }
         let st = stamps[o];
         let drawn = (st >> 8u) == check.tag;
-        if host_marks && drawn && (st & 0x7fu) == check.group && marked[o] != ((check.tag << 8u) | check.group) {
-            found(MISSING_MARK, o, px, check.group);
+        if host_marks && drawn && (st & 0x7fu) == check.group {
+            owned[o] = (check.tag << 8u) | check.group;
+            if marked[o] != owned[o] {
+                found(MISSING_MARK, o, px, check.group);
+            }
         }
         if !last {
             continue;
@@ -282,7 +368,7 @@ fn check_ids(p: vec2<i32>, px: u32, clear: f32) {
         }
         found(select(ID_NOT_DRAWN, OUTSIDE_BOX, drawn), o, px, select(NONE, st & 0x7fu, drawn));
         // The value is the object's index, not index + 1?
-        if id < arrayLength(&stamps) && (stamps[id] >> 8u) == check.tag && reaches_box(id, p, d) {
+        if id < arrayLength(&stamps) && (stamps[id] >> 8u) == check.tag && holds_point(id, p, d) {
             found(INDEX_FOR_ID, id, px, stamps[id] & 0x7fu);
         }
     }

@@ -78,13 +78,16 @@ pub enum Layout {
     ValidateStamp,
     /// Validation's check of the objects a group marked.
     ValidateMarks,
+    /// Validation's check, after a group's pixels, of the objects it
+    /// marked that own none.
+    ValidateLate,
 }
 
 const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 26] = [
+    pub const ALL: [Layout; 27] = [
         Layout::Compact,
         Layout::Refit,
         Layout::FlagSplit,
@@ -111,6 +114,7 @@ impl Layout {
         Layout::Validate,
         Layout::ValidateStamp,
         Layout::ValidateMarks,
+        Layout::ValidateLate,
     ];
 
     /// The label of the layout, its pipelines and bind groups.
@@ -142,6 +146,7 @@ impl Layout {
             Layout::Validate => "hroc validation pixels",
             Layout::ValidateStamp => "hroc validation stamp",
             Layout::ValidateMarks => "hroc validation marks",
+            Layout::ValidateLate => "hroc validation late marks",
         }
     }
 
@@ -177,6 +182,7 @@ impl Layout {
             Layout::Validate => &[("validate.wgsl", &["check_pixels"])],
             Layout::ValidateStamp => &[("validate.wgsl", &["stamp"])],
             Layout::ValidateMarks => &[("validate.wgsl", &["marks_of_group"])],
+            Layout::ValidateLate => &[("validate.wgsl", &["late_marks"])],
         }
     }
 

@@ -63,8 +63,8 @@ pub struct CheckUniform {
     pub group: u32,
     /// `SNAPSHOT`, `CHECK_IDS`, `HOST_MARKS`, `FINAL` bits.
     pub mode: u32,
-    /// Unused.
-    pub _pad: u32,
+    /// The list stamped: its place among the frame's lists.
+    pub list: u32,
 }
 
 /// The validation passes of a culler's device, per sample count of the
@@ -74,12 +74,13 @@ pub(crate) struct Validator {
     built: std::sync::Mutex<Vec<(u32, Passes)>>,
 }
 
-/// The three passes and their layouts.
+/// The passes and their layouts.
 #[derive(Clone)]
 struct Passes {
     pixels: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
     stamp: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
     marks: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
+    late: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
 }
 
 impl Validator {
@@ -93,7 +94,12 @@ impl Validator {
             let bgl = layout.create_for(gpu, samples);
             (gpu.compute_pipeline(&module, entry, Some(&pipeline_layout(gpu, layout.label(), &bgl)), &[]), bgl)
         };
-        let p = Passes { pixels: make(Layout::Validate, "check_pixels"), stamp: make(Layout::ValidateStamp, "stamp"), marks: make(Layout::ValidateMarks, "marks_of_group") };
+        let p = Passes {
+            pixels: make(Layout::Validate, "check_pixels"),
+            stamp: make(Layout::ValidateStamp, "stamp"),
+            marks: make(Layout::ValidateMarks, "marks_of_group"),
+            late: make(Layout::ValidateLate, "late_marks"),
+        };
         built.push((samples, p.clone()));
         p
     }
@@ -115,8 +121,10 @@ pub(crate) struct Validation {
     stamps: wgpu::Buffer,
     marked: wgpu::Buffer,
     before: wgpu::Buffer,
+    order: wgpu::Buffer,
     shadow: wgpu::Buffer,
     pixels_bind: wgpu::BindGroup,
+    late_bind: wgpu::BindGroup,
     stamp_binds: HashMap<(wgpu::Buffer, wgpu::Buffer), wgpu::BindGroup>,
     marks_binds: HashMap<wgpu::Buffer, wgpu::BindGroup>,
     /// Shared with the binds built later.
@@ -133,6 +141,8 @@ pub(crate) struct Validation {
     /// The frame's draws so far: none yet, or the group being drawn (its
     /// phase and marks buffer).
     group: Option<(usize, Phase, Option<wgpu::Buffer>)>,
+    /// Lists handed to the host so far in the frame.
+    lists: u32,
     ring: Vec<(wgpu::Buffer, Readback<Tag>)>,
 }
 
@@ -158,6 +168,7 @@ impl Validation {
         let results = gpu.buffer("hroc validation results", RESULT_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let shadow = gpu.buffer("hroc validation shadow", (t.size.0 * t.size.1).max(1) as u64 * 16, U::STORAGE);
         let (stamps, marked, before) = (per_object("hroc validation stamps"), per_object("hroc validation marked"), per_object("hroc validation marks before"));
+        let (order, owned) = (per_object("hroc validation order"), per_object("hroc validation owned"));
         let ids_format = if t.samples > 1 { wgpu::TextureFormat::Rg16Uint } else { wgpu::TextureFormat::R32Uint };
         let stand_in;
         let ids = match (&t.ids, d.ids) {
@@ -167,22 +178,22 @@ impl Validation {
                 &stand_in
             }
         };
-        let pixels_bind = Layout::Validate.bind(
-            gpu,
-            &passes.pixels.1,
-            &[
-                (0, d.frame.as_entire_binding()),
-                (1, check.as_entire_binding()),
-                (2, results.as_entire_binding()),
-                (3, stamps.as_entire_binding()),
-                (4, marked.as_entire_binding()),
-                (5, shadow.as_entire_binding()),
-                (6, d.bounds.as_entire_binding()),
-                (7, d.oriented.as_entire_binding()),
-                (8, wgpu::BindingResource::TextureView(&t.depth_sampled)),
-                (9, wgpu::BindingResource::TextureView(ids)),
-            ],
-        );
+        let resources = [
+            (0, d.frame.as_entire_binding()),
+            (1, check.as_entire_binding()),
+            (2, results.as_entire_binding()),
+            (3, stamps.as_entire_binding()),
+            (4, marked.as_entire_binding()),
+            (5, shadow.as_entire_binding()),
+            (6, d.bounds.as_entire_binding()),
+            (7, d.oriented.as_entire_binding()),
+            (8, wgpu::BindingResource::TextureView(&t.depth_sampled)),
+            (9, wgpu::BindingResource::TextureView(ids)),
+            (14, order.as_entire_binding()),
+            (15, owned.as_entire_binding()),
+        ];
+        let pixels_bind = Layout::Validate.bind(gpu, &passes.pixels.1, &resources);
+        let late_bind = Layout::ValidateLate.bind(gpu, &passes.late.1, &resources);
         Validation {
             passes,
             check,
@@ -190,8 +201,10 @@ impl Validation {
             stamps,
             marked,
             before,
+            order,
             shadow,
             pixels_bind,
+            late_bind,
             stamp_binds: HashMap::new(),
             marks_binds: HashMap::new(),
             frame: d.frame.clone(),
@@ -203,6 +216,7 @@ impl Validation {
             uniform: CheckUniform::default(),
             tag: Tag { frame: 0, groups: [None; GROUPS] },
             group: None,
+            lists: 0,
             ring: Vec::new(),
         }
     }
@@ -221,6 +235,7 @@ impl Validation {
         };
         self.tag = Tag { frame: number, groups: [None; GROUPS] };
         self.group = None;
+        self.lists = 0;
         arrived
     }
 
@@ -255,6 +270,8 @@ impl Validation {
     pub(crate) fn after_draw(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, phase: Phase, list: &DrawList) {
         let Some((g, ..)) = self.group.as_ref().filter(|_| phase.occludes() && list.max_count > 0) else { return };
         let g = *g;
+        self.uniform.list = self.lists;
+        self.lists += 1;
         self.write(enc, uploads, g, 0);
         if self.stamp_binds.len() > BINDS {
             self.stamp_binds.clear();
@@ -271,6 +288,7 @@ impl Validation {
                         (3, self.stamps.as_entire_binding()),
                         (12, list.commands.as_entire_binding()),
                         (13, list.count.as_entire_binding()),
+                        (14, self.order.as_entire_binding()),
                     ],
                 )
             })
@@ -357,6 +375,18 @@ impl Validation {
         pass.set_pipeline(&self.passes.pixels.0);
         pass.set_bind_group(0, &self.pixels_bind, &[]);
         pass.counted_dispatch(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
+        // The group's marked objects that own no sample now.
+        if mode & (HOST_MARKS | CHECK_IDS) == HOST_MARKS | CHECK_IDS {
+            let (x, y) = dispatch_size(self.slots, 64);
+            pass.set_pipeline(&self.passes.late.0);
+            pass.set_bind_group(0, &self.late_bind, &[]);
+            pass.counted_dispatch(x, y, 1);
+        }
+    }
+
+    /// The findings that arrived ([`Validation::harvest`]).
+    pub(crate) fn arrived(&mut self, gpu: &Gpu) -> Result<(), Error> {
+        self.harvest(gpu)
     }
 
     /// Takes the findings that arrived, polling the device without
@@ -407,13 +437,15 @@ fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<(u64, String)> {
             continue;
         }
         let (object, pixel, group) = (word(kind * 4 + 1), word(kind * 4 + 2), word(kind * 4 + 3));
-        let what = match kind {
-            2 => format!("ID {object}"),
-            _ if object != u32::MAX => format!("object {object}"),
-            _ => String::new(),
+        let mut what = match kind {
+            2 => vec![format!("ID {object}")],
+            _ if object != u32::MAX => vec![format!("object {object}")],
+            _ => Vec::new(),
         };
-        let at = if pixel != u32::MAX { format!(" at pixel ({}, {})", pixel & 0xffff, pixel >> 16) } else { String::new() };
-        lines.push(format!("{what}{at}{} ({count} found): {}", phase(group), FINDINGS[kind]));
+        if pixel != u32::MAX {
+            what.push(format!("at pixel ({}, {})", pixel & 0xffff, pixel >> 16));
+        }
+        lines.push(format!("{}{} ({count} found): {}", what.join(" "), phase(group), FINDINGS[kind]));
     }
     let changed = KINDS * 4;
     let marked = changed + GROUPS;

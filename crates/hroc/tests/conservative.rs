@@ -16,7 +16,7 @@ mod common;
 fn every_method_family_draws_every_visible_object() {
     let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street(&device);
-    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let culler = Culler::new(&device, &queue, &CullerDesc { validation: true, ..CullerDesc::new(&objects) }).unwrap();
     assert_eq!(culler.capabilities(), Capabilities::FULL);
     // A walk along the street, a cut to above the wall, and the eye inside
     // the last box (which crosses the near plane).
@@ -33,7 +33,7 @@ fn every_method_family_draws_every_visible_object() {
     let gl = Capabilities { draw_count: DrawCount::Emulated, marks: Marks::EarlyZ, read_only_depth: false };
     let dx12 = Capabilities { draw_count: DrawCount::Indirect, marks: Marks::Ids, read_only_depth: true };
     for caps in [Capabilities::FULL, gl, dx12, Capabilities::PORTABLE] {
-        let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
+        let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), validation: true, ..CullerDesc::new(&objects) }).unwrap();
         assert_eq!(culler.capabilities(), caps);
         for method in [Method::Vfc, Method::Hzb, Method::Roc, Method::RocAll, Method::Ioc, Method::Chc, Method::Hroc(Variant::NA), Method::HROC] {
             let mut view = culler.view(method, &host.targets()).unwrap();
@@ -63,7 +63,7 @@ fn orthographic_views_draw_every_visible_object() {
     };
     for (depth, caps) in [DepthRange::Standard, DepthRange::Reversed].into_iter().flat_map(|d| [(d, Capabilities::FULL), (d, Capabilities::PORTABLE)]) {
         let (host, objects) = street_on(&device, Depth { range: depth, ..Depth::default() });
-        let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
+        let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), validation: true, ..CullerDesc::new(&objects) }).unwrap();
         let path: Vec<(ViewDesc, bool)> = vec![
             (ortho(Vec3::new(0.0, 2.0, 12.0), Vec3::new(0.0, 1.0, -10.0), 6.0, 0.1, 40.0, depth), true),
             (ortho(Vec3::new(1.0, 2.0, 12.0), Vec3::new(0.5, 1.0, -10.0), 6.0, 0.1, 40.0, depth), false),
@@ -91,7 +91,7 @@ fn a_cascade_whose_box_jumps_is_a_cut() {
     use glam::Mat4;
     let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street(&device);
-    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let culler = Culler::new(&device, &queue, &CullerDesc { validation: true, ..CullerDesc::new(&objects) }).unwrap();
     let light = Mat4::look_at_rh(Vec3::ZERO, Vec3::new(-0.3, -1.0, -0.4), Vec3::Z);
     let cascade = |x: f32| ViewDesc { view: light, proj: Mat4::orthographic_rh(x - 8.0, x + 8.0, -8.0, 8.0, -40.0, 40.0), unclipped_depth: false };
     let mut view = culler.view(Method::HROC, &host.targets()).unwrap();

@@ -21,7 +21,7 @@ fn frame(device: &wgpu::Device, host: &Host, culler: &Culler, enc: &mut wgpu::Co
 fn frames_may_share_an_encoder_be_submitted_late_or_be_dropped() {
     let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street(&device);
-    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let culler = Culler::new(&device, &queue, &CullerDesc { validation: true, ..CullerDesc::new(&objects) }).unwrap();
     // Along the street, where the wall hides most cubes; from above, where
     // the cubes behind it show; and turned away from all of them. Each
     // pair recorded before one submit differs, so a frame culled with the

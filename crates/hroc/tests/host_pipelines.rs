@@ -69,7 +69,7 @@ fn pipelines_built_before_the_culler_draw_its_lists_and_the_hosts_own() {
         oriented: None,
     };
     let objects = [object(0, 0.0), object(1, -4.0)];
-    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let culler = Culler::new(&device, &queue, &CullerDesc { validation: true, ..CullerDesc::new(&objects) }).unwrap();
     let targets = ViewTargets::new(&depth, DepthRange::Standard);
     let mut v = culler.view(Method::Hroc(hroc::options::Variant::NA), &targets).unwrap();
     for frame in 0..3 {

@@ -53,7 +53,7 @@ fn same_picture_as_noc(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth) {
 
 fn same_picture_with(device: &wgpu::Device, queue: &wgpu::Queue, at: Depth, caps: Capabilities) {
     let (host, objects) = street_on(device, at);
-    let culler = Culler::new(device, queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
+    let culler = Culler::new(device, queue, &CullerDesc { capabilities: Some(caps), validation: true, ..CullerDesc::new(&objects) }).unwrap();
     let path = path(at);
     let mut truth = culler.view(Method::Noc, &host.targets()).unwrap();
     let pictures: Vec<Vec<u32>> = path
@@ -123,7 +123,7 @@ fn msaa_targets_give_noc_s_picture() {
 fn an_id_target_unlike_the_depth_target_is_an_error() {
     let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street_on(&device, Depth { samples: 4, ..Depth::default() });
-    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let culler = Culler::new(&device, &queue, &CullerDesc { validation: true, ..CullerDesc::new(&objects) }).unwrap();
     let size = (common::street::SIZE, common::street::SIZE, 1);
     let ids = |format, samples| common::texture(&device, format, size, 1, samples, wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::RENDER_ATTACHMENT);
     use wgpu::TextureFormat as F;
@@ -140,7 +140,7 @@ fn an_id_target_unlike_the_depth_target_is_an_error() {
 fn a_layer_or_mip_outside_the_texture_is_an_error() {
     let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = street_on(&device, Depth { layers: 2, mips: 2, ..Depth::default() });
-    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let culler = Culler::new(&device, &queue, &CullerDesc { validation: true, ..CullerDesc::new(&objects) }).unwrap();
     for (layer, mip) in [(2, 0), (0, 2)] {
         let e = culler.view(Method::Hzb, &host.targets().at(layer, mip)).err().expect("outside the texture").to_string();
         assert!(e.contains(&format!("layer {layer} mip {mip}")) && e.contains("2 layers, 2 mips"), "{e}");
@@ -188,7 +188,7 @@ fn a_view_keeps_its_state_across_targets_of_the_same_shape() {
     let (a, objects) = street_on(&device, Depth::default());
     let (b, _) = street_on(&device, Depth::default());
     let (msaa, _) = street_on(&device, Depth { samples: 4, ..Depth::default() });
-    let culler = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let culler = Culler::new(&device, &queue, &CullerDesc { validation: true, ..CullerDesc::new(&objects) }).unwrap();
     let desc = look(Vec3::new(0.0, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0));
     let cut = |view: &mut hroc::View| view.stats(&culler).unwrap().iter().any(|&(s, v)| s == hroc::stats::Stat::Cut && v > 0.0);
     let mut truth = culler.view(Method::Noc, &b.targets()).unwrap();

@@ -281,7 +281,8 @@ impl ForwardHost {
         });
 
         // hroc: the culler over the host's objects, and one view.
-        let culler = Culler::new(device, queue, &CullerDesc { capabilities, ..CullerDesc::new(&scene.objects) })?;
+        // Validation on: every host mistake becomes an error of View::cull.
+        let culler = Culler::new(device, queue, &CullerDesc { capabilities, validation: true, ..CullerDesc::new(&scene.objects) })?;
         let depth = texture(device, size, DEPTH, "depth", samples);
         let (ids, color) = (texture(device, size, ids_format(samples), "ids", samples), texture(device, size, COLOR, "color", samples));
         let resolve = (samples > 1).then(|| texture(device, size, COLOR, "resolved color", 1));

@@ -52,13 +52,18 @@ pub struct BenchOptions {
     pub shadow_cascades: u32,
     /// How the camera projects (`--projection`).
     pub projection: Projection,
+    /// Validate every view's draws ([`hroc::CullerDesc::validation`],
+    /// `--validate`): a finding fails the run. [`BenchOptions::new`]
+    /// validates (the bench's tests run so); `hroc bench` only when asked,
+    /// since validation adds passes to every frame.
+    pub validate: bool,
 }
 
 impl BenchOptions {
     /// `hroc bench`'s defaults for `scene`, `objects` (the scene's own
     /// count when `None`) and `methods`: 60 frames at 640 × 360, SAH, no
     /// clusters, oriented boxes, the scene's own path, nothing moving, no
-    /// timestamps.
+    /// timestamps; validation on.
     pub fn new(scene: &str, objects: Option<usize>, methods: Vec<Method>) -> BenchOptions {
         BenchOptions {
             scene: scene.to_string(),
@@ -80,6 +85,7 @@ impl BenchOptions {
             msaa: 1,
             shadow_cascades: 0,
             projection: Projection::Perspective,
+            validate: true,
         }
     }
 }

@@ -124,6 +124,10 @@ pub struct BenchReport {
     /// What the culler ran with: `full`, `portable`, or the two capabilities.
     #[serde(default)]
     pub capabilities: String,
+    /// Every view's draws were validated ([`BenchOptions::validate`](super::BenchOptions::validate)),
+    /// and no finding came.
+    #[serde(default)]
+    pub validated: bool,
     pub frames: usize,
     /// Frames per second of camera path: how far apart in time the frames
     /// are (the coherence a method can rely on).

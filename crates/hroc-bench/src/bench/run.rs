@@ -74,6 +74,7 @@ pub fn run_scene(gpu: &Headless, o: &BenchOptions, scene: Scene, path: Option<Ca
         bar.inc(1);
     }
     bar.finish_and_clear();
+    run.validated()?;
     Ok(run.report(gpu))
 }
 
@@ -127,7 +128,7 @@ impl<'g, 'o> Run<'g, 'o> {
         let movers = crate::scene::motion::moving_objects(scene.objects.len(), o.moving);
         let base = scene.objects.iter().map(|ob| ob.transform).collect();
         let centre = scene.bounds().center();
-        let desc = SessionDesc { path, timestamps: o.timestamps, samples: o.msaa, split: o.split, ..SessionDesc::new(frames, o.resolution) };
+        let desc = SessionDesc { path, timestamps: o.timestamps, samples: o.msaa, split: o.split, validate: o.validate, ..SessionDesc::new(frames, o.resolution) };
         let mut s = Session::with(gpu, scene, desc)?;
         s.set_shadow_cascades(o.shadow_cascades)?;
         s.set_projection(o.projection);
@@ -273,6 +274,21 @@ impl<'g, 'o> Run<'g, 'o> {
         a.stray += c.stray_pixels as u64;
     }
 
+    /// The findings of validation the last frames left: every view's,
+    /// once the GPU is done.
+    fn validated(&mut self) -> Result<()> {
+        if !self.o.validate {
+            return Ok(());
+        }
+        let _ = self.s.gpu.device.poll(wgpu::PollType::wait_indefinitely());
+        for (_, view, cascades) in self.cullers.iter_mut() {
+            for v in std::iter::once(view).chain(cascades.iter_mut()) {
+                v.validation(&self.s.culler)?;
+            }
+        }
+        Ok(())
+    }
+
     /// The rows, and the run's facts.
     fn report(self, gpu: &Headless) -> BenchReport {
         let (o, s, frames, warm) = (self.o, &self.s, self.frames, self.warm);
@@ -288,6 +304,7 @@ impl<'g, 'o> Run<'g, 'o> {
             resolution: format!("{}x{}", o.resolution.0, o.resolution.1),
             adapter: gpu.adapter_name(),
             capabilities: capabilities_name(s.culler.capabilities()),
+            validated: o.validate,
             frames,
             frames_per_second: {
                 let dur = s.times.last().copied().unwrap_or(0.0) - s.times.first().copied().unwrap_or(0.0);

@@ -81,12 +81,17 @@ pub struct SessionDesc {
     pub timestamps: bool,
     /// Samples per pixel of the camera's targets: 1, or 4 for MSAA.
     pub samples: u32,
+    /// The culler validates the host's draws ([`hroc::CullerDesc::validation`]),
+    /// and the renderer declares its index buffer's size.
+    pub validate: bool,
 }
 
 impl SessionDesc {
-    /// `frames` over the scene's own path at `resolution`: SAH, timestamps, one sample.
+    /// `frames` over the scene's own path at `resolution`: SAH, timestamps,
+    /// one sample, validation on (every test of the bench validates; `hroc
+    /// bench` validates with `--validate`).
     pub fn new(frames: usize, resolution: (u32, u32)) -> Self {
-        SessionDesc { path: None, frames, resolution, split: Split::Sah, timestamps: true, samples: 1 }
+        SessionDesc { path: None, frames, resolution, split: Split::Sah, timestamps: true, samples: 1, validate: true }
     }
 }
 
@@ -140,7 +145,7 @@ impl<'g> Session<'g> {
 
     /// The session `desc` describes, over `scene`.
     pub fn with(gpu: &'g Headless, mut scene: Scene, desc: SessionDesc) -> Result<Self> {
-        let SessionDesc { path, frames, resolution: (w, h), split, timestamps, samples } = desc;
+        let SessionDesc { path, frames, resolution: (w, h), split, timestamps, samples, validate } = desc;
         check_samples(samples)?;
         if let Some(p) = path {
             scene.path = p;
@@ -154,7 +159,12 @@ impl<'g> Session<'g> {
         // culler takes the renderer's draws: build the objects first.
         let descs = crate::render::object_descs(&scene);
         let pipeline_statistics = timestamps && gpu.device.features().contains(hroc::device::PIPELINE_STATISTICS_FEATURES);
-        let culler = Culler::new(&gpu.device, &gpu.queue, &CullerDesc { split, timestamps, pipeline_statistics, capabilities: gpu.capabilities, ..CullerDesc::new(&descs) })?;
+        let index_count = validate.then(|| scene.meshes.iter().map(|m| m.indices.len() as u32).sum());
+        let culler = Culler::new(
+            &gpu.device,
+            &gpu.queue,
+            &CullerDesc { split, timestamps, pipeline_statistics, capabilities: gpu.capabilities, validation: validate, index_count, ..CullerDesc::new(&descs) },
+        )?;
         let renderer = Renderer::new(gpu, &scene, (w, h, samples), culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;
         Ok(Session {

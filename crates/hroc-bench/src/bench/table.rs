@@ -89,7 +89,7 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{}scene {} | {} objects | {} triangles | {} | path {}: {} frames, {:.1} per path second ({} warm-up untimed) | BVH {} ({} nodes, {:.1} ms) | {} | {}",
+        "{}scene {} | {} objects | {} triangles | {} | path {}: {} frames, {:.1} per path second ({} warm-up untimed) | BVH {} ({} nodes, {:.1} ms) | {} | {} | {}",
         if markdown { "" } else { "# " },
         r.scene,
         r.objects,
@@ -103,7 +103,8 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
         r.bvh_nodes,
         r.bvh_build_ms,
         r.adapter,
-        r.capabilities
+        r.capabilities,
+        if r.validated { "validated: no finding" } else { "not validated" }
     );
     if r.projection != super::Projection::Perspective {
         let _ = writeln!(out, "{}an orthographic camera (parallel rays through the perspective frustum's box at the scene centre's distance)", if markdown { "" } else { "# " });

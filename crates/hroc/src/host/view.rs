@@ -289,6 +289,18 @@ impl View {
         self.tally.latest(&culler.gpu)
     }
 
+    /// The findings of validation ([`CullerDesc::validation`]) that
+    /// arrived since the last [`View::cull`], without waiting: an
+    /// [`Error::Validation`] for the earliest frame that had any. A host
+    /// that stops culling calls it once the GPU is done, for the last
+    /// frames' findings. `Ok` without validation.
+    pub fn validation(&mut self, culler: &Culler) -> Result<()> {
+        match self.validation.as_mut() {
+            Some(v) => v.arrived(&culler.gpu),
+            None => Ok(()),
+        }
+    }
+
     /// True when the view turned or moved past the options' cut thresholds
     /// ([`MethodOptions::cut_turn_deg`], [`MethodOptions::cut_move`]) since
     /// the last frame: last frame's visibility says little about this one.

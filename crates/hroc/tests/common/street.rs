@@ -249,6 +249,9 @@ impl Host {
             assert!(missed.is_empty(), "{label} frame {k}: visible objects {missed:?} not drawn");
             culled += culler.object_count() as usize - drawn.len();
         }
+        // The last frames' validation findings, if the culler validates.
+        device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+        view.validation(culler).unwrap_or_else(|e| panic!("{label}: {e}"));
         culled
     }
 

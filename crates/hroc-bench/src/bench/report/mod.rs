@@ -98,6 +98,10 @@ pub struct ReportArgs {
     /// scene without clusters, or `none`.
     #[arg(long, default_value = "64,256")]
     pub clusters: String,
+    /// Validate every view's draws in every measurement (`hroc bench
+    /// --validate`); the report states whether it did.
+    #[arg(long)]
+    pub validate: bool,
     /// The clusters table's scene (a key or a file): factory's racks and
     /// machines are meshes large enough to split.
     #[arg(long, default_value = "factory")]
@@ -241,6 +245,9 @@ pub struct Meta {
     pub frames: usize,
     pub resolution: String,
     pub minutes: f64,
+    /// Every measurement validated the views' draws, with no finding.
+    #[serde(default)]
+    pub validated: bool,
 }
 
 /// Everything measured; also written as `data.json`.
@@ -312,6 +319,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
             frames: a.frames,
             resolution: format!("{}x{}", a.resolution.0, a.resolution.1),
             minutes: started.elapsed().as_secs_f64() / 60.0,
+            validated: a.validate,
         },
         scenes: results,
         heat,
@@ -364,6 +372,7 @@ impl Runner<'_> {
             msaa: 1,
             shadow_cascades: 0,
             projection: super::Projection::Perspective,
+            validate: self.a.validate,
         }
     }
 

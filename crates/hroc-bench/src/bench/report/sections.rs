@@ -56,8 +56,17 @@ pub fn build(d: &ReportData, plots: &Path) -> Result<Doc> {
 fn header(doc: &mut Doc, d: &ReportData) {
     let m = &d.meta;
     doc.para(format!(
-        "**{}** ({}, {}, driver {}) · {} · hroc {} · {} frames over each 10 s camera path at {} · measured in {:.1} min.",
-        m.adapter, m.device_type, m.backend, m.driver, m.date, m.version, m.frames, m.resolution, m.minutes
+        "**{}** ({}, {}, driver {}) · {} · hroc {} · {} frames over each 10 s camera path at {} · measured in {:.1} min · {}.",
+        m.adapter,
+        m.device_type,
+        m.backend,
+        m.driver,
+        m.date,
+        m.version,
+        m.frames,
+        m.resolution,
+        m.minutes,
+        if m.validated { "every view's draws validated, no finding (`--validate`)" } else { "not validated (`--validate` checks every view's draws)" }
     ));
     doc.code(m.command.clone());
     let warm = d.scenes.first().map_or(0, |s| s.main.warmup_frames);
