@@ -39,9 +39,6 @@ const FINAL: u32 = 8u;
 
 // src/validation.rs CheckUniform.
 struct Check {
-    // Clip to view space, and view to world space.
-    inv_proj: mat4x4<f32>,
-    inv_view: mat4x4<f32>,
     // The frame's tag: bits 8.. of a stamp.
     tag: u32,
     // The group checked, stamped or marked.
@@ -228,62 +225,75 @@ fn box_pixels(b: ObjectBounds) -> vec4<i32> {
     return vec4<i32>(first, last);
 }
 
-// The world point at pixel position `p` (pixels, y down) and depth `d`.
-fn unproject(p: vec2<f32>, d: f32) -> vec3<f32> {
-    let ndc = vec4<f32>(p.x * 2.0 * frame.viewport.z - 1.0, 1.0 - p.y * 2.0 * frame.viewport.w, d, 1.0);
-    let v = check.inv_proj * ndc;
-    return (check.inv_view * vec4<f32>(v.xyz / v.w, 1.0)).xyz;
+// The standard depth at `t` along the ray `origin + t * dir`, and how far
+// f32 rounding may move it: clip z and w are sums of products as large as
+// the point's coordinates, which the host's vertex shader rounds as this
+// does (a box 70 m from the origin seen from 4 m: 3e-5).
+fn depth_at(origin: vec3<f32>, dir: vec3<f32>, t: f32) -> vec2<f32> {
+    let p = vec4<f32>(origin + t * dir, 1.0);
+    let c = frame.view_proj * p;
+    let rows = transpose(frame.view_proj);
+    let terms = dot(abs(rows[2]), abs(p)) + dot(abs(rows[3]), abs(p));
+    return vec2<f32>(std_depth(frame, c.z / c.w), 5e-7 * terms / abs(c.w));
 }
 
-// How far from box `b` a point `q` drawn at pixel position `c` and depth
-// `d` of geometry inside it may lie: where in the pixel the sample lies
-// (one sample per pixel lies at its centre, up to the rasterizer's
-// snapping; several anywhere in it), the depth's rounding, and float
-// rounding of the box and the point.
-fn box_margin(b: ObjectBounds, c: vec2<f32>, d: f32, q: vec3<f32>) -> f32 {
-    let nearer = select(d - 2.0 * DEPTH_SLACK, d + 2.0 * DEPTH_SLACK, frame.reversed != 0u);
-    let px = select(PIXEL_PAD, 0.75, HOST_SAMPLES > 1u);
-    let lateral = distance(unproject(c + vec2<f32>(1.0, 0.0), d), q) + distance(unproject(c + vec2<f32>(0.0, 1.0), d), q);
-    return px * lateral + distance(unproject(c, nearer), q) + 1e-4 * length(b.max - b.min) + 1e-6 * length(q) + 1e-7;
-}
-
-// True when the pixel ray through `p`'s centre, from its origin to the
-// depth `d`, meets object `o`'s box (and its own box, if it has one)
-// grown by where in the pixel its samples lie and the depth's rounding: a fragment
-// of geometry inside the box lies on or behind where its ray enters it
-// (depth biased away from the viewer lies farther still).
-fn reaches_box(o: u32, p: vec2<i32>, d: f32) -> bool {
+// Where the ray through pixel `p`'s centre enters and leaves object `o`'s
+// box (and its own box, if it has one), padded as the culler's box tests
+// pad boxes (where in the pixel its samples lie, and float rounding),
+// from the near plane on: the standard depths of both, and their rounding
+// (`depth_at`); x is `MISSED` where the ray misses it. Geometry inside
+// the box drew a fragment there at a depth between the two (depth biased
+// away from the viewer: behind them), which rounding may find in either
+// order for a thin box.
+fn box_depths(o: u32, p: vec2<i32>) -> vec3<f32> {
     let c = vec2<f32>(p) + 0.5;
-    let q = unproject(c, d);
     let ndc = vec2<f32>(c.x * 2.0 * frame.viewport.z - 1.0, 1.0 - c.y * 2.0 * frame.viewport.w);
     let origin = ray_origin(frame, ndc);
-    let dir = q - origin;
+    let dir = (frame.ray_dirs * vec4<f32>(ndc, 1.0, 0.0)).xyz;
     let b = bounds[o];
-    let pad = box_margin(b, c, d, q) + 1e-6 * length(origin);
+    let far = length(max(abs(b.min - origin), abs(b.max - origin)));
+    let scale = max(max(abs(b.min), abs(b.max)), abs(origin));
+    let pixel = pixel_angle(frame);
+    let pad = block_pad_px(1u) * (pixel.x + pixel.y * far) + 1e-4 * length(b.max - b.min) + 1e-6 * (scale.x + scale.y + scale.z) + 1e-7;
     let inv = vec3<f32>(safe_inv(dir.x), safe_inv(dir.y), safe_inv(dir.z));
     let world = ray_box(origin, inv, b.min - vec3<f32>(pad), b.max + vec3<f32>(pad));
     let own = ray_oriented(oriented[o], origin, dir, pad);
-    let enter = max(world.x, own.x);
+    // The ray reaches the near plane at t = 1.
+    let enter = max(max(world.x, own.x), 1.0);
     let leave = min(world.y, own.y);
-    return enter <= leave && enter <= 1.0 + 1e-5 && leave >= 0.0;
+    if enter > leave {
+        return vec3<f32>(MISSED);
+    }
+    let a = depth_at(origin, dir, enter);
+    let z = depth_at(origin, dir, leave);
+    return vec3<f32>(a.x, z.x, max(a.y, z.y));
 }
 
-// True when the point drawn at pixel `p`'s centre and depth `d` lies in
-// object `o`'s box (and its own box), grown as `reaches_box` grows it:
-// geometry of `o` drew it.
+// `box_depths` of a ray that misses the box (past every depth).
+const MISSED: f32 = 4.0;
+
+// How far in front of where its box begins a fragment's depth may lie
+// beyond the rounding `depth_at` bounds: the rasterizer's interpolation of
+// depth, several ulps where depth is coarse, so four times the culler's
+// own margin (27 ulps at 1). A box too small or a depth bias the culler
+// could act on moves depth far more.
+const FRAGMENT_SLACK: f32 = 4.0 * DEPTH_SLACK;
+
+// True when a fragment of depth `d` at pixel `p` lies on or behind where
+// the pixel's ray enters object `o`'s box: geometry inside the box can
+// have drawn it.
+fn reaches_box(o: u32, p: vec2<i32>, d: f32) -> bool {
+    let span = box_depths(o, p);
+    return span.x != MISSED && std_depth(frame, d) >= min(span.x, span.y) - FRAGMENT_SLACK - span.z;
+}
+
+// True when a fragment of depth `d` at pixel `p` lies inside object `o`'s
+// box along the pixel's ray: geometry of `o` drew it.
 fn holds_point(o: u32, p: vec2<i32>, d: f32) -> bool {
-    let c = vec2<f32>(p) + 0.5;
-    let q = unproject(c, d);
-    let b = bounds[o];
-    let pad = box_margin(b, c, d, q);
-    let inside = all(q >= b.min - vec3<f32>(pad)) && all(q <= b.max + vec3<f32>(pad));
-    let own = oriented[o];
-    if own.valid == 0u || !inside {
-        return inside;
-    }
-    let l = vec3<f32>(dot(own.x.xyz, q) + own.x.w, dot(own.y.xyz, q) + own.y.w, dot(own.z.xyz, q) + own.z.w);
-    let g = pad * vec3<f32>(length(own.x.xyz), length(own.y.xyz), length(own.z.xyz)) + 1e-4 * length(own.max - own.min) + 1e-6 * max(max(abs(own.min), abs(own.max)), abs(l));
-    return all(l >= own.min - g) && all(l <= own.max + g);
+    let span = box_depths(o, p);
+    let z = std_depth(frame, d);
+    let slack = FRAGMENT_SLACK + span.z;
+    return span.x != MISSED && z >= min(span.x, span.y) - slack && z <= max(span.x, span.y) + slack;
 }
 
 var<workgroup> changed_here: atomic<u32>;
@@ -353,7 +363,9 @@ fn check_ids(p: vec2<i32>, px: u32, clear: f32) {
         }
         let st = stamps[o];
         let drawn = (st >> 8u) == check.tag;
-        if host_marks && drawn && (st & 0x7fu) == check.group {
+        // (An object drawn twice in the frame may own a sample from its
+        // first draw, which the group's marks do not record.)
+        if host_marks && drawn && (st & 0xffu) == check.group {
             owned[o] = (check.tag << 8u) | check.group;
             if marked[o] != owned[o] {
                 found(MISSING_MARK, o, px, check.group);
@@ -362,7 +374,7 @@ fn check_ids(p: vec2<i32>, px: u32, clear: f32) {
         if !last {
             continue;
         }
-        let kept = drawn && (std_depth(frame, d) <= 2.0 * DEPTH_SLACK || reaches_box(o, p, d));
+        let kept = drawn && (std_depth(frame, d) <= FRAGMENT_SLACK || reaches_box(o, p, d));
         if kept {
             continue;
         }

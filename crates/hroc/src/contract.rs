@@ -2,10 +2,10 @@
 //! its layout, the phases, the draws handed to the host, and its targets.
 
 use crate::capabilities::DrawCount;
-use std::future::Future;
 use crate::error::{Error, Result};
 use crate::frustum::DepthRange;
 use crate::gpu::PassCount;
+use std::future::Future;
 
 /// The features [`CullerDesc::timestamps`](crate::CullerDesc::timestamps) needs.
 pub const TIMESTAMP_FEATURES: wgpu::Features = wgpu::Features::TIMESTAMP_QUERY.union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);

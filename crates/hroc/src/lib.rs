@@ -271,9 +271,9 @@ mod reflect;
 mod shaders;
 pub mod stats;
 mod tally;
-mod validation;
 #[doc(hidden)]
 pub mod testing;
+mod validation;
 
 pub use aabb::Aabb;
 pub use cull::{Method, MethodOptions};

@@ -26,7 +26,6 @@ use std::collections::HashMap;
 
 use crate::contract::{DrawList, Phase, Targets};
 use crate::error::Error;
-use crate::frustum::ViewDesc;
 use crate::gpu::{dispatch_size, Gpu, Readback, Uploads};
 use crate::reflect::{pipeline_layout, Layout};
 
@@ -53,10 +52,6 @@ const BINDS: usize = 256;
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct CheckUniform {
-    /// Clip to view space.
-    pub inv_proj: [[f32; 4]; 4],
-    /// View to world space.
-    pub inv_view: [[f32; 4]; 4],
     /// The frame's tag (bits 8.. of a stamp).
     pub tag: u32,
     /// The group checked, stamped or marked.
@@ -224,15 +219,10 @@ impl Validation {
     /// Starts frame `number` of the view: takes the findings of earlier
     /// frames that arrived (an error names the first frame that had any),
     /// and zeroes this frame's.
-    pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, view: &ViewDesc, number: u64) -> Result<(), Error> {
+    pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, number: u64) -> Result<(), Error> {
         let arrived = self.harvest(gpu);
         enc.counted_clear(&self.results, 0, None);
-        self.uniform = CheckUniform {
-            inv_proj: view.proj.inverse().to_cols_array_2d(),
-            inv_view: view.view.inverse().to_cols_array_2d(),
-            tag: (number % 0xff_ffff) as u32 + 1,
-            ..Default::default()
-        };
+        self.uniform = CheckUniform { tag: (number % 0xff_ffff) as u32 + 1, ..Default::default() };
         self.tag = Tag { frame: number, groups: [None; GROUPS] };
         self.group = None;
         self.lists = 0;
@@ -453,10 +443,7 @@ fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<(u64, String)> {
         if let Some((p, true)) = group {
             let (pixels, objects) = (word(changed + g), word(marked + g));
             if pixels > 0 && objects == 0 {
-                lines.push(format!(
-                    "the {p:?} phase drew {pixels} pixels and marked no object: {}",
-                    FINDINGS[6].split_once(": ").map_or(FINDINGS[6], |(_, fix)| fix)
-                ));
+                lines.push(format!("the {p:?} phase drew {pixels} pixels and marked no object: {}", FINDINGS[6].split_once(": ").map_or(FINDINGS[6], |(_, fix)| fix)));
             }
         }
     }

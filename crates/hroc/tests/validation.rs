@@ -228,7 +228,6 @@ fn caught(mistake: Mistake, method: Method, words: &[&str]) {
     let first = on.iter().position(|r| r.is_err());
     assert!(first.is_some_and(|k| k < 3), "{mistake:?} ({method}): no error within 3 frames: {on:?}");
     let message = on[first.unwrap()].as_ref().unwrap_err().to_string();
-    eprintln!("{mistake:?} ({method}) frame {}: {message}", first.unwrap());
     for w in words {
         assert!(message.contains(w), "{mistake:?} ({method}): the error does not say {w:?}: {message}");
     }

@@ -5,6 +5,7 @@ use super::*;
 use crate::aabb::OrientedBox;
 use crate::bvh::{Bvh, BvhNode, Split, NO_LEAF};
 use crate::capabilities::{Capabilities, DrawCount, Marks};
+use crate::contract::PipelineCheck;
 use crate::cull::{DrawList, Method, MethodContext, MethodOptions, WorkCounts};
 use crate::error::{Error, Result};
 use crate::gpu::Uploads;
@@ -14,7 +15,6 @@ use crate::layout::{DrawCommand, FrameUniform, ObjectBounds, OrientedBounds};
 use crate::list_pass::ListPass;
 use crate::reflect::Layout;
 use crate::tally::DrawTally;
-use crate::contract::PipelineCheck;
 use crate::validation::{Validation, ValidationDesc, Validator};
 use crate::Aabb;
 

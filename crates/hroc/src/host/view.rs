@@ -162,7 +162,7 @@ impl View {
             )));
         }
         if let Some(v) = self.validation.as_mut() {
-            v.begin(&culler.gpu, encoder, &input.view, self.frames)?;
+            v.begin(&culler.gpu, encoder, self.frames)?;
         }
         culler.flush_oriented();
         let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32);
