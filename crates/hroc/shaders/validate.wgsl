@@ -2,15 +2,16 @@
 // GPU, without waiting, that the host's draws kept the host contract.
 //
 // The host's draws of a frame come in groups: consecutive lists of one
-// phase marking into one buffer (or none). Every list's objects are
+// phase, which the host marks into one buffer or not at all. Every list's objects are
 // stamped with the frame's tag and their group (`stamp`); after a group
 // with the host's marks, its marked objects are stamped too (`marks`). The
-// depth and IDs are read at the frame's first draw (`check_pixels` with
-// SNAPSHOT) and again after each group (`check_pixels`), which compares
-// them with what the last read saw: drawing only brings depth nearer and
-// never writes ID 0. The frame's last read (FINAL) checks every sample's
-// ID: in range, naming an object an occluding list drew this frame, and
-// not in front of that object's box along the pixel's ray.
+// depth and IDs are read after each group (`check_pixels`), which compares
+// them with what the last read saw (after the first group, with the
+// cleared targets): drawing only brings depth nearer and never writes ID
+// 0. The frame's last read (FINAL) checks every sample's ID: in range,
+// naming an object an occluding list drew this frame, and not in front of
+// that object's box along the pixel's ray. After a group with the host's
+// marks, `late_marks` looks for marks no passing fragment made.
 //
 // What each check found is counted per kind, with its first example, in
 // `results`, which the view reads back a frame or two later.
@@ -31,8 +32,9 @@ const GROUPS: u32 = 32u;
 // No object, pixel or group.
 const NONE: u32 = 0xffffffffu;
 
-// `Check::mode` bits.
-const SNAPSHOT: u32 = 1u;
+// `Check::mode` bits. FIRST: the group is the frame's first, which the
+// cleared targets (far depth, ID 0) precede.
+const FIRST: u32 = 1u;
 const CHECK_IDS: u32 = 2u;
 const HOST_MARKS: u32 = 4u;
 const FINAL: u32 = 8u;
@@ -41,11 +43,16 @@ const FINAL: u32 = 8u;
 struct Check {
     // The frame's tag: bits 8.. of a stamp.
     tag: u32,
-    // The group checked, stamped or marked.
+    // The group checked or marked.
     group: u32,
     mode: u32,
-    // The list stamped: its place among the frame's lists.
-    list: u32,
+    _pad: u32,
+    // The pixels the frame reads: one in stride × stride, from offset.
+    offset: vec2<u32>,
+    stride: u32,
+    // The objects `late_marks` checks: one in object_stride, a different
+    // one each frame.
+    object_stride: u32,
 }
 
 struct Finding {
@@ -58,8 +65,8 @@ struct Finding {
 
 struct Results {
     findings: array<Finding, KINDS>,
-    // Pixels whose depth or ID a group changed.
-    changed: array<atomic<u32>, GROUPS>,
+    // 1 where a group changed the depth or ID of some pixel.
+    changed: array<u32, GROUPS>,
     // Objects a group drew and marked.
     marked: array<atomic<u32>, GROUPS>,
 }
@@ -67,20 +74,22 @@ struct Results {
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<uniform> check: Check;
 @group(0) @binding(2) var<storage, read_write> results: Results;
-// Per object: tag << 8 | 0x80 (drawn before in the frame) | group.
+// Per object: tag << 8 | AGAIN | MARKING | group.
+const AGAIN: u32 = 0x80u;   // drawn before in the frame
+const MARKING: u32 = 0x40u; // drawn by a list whose marks the host writes
+const GROUP: u32 = 0x3fu;
 @group(0) @binding(3) var<storage, read_write> stamps: array<u32>;
 // Per object: tag << 8 | group, when the group marked it.
 @group(0) @binding(4) var<storage, read_write> marked: array<u32>;
-// Per pixel: the farthest sample's standard depth, sample 0's ID, and
-// sample 0's standard depth at the frame's first draw (the clear).
-@group(0) @binding(5) var<storage, read_write> shadow: array<vec4<u32>>;
+// Per pixel read (`check_pixels`): the farthest sample's standard depth,
+// and sample 0's ID.
+@group(0) @binding(5) var<storage, read_write> shadow: array<vec2<u32>>;
 @group(0) @binding(6) var<storage, read> bounds: array<ObjectBounds>;
 @group(0) @binding(7) var<storage, read> oriented: array<OrientedBounds>;
 @group(0) @binding(8) var depth: HostDepth;
 @group(0) @binding(9) var ids: HostIds;
-// The group's marks (the method's buffer), and what they held before it.
+// The group's marks (the method's buffer).
 @group(0) @binding(10) var<storage, read> marks: array<u32>;
-@group(0) @binding(11) var<storage, read> before: array<u32>;
 // A list handed to the host.
 @group(0) @binding(12) var<storage, read> commands: array<DrawCommand>;
 @group(0) @binding(13) var<storage, read> count: array<u32>;
@@ -89,6 +98,15 @@ struct Results {
 // Per object: tag << 8 | group, when it owned a sample after the group
 // that drew it with the host's marks.
 @group(0) @binding(15) var<storage, read_write> owned: array<u32>;
+// The list `stamp` stamps: its group, and its place among the frame's lists.
+struct Stamping {
+    group: u32,
+    list: u32,
+    // The host marks the list.
+    marking: u32,
+    _pad: u32,
+}
+@group(0) @binding(16) var<uniform> stamping: Stamping;
 
 fn found(kind: u32, object: u32, pixel: u32, group: u32) {
     if atomicAdd(&results.findings[kind].count, 1u) == 0u {
@@ -99,64 +117,33 @@ fn found(kind: u32, object: u32, pixel: u32, group: u32) {
 }
 
 // Stamps the objects a list draws with the frame's tag and the group.
+// A few threads stride over the list (a CPU rasterizer pays per thread).
 @compute @workgroup_size(64)
-fn stamp(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let i = flat_id(wid, nwg, lid, 64u);
-    if i >= min(count[0], arrayLength(&commands)) {
-        return;
+fn stamp(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let end = min(count[0], arrayLength(&commands));
+    for (var i = gid.x; i < end; i += nwg.x * 64u) {
+        let c = commands[i];
+        let o = c.first_instance;
+        if c.instance_count == 0u || c.index_count == 0u || o >= arrayLength(&stamps) {
+            continue;
+        }
+        let again = select(0u, AGAIN, (stamps[o] >> 8u) == check.tag);
+        stamps[o] = (check.tag << 8u) | again | select(0u, MARKING, stamping.marking != 0u) | min(stamping.group, GROUPS - 1u);
+        order[o] = stamping.list;
     }
-    let c = commands[i];
-    let o = c.first_instance;
-    if c.instance_count == 0u || c.index_count == 0u || o >= arrayLength(&stamps) {
-        return;
-    }
-    let again = select(0u, 0x80u, (stamps[o] >> 8u) == check.tag);
-    stamps[o] = (check.tag << 8u) | again | min(check.group, GROUPS - 1u);
-    order[o] = check.list;
 }
 
 // After a group drawn with the host's marks: stamps the objects it drew
-// and marked, and checks that none was marked while its box lay behind
-// the depth the group started from (a fragment that failed the depth test
-// ran the fragment shader: no forced early-Z).
+// and marked. Threads stride over the objects.
 @compute @workgroup_size(64)
-fn marks_of_group(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let o = flat_id(wid, nwg, lid, 64u);
-    if o >= min(arrayLength(&stamps), arrayLength(&marks)) {
-        return;
-    }
-    let s = stamps[o];
-    if (s >> 8u) != check.tag || (s & 0x7fu) != check.group || marks[o] == 0u {
-        return;
-    }
-    marked[o] = (check.tag << 8u) | check.group;
-    atomicAdd(&results.marked[check.group], 1u);
-    if (s & 0x80u) == 0u && before[o] == 0u && box_hidden(bounds[o]) {
-        found(HIDDEN_MARK, o, NONE, check.group);
-    }
-}
-
-// True when every pixel a box can cover holds depth nearer than the box's
-// nearest corner (what the group started from): no fragment inside the
-// box can pass the depth test there.
-fn box_hidden(b: ObjectBounds) -> bool {
-    let r = box_pixels(b);
-    if r.x > r.z {
-        return false;
-    }
-    var near = 3.0e38;
-    for (var c = 0u; c < 8u; c++) {
-        let clip = frame.view_proj * vec4<f32>(select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u)), 1.0);
-        near = min(near, std_depth(frame, clip.z / clip.w));
-    }
-    for (var y = r.y; y <= r.w; y++) {
-        for (var x = r.x; x <= r.z; x++) {
-            if near <= bitcast<f32>(shadow[u32(y * i32(frame.viewport.x) + x)].x) + DEPTH_SLACK {
-                return false;
-            }
+fn marks_of_group(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let mine = (check.tag << 8u) | check.group;
+    for (var o = gid.x; o < min(arrayLength(&stamps), arrayLength(&marks)); o += nwg.x * 64u) {
+        if (stamps[o] & ~AGAIN) == (mine | MARKING) && marks[o] != 0u {
+            marked[o] = mine;
+            atomicAdd(&results.marked[check.group], 1u);
         }
     }
-    return true;
 }
 
 // After the pixel pass of a group drawn with the host's marks: an object
@@ -167,19 +154,25 @@ fn box_hidden(b: ObjectBounds) -> bool {
 // forced early-Z. Lists that marks are read from are in object order, so
 // "before" is an earlier list, or the same list and a lower index.
 @compute @workgroup_size(64)
-fn late_marks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
-    let a = flat_id(wid, nwg, lid, 64u);
-    if a >= arrayLength(&stamps) {
-        return;
+fn late_marks(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    for (var a = gid.x * check.object_stride + check.tag % check.object_stride; a < arrayLength(&stamps); a += nwg.x * 64u * check.object_stride) {
+        if late_mark(a) {
+            found(HIDDEN_MARK, a, NONE, check.group);
+        }
     }
+}
+
+// Whether object `a` was marked by the checked group and never passed
+// the depth test (`late_marks`).
+fn late_mark(a: u32) -> bool {
     let mine = (check.tag << 8u) | check.group;
     let s = stamps[a];
-    if s != mine || marked[a] != mine || owned[a] == mine {
-        return;
+    if s != (mine | MARKING) || marked[a] != mine || owned[a] == mine {
+        return false;
     }
     let r = box_pixels(bounds[a]);
     if r.x > r.z {
-        return;
+        return false;
     }
     for (var y = r.y; y <= r.w; y++) {
         for (var x = r.x; x <= r.z; x++) {
@@ -190,17 +183,17 @@ fn late_marks(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nw
                 }
                 let b = id - 1u;
                 if b >= arrayLength(&stamps) || (stamps[b] >> 8u) != check.tag || !(order[b] < order[a] || (order[b] == order[a] && b < a)) {
-                    return;
+                    return false;
                 }
             }
         }
     }
-    found(HIDDEN_MARK, a, NONE, check.group);
+    return true;
 }
 
 // The pixels a box can cover (x0, y0, x1, y1, a pixel more on each side),
 // or an empty rectangle (x0 > x1) for a box that reaches the near plane,
-// lies off the view or covers over 64 × 64 pixels.
+// lies off the view or covers over 32 × 32 pixels.
 fn box_pixels(b: ObjectBounds) -> vec4<i32> {
     var lo = vec2<f32>(3.0e38);
     var hi = vec2<f32>(-3.0e38);
@@ -219,7 +212,7 @@ fn box_pixels(b: ObjectBounds) -> vec4<i32> {
     let size = vec2<i32>(frame.viewport.xy);
     let first = max(vec2<i32>(floor(vec2<f32>(lo.x + 1.0, 1.0 - hi.y) * 0.5 * frame.viewport.xy)) - 1, vec2<i32>(0));
     let last = min(vec2<i32>(floor(vec2<f32>(hi.x + 1.0, 1.0 - lo.y) * 0.5 * frame.viewport.xy)) + 1, size - 1);
-    if (last.x - first.x + 1) * (last.y - first.y + 1) > 4096 {
+    if (last.x - first.x + 1) * (last.y - first.y + 1) > 1024 {
         return vec4<i32>(1, 0, 0, 0);
     }
     return vec4<i32>(first, last);
@@ -296,92 +289,85 @@ fn holds_point(o: u32, p: vec2<i32>, d: f32) -> bool {
     return span.x != MISSED && z >= min(span.x, span.y) - slack && z <= max(span.x, span.y) + slack;
 }
 
-var<workgroup> changed_here: atomic<u32>;
-
-// Reads the host's depth and IDs: at the frame's first draw (SNAPSHOT), or
+// Reads the host's depth and IDs at one pixel in `stride` × `stride`, a
+// different one each frame (a CPU rasterizer pays for every pixel read),
 // after a group, comparing with the last read; FINAL also checks every
 // sample's ID.
-@compute @workgroup_size(16, 16)
-fn check_pixels(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
+@compute @workgroup_size(8, 8)
+fn check_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     let size = textureDimensions(depth);
-    if gid.x < size.x && gid.y < size.y && check_pixel(vec2<i32>(gid.xy), size.x) {
-        atomicAdd(&changed_here, 1u);
-    }
-    workgroupBarrier();
-    let n = atomicLoad(&changed_here);
-    if lid == 0u && n > 0u && (check.mode & SNAPSHOT) == 0u {
-        atomicAdd(&results.changed[min(check.group, GROUPS - 1u)], n);
+    let p = gid.xy * check.stride + check.offset;
+    let cols = (size.x + check.stride - 1u) / check.stride;
+    if all(p < size) && check_pixel(vec2<i32>(p), gid.y * cols + gid.x) {
+        // Every writer stores the same 1.
+        results.changed[min(check.group, GROUPS - 1u)] = 1u;
     }
 }
 
-// One pixel: true when its depth or ID changed since the last read.
-fn check_pixel(p: vec2<i32>, width: u32) -> bool {
-    let i = u32(p.y) * width + u32(p.x);
-    let far = farthest_host_depth(depth, p, frame.reversed);
+// Pixel `p`, read `i` of the frame: true when its depth or ID changed
+// since the last read. Each sample is loaded once.
+fn check_pixel(p: vec2<i32>, i: u32) -> bool {
     let with_ids = (check.mode & CHECK_IDS) != 0u;
-    let id0 = select(0u, host_id(ids, p, 0), with_ids);
-    if (check.mode & SNAPSHOT) != 0u {
-        shadow[i] = vec4<u32>(bitcast<u32>(far), id0, bitcast<u32>(std_depth(frame, textureLoad(depth, p, 0).r)), 0u);
-        return false;
-    }
-    let old = shadow[i];
     let px = u32(p.x) | (u32(p.y) << 16u);
+    var far = 0.0;
+    var id0 = 0u;
+    for (var s = 0; s < i32(HOST_SAMPLES); s++) {
+        let d = textureLoad(depth, p, s).r;
+        far = max(far, std_depth(frame, d));
+        if with_ids {
+            let id = host_id(ids, p, s);
+            if s == 0 {
+                id0 = id;
+            }
+            check_sample(id, d, p, px);
+        }
+    }
+    // The cleared targets: far depth, ID 0.
+    let old = select(shadow[i], vec2<u32>(bitcast<u32>(1.0), 0u), (check.mode & FIRST) != 0u);
     if far > bitcast<f32>(old.x) {
         found(DEPTH_FARTHER, NONE, px, check.group);
     }
-    if with_ids && old.y != 0u && id0 == 0u {
+    if old.y != 0u && id0 == 0u && with_ids {
         found(IDS_CLEARED, old.y - 1u, px, check.group);
     }
-    shadow[i] = vec4<u32>(bitcast<u32>(far), id0, old.z, 0u);
-    if with_ids {
-        check_ids(p, px, bitcast<f32>(old.z));
-    }
+    shadow[i] = vec2<u32>(bitcast<u32>(far), id0);
     return bitcast<u32>(far) != old.x || id0 != old.y;
 }
 
-// Every sample's ID at pixel `p`: marked when the group checked drew it
-// with the host's marks; and at the frame's end, in range, drawn this
-// frame, within its box, and there wherever depth was drawn.
-fn check_ids(p: vec2<i32>, px: u32, clear: f32) {
+// One sample's ID `id` and depth `d` at pixel `p`: marked when the group
+// checked drew it with the host's marks; and at the frame's end, in range,
+// drawn this frame, within its box, and there wherever depth was drawn.
+fn check_sample(id: u32, d: f32, p: vec2<i32>, px: u32) {
     let last = (check.mode & FINAL) != 0u;
-    let host_marks = (check.mode & HOST_MARKS) != 0u;
-    for (var s = 0; s < i32(HOST_SAMPLES); s++) {
-        let id = host_id(ids, p, s);
-        let d = textureLoad(depth, p, s).r;
-        if id == 0u {
-            if last && std_depth(frame, d) < clear {
-                found(DEPTH_WITHOUT_ID, NONE, px, NONE);
-            }
-            continue;
+    if id == 0u {
+        if last && std_depth(frame, d) < 1.0 {
+            found(DEPTH_WITHOUT_ID, NONE, px, NONE);
         }
-        let o = id - 1u;
-        if o >= arrayLength(&stamps) {
-            if last {
-                found(ID_RANGE, id, px, NONE);
-            }
-            continue;
+        return;
+    }
+    let o = id - 1u;
+    if o >= arrayLength(&stamps) {
+        if last {
+            found(ID_RANGE, id, px, NONE);
         }
-        let st = stamps[o];
-        let drawn = (st >> 8u) == check.tag;
-        // (An object drawn twice in the frame may own a sample from its
-        // first draw, which the group's marks do not record.)
-        if host_marks && drawn && (st & 0xffu) == check.group {
-            owned[o] = (check.tag << 8u) | check.group;
-            if marked[o] != owned[o] {
-                found(MISSING_MARK, o, px, check.group);
-            }
+        return;
+    }
+    let st = stamps[o];
+    let drawn = (st >> 8u) == check.tag;
+    // (An object drawn twice in the frame may own a sample from its first
+    // draw, which the group's marks do not record.)
+    if (check.mode & HOST_MARKS) != 0u && drawn && (st & (AGAIN | MARKING | GROUP)) == (MARKING | check.group) {
+        owned[o] = (check.tag << 8u) | check.group;
+        if marked[o] != owned[o] {
+            found(MISSING_MARK, o, px, check.group);
         }
-        if !last {
-            continue;
-        }
-        let kept = drawn && (std_depth(frame, d) <= FRAGMENT_SLACK || reaches_box(o, p, d));
-        if kept {
-            continue;
-        }
-        found(select(ID_NOT_DRAWN, OUTSIDE_BOX, drawn), o, px, select(NONE, st & 0x7fu, drawn));
-        // The value is the object's index, not index + 1?
-        if id < arrayLength(&stamps) && (stamps[id] >> 8u) == check.tag && holds_point(id, p, d) {
-            found(INDEX_FOR_ID, id, px, stamps[id] & 0x7fu);
-        }
+    }
+    if !last || (drawn && (std_depth(frame, d) <= FRAGMENT_SLACK || reaches_box(o, p, d))) {
+        return;
+    }
+    found(select(ID_NOT_DRAWN, OUTSIDE_BOX, drawn), o, px, select(NONE, st & GROUP, drawn));
+    // The value is the object's index, not index + 1?
+    if id < arrayLength(&stamps) && (stamps[id] >> 8u) == check.tag && holds_point(id, p, d) {
+        found(INDEX_FOR_ID, id, px, stamps[id] & GROUP);
     }
 }

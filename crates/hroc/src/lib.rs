@@ -200,6 +200,13 @@
 //!   starts to move). Views follow every change on their next frame; a
 //!   method that cannot says so ([`Method::takes_motion`],
 //!   [`Method::takes_dynamic`]) and refuses the frame.
+//! - **Validation.** [`CullerDesc::validation`] (on in debug builds)
+//!   checks on the GPU that the host's draws keep this contract, and turns
+//!   each mistake that would cull a visible object into an
+//!   [`Error::Validation`] of a later [`View::cull`] (README.md's
+//!   "Validation" tables what it sees, and why ties at equal depth are no
+//!   miss). Lists read for marks are in object order, which the check of
+//!   hidden marks relies on.
 //!
 //! ## Methods
 //! [`Method`] is the one registry. Every method fits the contract except

@@ -26,7 +26,7 @@ use std::collections::HashMap;
 
 use crate::contract::{DrawList, Phase, Targets};
 use crate::error::Error;
-use crate::gpu::{dispatch_size, Gpu, Readback, Uploads};
+use crate::gpu::{Gpu, Readback, Uploads};
 use crate::reflect::{pipeline_layout, Layout};
 
 /// Groups of draws a frame tells apart (`GROUPS` in `validate.wgsl`).
@@ -36,14 +36,44 @@ const GROUPS: usize = 32;
 const KINDS: usize = 9;
 
 /// `Check::mode` bits (`validate.wgsl`).
-const SNAPSHOT: u32 = 1;
+const FIRST: u32 = 1;
 const CHECK_IDS: u32 = 2;
 const HOST_MARKS: u32 = 4;
 const FINAL: u32 = 8;
 
 /// Bytes of `Results`: a count, object, pixel and group per kind, then
-/// the pixels changed and the objects marked per group.
+/// per group whether it changed a pixel, and the objects it marked.
 const RESULT_BYTES: u64 = (KINDS * 16 + GROUPS * 8) as u64;
+
+/// Most pixels a pass over the host's targets reads: beyond, it reads
+/// one in `s` × `s` (the least power of two that fits), a different one
+/// each frame, every pixel in `s²` frames. A CPU rasterizer pays for each
+/// pixel read (lavapipe on 2 cores: a pass reading all of 640 × 360 costs
+/// about 13 ms, most of a 15 ms frame).
+const PIXELS_READ: u32 = 1024;
+
+/// Most objects a frame's check of hidden marks reads around (the
+/// pixels their boxes cover, up to 32 × 32 each): beyond, one in
+/// `slots / OBJECTS_READ`, a different one each frame.
+const OBJECTS_READ: u32 = 1024;
+
+/// Workgroups of 64 threads for `n` items, at most [`THREADS`] threads,
+/// which stride over the rest: a CPU rasterizer pays per thread.
+fn groups(n: u32) -> u32 {
+    n.min(THREADS).div_ceil(64).max(1)
+}
+
+/// Most threads a pass over objects or a list launches.
+const THREADS: u32 = 1024;
+
+/// The stride of the pixels read in a view of `size`.
+fn stride(size: (u32, u32)) -> u32 {
+    let mut s = 1;
+    while size.0.div_ceil(s) * size.1.div_ceil(s) > PIXELS_READ {
+        s *= 2;
+    }
+    s
+}
 
 /// Bind groups kept for the lists and marks buffers seen lately.
 const BINDS: usize = 256;
@@ -54,12 +84,19 @@ const BINDS: usize = 256;
 pub struct CheckUniform {
     /// The frame's tag (bits 8.. of a stamp).
     pub tag: u32,
-    /// The group checked, stamped or marked.
+    /// The group checked or marked.
     pub group: u32,
-    /// `SNAPSHOT`, `CHECK_IDS`, `HOST_MARKS`, `FINAL` bits.
+    /// `FIRST`, `CHECK_IDS`, `HOST_MARKS`, `FINAL` bits.
     pub mode: u32,
-    /// The list stamped: its place among the frame's lists.
-    pub list: u32,
+    /// Unused.
+    pub _pad: u32,
+    /// Which pixel of each `stride` × `stride` square the frame reads.
+    pub offset: [u32; 2],
+    /// The pixels the frame reads: one in `stride` × `stride`, from `offset`.
+    pub stride: u32,
+    /// The objects the check of hidden marks reads around: one in this
+    /// many, a different one each frame.
+    pub object_stride: u32,
 }
 
 /// The validation passes of a culler's device, per sample count of the
@@ -115,16 +152,12 @@ pub(crate) struct Validation {
     results: wgpu::Buffer,
     stamps: wgpu::Buffer,
     marked: wgpu::Buffer,
-    before: wgpu::Buffer,
     order: wgpu::Buffer,
-    shadow: wgpu::Buffer,
     pixels_bind: wgpu::BindGroup,
     late_bind: wgpu::BindGroup,
-    stamp_binds: HashMap<(wgpu::Buffer, wgpu::Buffer), wgpu::BindGroup>,
+    /// Each list's stamp bind group, and its uniform (group and number).
+    stamp_binds: HashMap<(wgpu::Buffer, wgpu::Buffer), (wgpu::BindGroup, wgpu::Buffer)>,
     marks_binds: HashMap<wgpu::Buffer, wgpu::BindGroup>,
-    /// Shared with the binds built later.
-    frame: wgpu::Buffer,
-    bounds: wgpu::Buffer,
     /// The view checks IDs (its method has the host write them).
     ids: bool,
     size: (u32, u32),
@@ -138,6 +171,9 @@ pub(crate) struct Validation {
     group: Option<(usize, Phase, Option<wgpu::Buffer>)>,
     /// Lists handed to the host so far in the frame.
     lists: u32,
+    /// Lists drawn and not yet stamped: each with its `Stamping` (group,
+    /// number, marked by the host).
+    pending: Vec<(DrawList, [u32; 4])>,
     ring: Vec<(wgpu::Buffer, Readback<Tag>)>,
 }
 
@@ -161,8 +197,9 @@ impl Validation {
         let per_object = |label| gpu.buffer(label, d.slots.max(1) as u64 * 4, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let check = gpu.buffer("hroc validation check", std::mem::size_of::<CheckUniform>() as u64, U::UNIFORM | U::COPY_DST);
         let results = gpu.buffer("hroc validation results", RESULT_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC);
-        let shadow = gpu.buffer("hroc validation shadow", (t.size.0 * t.size.1).max(1) as u64 * 16, U::STORAGE);
-        let (stamps, marked, before) = (per_object("hroc validation stamps"), per_object("hroc validation marked"), per_object("hroc validation marks before"));
+        let s = stride(t.size);
+        let shadow = gpu.buffer("hroc validation shadow", (t.size.0.div_ceil(s) * t.size.1.div_ceil(s)).max(1) as u64 * 8, U::STORAGE);
+        let (stamps, marked) = (per_object("hroc validation stamps"), per_object("hroc validation marked"));
         let (order, owned) = (per_object("hroc validation order"), per_object("hroc validation owned"));
         let ids_format = if t.samples > 1 { wgpu::TextureFormat::Rg16Uint } else { wgpu::TextureFormat::R32Uint };
         let stand_in;
@@ -195,23 +232,20 @@ impl Validation {
             results,
             stamps,
             marked,
-            before,
             order,
-            shadow,
             pixels_bind,
             late_bind,
             stamp_binds: HashMap::new(),
             marks_binds: HashMap::new(),
-            frame: d.frame.clone(),
-            bounds: d.bounds.clone(),
             ids: d.ids && t.ids.is_some(),
             size: t.size,
             slots: d.slots,
             name: d.name,
-            uniform: CheckUniform::default(),
+            uniform: CheckUniform { stride: s, object_stride: d.slots.div_ceil(OBJECTS_READ).max(1), ..Default::default() },
             tag: Tag { frame: 0, groups: [None; GROUPS] },
             group: None,
             lists: 0,
+            pending: Vec::new(),
             ring: Vec::new(),
         }
     }
@@ -222,118 +256,71 @@ impl Validation {
     pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, number: u64) -> Result<(), Error> {
         let arrived = self.harvest(gpu);
         enc.counted_clear(&self.results, 0, None);
-        self.uniform = CheckUniform { tag: (number % 0xff_ffff) as u32 + 1, ..Default::default() };
+        let (tag, s) = ((number % 0xff_ffff) as u32 + 1, self.uniform.stride);
+        // Each frame another pixel of each square, all in s² frames.
+        let k = number.wrapping_mul(0x9e37_79b9) as u32 % (s * s);
+        self.uniform = CheckUniform { tag, stride: s, offset: [k % s, k / s], object_stride: self.uniform.object_stride, ..Default::default() };
         self.tag = Tag { frame: number, groups: [None; GROUPS] };
         self.group = None;
         self.lists = 0;
+        self.pending.clear();
         arrived
     }
 
     /// Before the host draws a list of `phase` (marking into `marks`, the
-    /// host's marks buffer, where it marks): at the frame's first draw,
-    /// reads the depth and IDs as cleared; at the first list of a new
+    /// host's marks buffer, where it marks): at the first list of a new
     /// group, checks the group before it.
     pub(crate) fn before_draw(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, phase: Phase, marks: Option<&wgpu::Buffer>) {
         if !phase.occludes() {
             return;
         }
+        // Unmarked lists join the group of their phase; lists marking into
+        // another buffer start one.
         let index = match &self.group {
-            None => {
-                self.pixels(gpu, enc, uploads, 0, SNAPSHOT);
-                0
+            None => 0,
+            Some((g, p, m)) if *p == phase && (marks.is_none() || m.is_none() || m.as_ref() == marks) => {
+                let g = *g;
+                if let (Some(m), Some(group)) = (marks, self.group.as_mut()) {
+                    group.2 = Some(m.clone());
+                    self.tag.groups[g] = Some((phase, true));
+                }
+                return;
             }
-            Some((_, p, m)) if *p == phase && m.as_ref() == marks => return,
             Some((g, ..)) => {
                 let g = *g;
-                self.pixels(gpu, enc, uploads, g, self.group_mode(g));
+                self.flush(gpu, enc, uploads, None, Some(self.group_mode(g)));
                 (g + 1).min(GROUPS - 1)
             }
         };
         self.group = Some((index, phase, marks.cloned()));
         self.tag.groups[index] = Some((phase, marks.is_some()));
-        if let Some(m) = marks {
-            enc.counted_copy(m, 0, &self.before, 0, Some(m.size().min(self.before.size())));
-        }
     }
 
-    /// After the host drew `list`: stamps its objects with the group.
-    pub(crate) fn after_draw(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, phase: Phase, list: &DrawList) {
-        let Some((g, ..)) = self.group.as_ref().filter(|_| phase.occludes() && list.max_count > 0) else { return };
-        let g = *g;
-        self.uniform.list = self.lists;
-        self.lists += 1;
-        self.write(enc, uploads, g, 0);
-        if self.stamp_binds.len() > BINDS {
-            self.stamp_binds.clear();
+    /// After the host drew `list` (with the host's marks or not): its
+    /// objects are stamped with the group at the next flush, before
+    /// anything reads the stamps.
+    pub(crate) fn after_draw(&mut self, phase: Phase, list: &DrawList, marking: bool) {
+        if let Some((g, ..)) = self.group.as_ref().filter(|_| phase.occludes() && list.max_count > 0) {
+            self.pending.push((list.clone(), [*g as u32, self.lists, marking as u32, 0]));
+            self.lists += 1;
         }
-        let bind = self
-            .stamp_binds
-            .entry((list.commands.clone(), list.count.clone()))
-            .or_insert_with(|| {
-                Layout::ValidateStamp.bind(
-                    gpu,
-                    &self.passes.stamp.1,
-                    &[
-                        (1, self.check.as_entire_binding()),
-                        (3, self.stamps.as_entire_binding()),
-                        (12, list.commands.as_entire_binding()),
-                        (13, list.count.as_entire_binding()),
-                        (14, self.order.as_entire_binding()),
-                    ],
-                )
-            })
-            .clone();
-        let (x, y) = dispatch_size(list.max_count, 64);
-        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation stamp"), timestamp_writes: None });
-        pass.set_pipeline(&self.passes.stamp.0);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.counted_dispatch(x, y, 1);
     }
 
     /// After the lists of one call drew with the host's `marks`: stamps
-    /// the objects they marked, and checks that none was marked while
-    /// hidden.
+    /// them, and the objects they marked (before the culler's next pass
+    /// reads or changes the marks).
     pub(crate) fn after_marks(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, marks: &wgpu::Buffer) {
-        let Some((g, ..)) = self.group.as_ref() else { return };
-        let g = *g;
-        self.write(enc, uploads, g, 0);
-        if self.marks_binds.len() > BINDS {
-            self.marks_binds.clear();
-        }
-        let bind = self
-            .marks_binds
-            .entry(marks.clone())
-            .or_insert_with(|| {
-                Layout::ValidateMarks.bind(
-                    gpu,
-                    &self.passes.marks.1,
-                    &[
-                        (0, self.frame.as_entire_binding()),
-                        (1, self.check.as_entire_binding()),
-                        (2, self.results.as_entire_binding()),
-                        (3, self.stamps.as_entire_binding()),
-                        (4, self.marked.as_entire_binding()),
-                        (5, self.shadow.as_entire_binding()),
-                        (6, self.bounds.as_entire_binding()),
-                        (10, marks.as_entire_binding()),
-                        (11, self.before.as_entire_binding()),
-                    ],
-                )
-            })
-            .clone();
-        let (x, y) = dispatch_size(self.slots, 64);
-        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation marks"), timestamp_writes: None });
-        pass.set_pipeline(&self.passes.marks.0);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.counted_dispatch(x, y, 1);
+        self.flush(gpu, enc, uploads, Some(marks), None);
     }
 
     /// Ends the frame: checks the last group and every sample's ID, and
     /// copies the findings to a staging buffer mapped when `enc` is
     /// submitted.
     pub(crate) fn end(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads) {
-        let Some((g, ..)) = self.group.take() else { return };
-        self.pixels(gpu, enc, uploads, g, self.group_mode(g) | FINAL);
+        let Some((g, ..)) = self.group.as_ref() else { return };
+        let mode = self.group_mode(*g) | FINAL;
+        self.flush(gpu, enc, uploads, None, Some(mode));
+        self.group = None;
         let slot = match self.ring.iter().position(|(_, s)| s.is_free()) {
             Some(i) => i,
             None => {
@@ -348,29 +335,79 @@ impl Validation {
 
     fn group_mode(&self, g: usize) -> u32 {
         let marks = matches!(self.tag.groups[g], Some((_, true)));
-        (if self.ids { CHECK_IDS } else { 0 }) | (if marks { HOST_MARKS } else { 0 })
+        let first = g == 0;
+        (if self.ids { CHECK_IDS } else { 0 }) | (if marks { HOST_MARKS } else { 0 }) | (if first { FIRST } else { 0 })
     }
 
-    fn write(&mut self, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, group: usize, mode: u32) {
-        self.uniform.group = group as u32;
-        self.uniform.mode = mode;
+    /// One compute pass of what is due (a CPU rasterizer pays per pass):
+    /// the stamps of the lists drawn since the last; the objects `marks`
+    /// marked; and with `pixels`, the pass over the host's depth and IDs
+    /// in that mode, checking the current group, then its marked objects
+    /// that own no sample.
+    fn flush(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, marks: Option<&wgpu::Buffer>, pixels: Option<u32>) {
+        let g = self.group.as_ref().map_or(0, |(g, ..)| *g);
+        self.uniform.group = g as u32;
+        self.uniform.mode = pixels.unwrap_or(0);
         uploads.write(enc, &self.check, 0, bytemuck::bytes_of(&self.uniform));
-    }
-
-    /// The pass over the host's depth and IDs, checking group `group`.
-    fn pixels(&mut self, _gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, group: usize, mode: u32) {
-        let mode = mode | if self.ids { CHECK_IDS } else { 0 };
-        self.write(enc, uploads, group, mode);
-        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation pixels"), timestamp_writes: None });
+        if self.stamp_binds.len() > BINDS {
+            self.stamp_binds.clear();
+        }
+        if self.marks_binds.len() > BINDS {
+            self.marks_binds.clear();
+        }
+        let mut stamps = Vec::with_capacity(self.pending.len());
+        for (list, stamping) in std::mem::take(&mut self.pending) {
+            let (bind, which) = self.stamp_binds.entry((list.commands.clone(), list.count.clone())).or_insert_with(|| {
+                let which = gpu.buffer("hroc validation list", 16, wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
+                let resources = [
+                    (1, self.check.as_entire_binding()),
+                    (3, self.stamps.as_entire_binding()),
+                    (12, list.commands.as_entire_binding()),
+                    (13, list.count.as_entire_binding()),
+                    (14, self.order.as_entire_binding()),
+                    (16, which.as_entire_binding()),
+                ];
+                (Layout::ValidateStamp.bind(gpu, &self.passes.stamp.1, &resources), which)
+            });
+            uploads.write(enc, which, 0, bytemuck::cast_slice(&stamping));
+            stamps.push((bind.clone(), list.max_count));
+        }
+        let marks_bind = marks.map(|m| {
+            self.marks_binds
+                .entry(m.clone())
+                .or_insert_with(|| {
+                    let resources = [
+                        (1, self.check.as_entire_binding()),
+                        (2, self.results.as_entire_binding()),
+                        (3, self.stamps.as_entire_binding()),
+                        (4, self.marked.as_entire_binding()),
+                        (10, m.as_entire_binding()),
+                    ];
+                    Layout::ValidateMarks.bind(gpu, &self.passes.marks.1, &resources)
+                })
+                .clone()
+        });
+        let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation"), timestamp_writes: None });
+        pass.set_pipeline(&self.passes.stamp.0);
+        for (bind, max_count) in &stamps {
+            pass.set_bind_group(0, bind, &[]);
+            pass.counted_dispatch(groups(*max_count), 1, 1);
+        }
+        if let Some(bind) = marks_bind {
+            pass.set_pipeline(&self.passes.marks.0);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.counted_dispatch(groups(self.slots), 1, 1);
+        }
+        let Some(mode) = pixels else { return };
+        let s = self.uniform.stride;
         pass.set_pipeline(&self.passes.pixels.0);
         pass.set_bind_group(0, &self.pixels_bind, &[]);
-        pass.counted_dispatch(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
+        pass.counted_dispatch(self.size.0.div_ceil(s).div_ceil(8), self.size.1.div_ceil(s).div_ceil(8), 1);
         // The group's marked objects that own no sample now.
         if mode & (HOST_MARKS | CHECK_IDS) == HOST_MARKS | CHECK_IDS {
-            let (x, y) = dispatch_size(self.slots, 64);
             pass.set_pipeline(&self.passes.late.0);
             pass.set_bind_group(0, &self.late_bind, &[]);
-            pass.counted_dispatch(x, y, 1);
+            pass.counted_dispatch(groups(self.slots.div_ceil(self.uniform.object_stride)), 1, 1);
         }
     }
 

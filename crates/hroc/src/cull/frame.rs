@@ -190,7 +190,7 @@ impl<'a> Frame<'a> {
         };
         self.host.draw(self.encoder, &draw);
         if let Some(v) = self.validation.as_deref_mut() {
-            v.after_draw(self.gpu, self.encoder, self.uploads, phase, list);
+            v.after_draw(phase, list, host_marks.is_some());
         }
         self.tally.count(list);
     }
