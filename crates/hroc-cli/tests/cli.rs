@@ -131,6 +131,17 @@ fn bench_writes_json_with_the_documented_fields() {
     }
     let reference = rows.iter().find(|r| r["method"] == "ref").unwrap();
     assert_eq!(reference["c_over_r"], 1.0);
+    assert!(table.contains("not validated") && v["validated"] == false, "{table}");
+}
+
+/// `--validate`: every view's draws are checked, and the table says so.
+#[test]
+fn bench_validates_when_asked() {
+    let args = ["bench", "--scene", "radial-city", "--objects", "600", "--frames", "6", "--resolution", "128x72", "--methods", "noc,hzb,hroc,auto"];
+    let out = hroc(&[&args[..], &["--validate", "--shadow-cascades", "1"]].concat(), &[]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let table = String::from_utf8_lossy(&out.stdout);
+    assert!(table.contains("validated: no finding"), "{table}");
 }
 
 fn hroc_cli(args: &[&str]) -> std::process::Output {

@@ -88,7 +88,8 @@
 //!   sample. A fragment that may leave samples it covers unwritten
 //!   (`discard`, alpha-to-coverage, a sample-mask output) cannot occlude:
 //!   flag its object [`ObjectFlags::NOT_OCCLUDER`].
-//! - **Clearing.** Clear the depth target (and the ID target) once per
+//! - **Clearing.** Clear the depth target to its far value (1 standard,
+//!   0 reversed) and the ID target to 0 once per
 //!   frame, before [`View::cull`]: in a pass of its own, or with
 //!   `LoadOp::Clear` in any pass recorded into the encoder before the
 //!   call. Every [`Draw`]'s pass loads (`LoadOp::Load`): a phase may come

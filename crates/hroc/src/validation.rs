@@ -3,23 +3,27 @@
 //! waiting, and reported by [`crate::View::cull`] a frame or two later,
 //! naming the object, view, phase and frame, and the fix.
 //!
-//! A frame's draws come in groups: consecutive lists of one phase that
-//! mark into one buffer (or none). `validate.wgsl` stamps each list's
-//! objects with the frame and group, reads the host's depth and IDs at the
-//! frame's first draw and after every group (drawing only brings depth
-//! nearer and never writes ID 0; an object that owns a sample after a
-//! group that the host marks must be marked), checks after a marking group
-//! that no object was marked whose box lay behind the depth the group
-//! started from (a fragment ran that failed the depth test: no forced
-//! early-Z), and at the frame's end checks every sample's ID: in range,
-//! naming an object an occluding list drew, and not in front of that
-//! object's box along the pixel's ray (boxes too small, wrong transforms,
-//! depth bias toward the viewer). What it finds is counted, with a first
-//! example, and read back through a staging ring like the draw tally's.
+//! A frame's draws come in groups: consecutive lists of one phase, which
+//! the host marks into one buffer or not at all. `validate.wgsl` stamps
+//! each list's objects with the frame, group and list; after a list the
+//! host marks, stamps the objects marked; and after every group reads the
+//! host's depth and IDs, comparing them with the last read (the first
+//! group's with the cleared targets): drawing only brings depth nearer and
+//! never writes ID 0, and an object that owns a sample after a group the
+//! host marks must be marked. It then looks for marks no passing fragment
+//! made (an object marked, owning no sample, whose every sample is empty
+//! or owned by an object drawn before it: no forced early-Z). The frame's
+//! last read checks every sample's ID: in range, naming an object an
+//! occluding list drew, and not in front of that object's box along the
+//! pixel's ray (boxes too small, wrong transforms, depth bias toward the
+//! viewer). What it finds is counted, with a first example, and read back
+//! through a staging ring like the draw tally's. All that is due at one
+//! point of the frame is one compute pass.
 //!
 //! The checks are exact, so they raise no alarm on a host that keeps the
 //! contract: each compares what drawing can do with what was drawn,
-//! padded by a pixel and the depth's rounding.
+//! padded as the culler's own tests pad boxes and by the depth's and the
+//! projection's rounding.
 
 use crate::gpu::shape::{EncoderShape, PassShape};
 use std::collections::HashMap;
@@ -137,12 +141,21 @@ impl Validator {
     }
 }
 
-/// What a frame's findings are tagged with: its number, and each group's
-/// phase and whether the host marked it.
+/// What a frame's findings are tagged with: its number, and its groups.
 #[derive(Clone, Copy)]
 struct Tag {
     frame: u64,
-    groups: [Option<(Phase, bool)>; GROUPS],
+    groups: [Option<Group>; GROUPS],
+}
+
+/// A group of draws: its phase, whether the host marked some of its
+/// lists, and whether it marked them all (then any pixel it drew comes
+/// with a mark).
+#[derive(Clone, Copy)]
+struct Group {
+    phase: Phase,
+    marked: bool,
+    all_marked: bool,
 }
 
 /// One view's validation: its buffers, and the frame being recorded.
@@ -280,9 +293,12 @@ impl Validation {
             None => 0,
             Some((g, p, m)) if *p == phase && (marks.is_none() || m.is_none() || m.as_ref() == marks) => {
                 let g = *g;
+                if let Some(group) = self.tag.groups[g].as_mut() {
+                    group.marked |= marks.is_some();
+                    group.all_marked &= marks.is_some();
+                }
                 if let (Some(m), Some(group)) = (marks, self.group.as_mut()) {
                     group.2 = Some(m.clone());
-                    self.tag.groups[g] = Some((phase, true));
                 }
                 return;
             }
@@ -293,7 +309,7 @@ impl Validation {
             }
         };
         self.group = Some((index, phase, marks.cloned()));
-        self.tag.groups[index] = Some((phase, marks.is_some()));
+        self.tag.groups[index] = Some(Group { phase, marked: marks.is_some(), all_marked: marks.is_some() });
     }
 
     /// After the host drew `list` (with the host's marks or not): its
@@ -334,7 +350,7 @@ impl Validation {
     }
 
     fn group_mode(&self, g: usize) -> u32 {
-        let marks = matches!(self.tag.groups[g], Some((_, true)));
+        let marks = self.tag.groups[g].is_some_and(|group| group.marked);
         let first = g == 0;
         (if self.ids { CHECK_IDS } else { 0 }) | (if marks { HOST_MARKS } else { 0 }) | (if first { FIRST } else { 0 })
     }
@@ -453,7 +469,7 @@ const FINDINGS: [&str; KINDS] = [
 fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<(u64, String)> {
     let word = |i: usize| bytemuck::pod_read_unaligned::<u32>(&bytes[i * 4..i * 4 + 4]);
     let phase = |g: u32| match tag.groups.get(g as usize).copied().flatten() {
-        Some((p, _)) => format!(", in the {p:?} phase"),
+        Some(group) => format!(", in the {:?} phase", group.phase),
         None => String::new(),
     };
     let mut lines = Vec::new();
@@ -477,10 +493,10 @@ fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<(u64, String)> {
     let changed = KINDS * 4;
     let marked = changed + GROUPS;
     for (g, group) in tag.groups.iter().enumerate() {
-        if let Some((p, true)) = group {
-            let (pixels, objects) = (word(changed + g), word(marked + g));
-            if pixels > 0 && objects == 0 {
-                lines.push(format!("the {p:?} phase drew {pixels} pixels and marked no object: {}", FINDINGS[6].split_once(": ").map_or(FINDINGS[6], |(_, fix)| fix)));
+        if let Some(Group { phase, all_marked: true, .. }) = group {
+            if word(changed + g) > 0 && word(marked + g) == 0 {
+                let fix = FINDINGS[6].split_once(": ").map_or(FINDINGS[6], |(_, fix)| fix);
+                lines.push(format!("the {phase:?} phase drew and marked no object: {fix}"));
             }
         }
     }

@@ -58,7 +58,10 @@ pub struct CullerDesc<'a> {
     /// drawn visibly but not marked, or marked while hidden (no forced
     /// early-Z). ID checks need a view whose method reads the ID target.
     /// On by default in debug builds, off in release. Costs a few compute
-    /// passes over the host's depth and IDs per frame (BENCHMARKS.md).
+    /// passes per frame, each reading at most 1,024 pixels of the host's
+    /// depth and IDs (a different share each frame: a mistake that
+    /// touches few pixels is found within a few frames); BENCHMARKS.md
+    /// gives the cost.
     pub validation: bool,
     /// The size, in indices, of the host's index buffer: objects whose
     /// indices lie past it are refused ([`Culler::new`],
