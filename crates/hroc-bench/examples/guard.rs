@@ -256,6 +256,15 @@ fn main() {
     g.check("houses: hroc most drawn (502; 2,326 seeding on cuts only)", row(&r, Method::HROC).drawn_max as f64, Limit::AtMost(502.0 * 1.2), cmd);
     g.check("houses: hroc drawn/frame (113; 130 seeding on cuts only)", row(&r, Method::HROC).drawn_mean, Limit::AtMost(113.0 * 1.03), cmd);
 
+    // Validation's cost on the default scene: on / off within 1.15 for hzb and hroc (medians of repeated runs).
+    let cmd = "cargo run --release -p hroc-bench --example validation_cost";
+    let scene = hroc_bench::scene::load("radial-city", None, 0).expect("the default scene");
+    let costs: Vec<Vec<bench::ValidationCost>> =
+        (0..repeats(quick)).map(|_| bench::validation_cost(&gpu, &scene, 60, &[Method::Hzb, Method::HROC]).unwrap_or_else(|e| panic!("validation: {e}"))).collect();
+    for (k, m) in [Method::Hzb, Method::HROC].into_iter().enumerate() {
+        g.check_median(&format!("default scene: {m} ms with validation / without"), costs.iter().map(|c| c[k].on_ms / c[k].off_ms).collect(), Limit::AtMost(1.15), cmd);
+    }
+
     // The BVH: 4M boxes in under 1 s on this 2-core machine (1.12 s when first accepted), median of 3 builds after one.
     let boxes = random_boxes(if quick { 1_000_000 } else { 4_000_000 }, 1, Dist::Uniform);
     let mut times: Vec<f64> = (0..4).map(|_| Bvh::build(&boxes, Split::Sah).build_ms / 1e3).skip(1).collect();
