@@ -4,7 +4,7 @@
 //! frames with validation on, and changes nothing with it off; the same
 //! host without mistakes raises none.
 
-use common::street::{boxes, cube, look, SIZE};
+use common::street::{boxes, cube, look, Depth, SIZE};
 use glam::{Mat4, Vec3};
 use hroc::{Aabb, Culler, CullerDesc, DepthRange, Draw, Error, FrameInput, Method, ObjectDesc, ObjectFlags, View, ViewDesc, ViewTargets};
 use wgpu::util::DeviceExt;
@@ -140,62 +140,17 @@ impl Host {
 /// `view_proj` at group 0, hroc's marks at group 1, depth and the ID
 /// target written.
 fn pipeline(device: &wgpu::Device, mistake: Mistake) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
-    let id = if mistake == Mistake::IndexForId { "in.object" } else { "in.object + 1u" };
-    let early = if matches!(mistake, Mistake::NoMark | Mistake::MarkWithoutEarlyZ | Mistake::NoMarksGroup) { "" } else { "@early_depth_test(force) " };
-    let mark = if matches!(mistake, Mistake::NoMark | Mistake::NoMarksGroup) { "" } else { " hroc_mark(in.object);" };
-    let marks_group = mistake != Mistake::NoMarksGroup;
-    let source = format!(
-        "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\
-         struct Out {{ @builtin(position) clip: vec4<f32>, @location(0) @interpolate(flat) object: u32 }}\n\
-         @vertex fn vs(@location(0) p: vec3<f32>, @builtin(instance_index) i: u32) -> Out {{ return Out(view_proj * vec4<f32>(p, 1.0), i); }}\n\
-         @fragment {early}fn fs(in: Out) -> @location(0) vec4<u32> {{{mark} return vec4<u32>({id}, 0u, 0u, 0u); }}\n",
-        if mark.is_empty() { String::new() } else { hroc::device::marks_wgsl(1) }
-    );
-    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("host"), source: wgpu::ShaderSource::Wgsl(source.into()) });
-    let camera = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-        label: Some("camera"),
-        entries: &[wgpu::BindGroupLayoutEntry {
-            binding: 0,
-            visibility: wgpu::ShaderStages::VERTEX,
-            ty: wgpu::BindingType::Buffer { ty: wgpu::BufferBindingType::Uniform, has_dynamic_offset: false, min_binding_size: None },
-            count: None,
-        }],
-    });
-    let marks = hroc::device::marks_layout(device);
-    let groups: Vec<Option<&wgpu::BindGroupLayout>> = if marks_group { vec![Some(&camera), Some(&marks)] } else { vec![Some(&camera)] };
-    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("host"), bind_group_layouts: &groups, immediate_size: 0 });
+    let shader = common::Shader {
+        ids: Some(if mistake == Mistake::IndexForId { "in.object" } else { "in.object + 1u" }),
+        early_z: !matches!(mistake, Mistake::NoMark | Mistake::MarkWithoutEarlyZ | Mistake::NoMarksGroup),
+        mark: !matches!(mistake, Mistake::NoMark | Mistake::NoMarksGroup),
+        marks_group: mistake != Mistake::NoMarksGroup,
+    };
     let bias = match mistake {
         Mistake::BiasTowardViewer => wgpu::DepthBiasState { constant: -2000, slope_scale: -4.0, clamp: 0.0 },
         _ => Default::default(),
     };
-    let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("host"),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("vs"),
-            compilation_options: Default::default(),
-            buffers: &[Some(wgpu::VertexBufferLayout { array_stride: 12, step_mode: wgpu::VertexStepMode::Vertex, attributes: &wgpu::vertex_attr_array![0 => Float32x3] })],
-        },
-        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), ..Default::default() },
-        depth_stencil: Some(wgpu::DepthStencilState {
-            format: wgpu::TextureFormat::Depth32Float,
-            depth_write_enabled: Some(true),
-            depth_compare: Some(wgpu::CompareFunction::Less),
-            stencil: Default::default(),
-            bias,
-        }),
-        multisample: Default::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("fs"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState { format: wgpu::TextureFormat::R32Uint, blend: None, write_mask: wgpu::ColorWrites::ALL })],
-        }),
-        multiview_mask: None,
-        cache: None,
-    });
-    (pipeline, camera)
+    common::host_pipeline_with(device, &shader, &Depth { bias, ..Depth::default() })
 }
 
 /// The views: a walk along the street, or (for the biased shadow pass) a

@@ -55,11 +55,36 @@ pub fn host_pipeline(device: &wgpu::Device, ids: bool, mark: bool) -> (wgpu::Ren
 /// format, samples (the ID target's format with them), depth test and
 /// bias, and clamping rather than clipping at the near plane.
 pub fn host_pipeline_on(device: &wgpu::Device, ids: bool, mark: bool, at: &street::Depth) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
+    let shader = Shader { ids: ids.then_some("in.object + 1u"), early_z: mark, mark, marks_group: true };
+    host_pipeline_with(device, &shader, at)
+}
+
+/// What a host's fragment stage does, and whether its layout has hroc's
+/// marks group (the host contract's lines, each of which a test may
+/// leave out).
+pub struct Shader {
+    /// The ID written (WGSL of `in.object`), if any.
+    pub ids: Option<&'static str>,
+    /// Declared `@early_depth_test(force)`.
+    pub early_z: bool,
+    /// Calls `hroc_mark(in.object)`.
+    pub mark: bool,
+    /// The layout has the marks group at group 1.
+    pub marks_group: bool,
+}
+
+/// [`host_pipeline_on`] with the fragment stage and layout `shader` describes.
+pub fn host_pipeline_with(device: &wgpu::Device, shader: &Shader, at: &street::Depth) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
     let street::Depth { format, range, bias, unclipped, samples, .. } = *at;
     // Rg16Uint holds the ID's low 16 bits in r, its high in g.
     let value = if at.ids_format() == wgpu::TextureFormat::Rg16Uint { "vec4<u32>(id & 0xffffu, id >> 16u, 0u, 0u)" } else { "vec4<u32>(id, 0u, 0u, 0u)" };
-    let (output, ret) = if ids { (" -> @location(0) vec4<u32>".to_string(), format!(" let id = in.object + 1u; return {value};")) } else { (String::new(), String::new()) };
-    let (early, marking) = if mark { ("@early_depth_test(force) ", " hroc_mark(in.object);") } else { ("", "") };
+    let (output, ret) = match shader.ids {
+        Some(id) => (" -> @location(0) vec4<u32>".to_string(), format!(" let id = {id}; return {value};")),
+        None => (String::new(), String::new()),
+    };
+    let early = if shader.early_z { "@early_depth_test(force) " } else { "" };
+    let marking = if shader.mark { " hroc_mark(in.object);" } else { "" };
+    let mark = shader.mark;
     let source = format!(
         "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\
          struct Out {{ @builtin(position) clip: vec4<f32>, @location(0) @interpolate(flat) object: u32 }}\n\
@@ -78,8 +103,8 @@ pub fn host_pipeline_on(device: &wgpu::Device, ids: bool, mark: bool, at: &stree
         }],
     });
     let marks = hroc::device::marks_layout(device);
-    let layout =
-        device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("host"), bind_group_layouts: &[Some(&camera_layout), Some(&marks)], immediate_size: 0 });
+    let groups = if shader.marks_group { vec![Some(&camera_layout), Some(&marks)] } else { vec![Some(&camera_layout)] };
+    let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some("host"), bind_group_layouts: &groups, immediate_size: 0 });
     let targets = [Some(wgpu::ColorTargetState { format: at.ids_format(), blend: None, write_mask: wgpu::ColorWrites::ALL })];
     let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
         label: Some("host"),
@@ -99,7 +124,12 @@ pub fn host_pipeline_on(device: &wgpu::Device, ids: bool, mark: bool, at: &stree
             bias,
         }),
         multisample: wgpu::MultisampleState { count: samples, ..Default::default() },
-        fragment: Some(wgpu::FragmentState { module: &module, entry_point: Some("fs"), compilation_options: Default::default(), targets: if ids { &targets } else { &[] } }),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets: if shader.ids.is_some() { &targets } else { &[] },
+        }),
         multiview_mask: None,
         cache: None,
     });
