@@ -243,12 +243,13 @@ fn index_ranges_past_the_declared_buffer_are_refused() {
     let (_, mut objects) = Host::new(&device, Mistake::None);
     let indices = objects.len() as u32 * 36;
     objects[3].first_index = 1_000_000;
-    let declared = CullerDesc { index_count: Some(indices), ..CullerDesc::new(&objects) };
-    let refused = Culler::new(&device, &queue, &declared).err().map(|e| e.to_string()).unwrap_or_default();
+    let declared = |objects, validation| CullerDesc { index_count: Some(indices), validation, ..CullerDesc::new(objects) };
+    let refused = Culler::new(&device, &queue, &declared(&objects, true)).err().map(|e| e.to_string()).unwrap_or_default();
     assert!(refused.contains("object 3") && refused.contains("CullerDesc::index_count"), "{refused}");
-    // Added later, too; a host that declares no size is not checked.
+    // Added later, too; without validation, as before.
     let (_, good) = Host::new(&device, Mistake::None);
-    let mut culler = Culler::new(&device, &queue, &CullerDesc { index_count: Some(indices), ..CullerDesc::new(&good) }).unwrap();
+    let mut culler = Culler::new(&device, &queue, &declared(&good, true)).unwrap();
     assert!(culler.add_objects(&objects[3..4]).is_err());
-    assert!(Culler::new(&device, &queue, &CullerDesc { validation: false, ..CullerDesc::new(&objects) }).is_ok());
+    assert!(Culler::new(&device, &queue, &declared(&objects, false)).is_ok());
+    assert!(Culler::new(&device, &queue, &declared(&good, false)).unwrap().add_objects(&objects[3..4]).is_ok());
 }

@@ -63,9 +63,10 @@ pub struct CullerDesc<'a> {
     /// touches few pixels is found within a few frames); BENCHMARKS.md
     /// gives the cost.
     pub validation: bool,
-    /// The size, in indices, of the host's index buffer: objects whose
-    /// indices lie past it are refused ([`Culler::new`],
-    /// [`Culler::add_objects`]). `None`: not checked.
+    /// The size, in indices, of the host's index buffer: with
+    /// [`CullerDesc::validation`], objects whose indices lie past it are
+    /// refused ([`Culler::new`], [`Culler::add_objects`]). `None`: not
+    /// checked.
     pub index_count: Option<u32>,
 }
 
@@ -138,7 +139,7 @@ pub struct Culler {
     pub(super) validator: Option<Validator>,
     /// The check of the pipelines of marked draws ([`Draw::record`]).
     pub(super) pipelines: PipelineCheck,
-    /// [`CullerDesc::index_count`].
+    /// [`CullerDesc::index_count`], where the culler validates.
     pub(super) index_count: Option<u32>,
 }
 
@@ -179,7 +180,7 @@ impl Culler {
         let objects = desc.objects;
         for (i, o) in objects.iter().enumerate() {
             check_box(i as u32, &o.bounds)?;
-            check_indices(i as u32, o, desc.index_count)?;
+            check_indices(i as u32, o, desc.index_count.filter(|_| desc.validation))?;
             check_oriented(i as u32, &o.oriented)?;
             check_flags(i as u32, o.flags)?;
         }
@@ -230,7 +231,7 @@ impl Culler {
             id_marks,
             validator: desc.validation.then(Validator::default),
             pipelines,
-            index_count: desc.index_count,
+            index_count: desc.index_count.filter(|_| desc.validation),
         };
         culler.rebuild_tree()?;
         culler.upload_bounds();
