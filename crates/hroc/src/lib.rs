@@ -158,7 +158,8 @@
 //!   conservative method serves both kinds (`woc` is measured on
 //!   perspective views only).
 //!   Each [`View`] keeps its own temporal state; all views share the
-//!   culler's BVH and object buffers. Set [`FrameInput::cut`] on a camera
+//!   culler's BVH and object buffers. A [`Culler`] is `Send + Sync` (an
+//!   engine's shared resource) and a [`View`] is `Send`. Set [`FrameInput::cut`] on a camera
 //!   cut; a view also treats a frame as a cut when its central ray turned
 //!   or moved past [`MethodOptions::cut_turn_deg`] or
 //!   [`MethodOptions::cut_move`] (an orthographic cascade's moves with its

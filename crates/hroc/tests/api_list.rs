@@ -63,3 +63,16 @@ fn the_crate_exports_its_documented_api_and_no_internals() {
         assert!(!exported.contains(internal), "the internal module {internal} is exported");
     }
 }
+
+/// An engine keeps the culler in a resource shared by its systems and
+/// moves views between threads.
+#[test]
+fn the_culler_is_shared_and_views_move_across_threads() {
+    fn shared<T: Send + Sync>() -> usize {
+        std::mem::size_of::<T>()
+    }
+    fn movable<T: Send>() -> usize {
+        std::mem::size_of::<T>()
+    }
+    assert!(shared::<hroc::Culler>() > 0 && movable::<hroc::View>() > 0);
+}

@@ -35,7 +35,7 @@ use crate::error::Result;
 use crate::gpu::Gpu;
 
 /// A culling method: what a [`crate::View`] runs every frame.
-pub trait CullMethod: Any {
+pub trait CullMethod: Any + Send {
     /// Which method this is.
     fn method(&self) -> Method;
 

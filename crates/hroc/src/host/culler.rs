@@ -118,7 +118,7 @@ pub struct Culler {
     /// one range before the next frame or read ([`Culler::flush_oriented`]).
     /// Moving objects drop their boxes in [`Culler::set_bounds`] and get
     /// new ones in [`Culler::set_oriented`]: one write of the range, not two.
-    pub(super) oriented_dirty: std::cell::Cell<(u32, u32)>,
+    pub(super) oriented_dirty: std::sync::Mutex<(u32, u32)>,
     pub(super) bvh_nodes: wgpu::Buffer,
     pub(super) leaf_of_object: wgpu::Buffer,
     pub(super) gpu_refit: Option<GpuRefit>,
@@ -211,7 +211,7 @@ impl Culler {
             split: desc.split,
             built_cost: 0.0,
             gpu_boxes: false,
-            oriented_dirty: std::cell::Cell::new((u32::MAX, 0)),
+            oriented_dirty: std::sync::Mutex::new((u32::MAX, 0)),
             gpu_refit: None,
             gpu,
             boxes,
@@ -290,8 +290,9 @@ impl Culler {
     /// Marks the oriented boxes of `slots` for the GPU: they go up with
     /// the next [`Culler::flush_oriented`].
     pub(super) fn upload_oriented(&self, slots: impl IntoIterator<Item = u32>) {
-        let (lo, hi) = slots.into_iter().fold(self.oriented_dirty.get(), |(lo, hi), i| (lo.min(i), hi.max(i + 1)));
-        self.oriented_dirty.set((lo, hi.min(self.objects.count)));
+        let mut dirty = self.oriented_dirty.lock().unwrap_or_else(|p| p.into_inner());
+        let (lo, hi) = slots.into_iter().fold(*dirty, |(lo, hi), i| (lo.min(i), hi.max(i + 1)));
+        *dirty = (lo, hi.min(self.objects.count));
     }
 
     /// Writes the marked oriented boxes to the GPU in one write: the range
@@ -299,7 +300,7 @@ impl Culler {
     /// costs a staging copy each, and the boxes between are current too).
     /// Every frame and read of them comes after it.
     pub(super) fn flush_oriented(&self) {
-        let (lo, hi) = self.oriented_dirty.replace((u32::MAX, 0));
+        let (lo, hi) = std::mem::replace(&mut *self.oriented_dirty.lock().unwrap_or_else(|p| p.into_inner()), (u32::MAX, 0));
         if lo >= hi {
             return;
         }
