@@ -48,11 +48,39 @@ fn box_vs_sample(@builtin(vertex_index) v: u32, @builtin(instance_index) slot: u
     return BoxSampleOut(o.clip, o.item, o.clip.zw);
 }
 
+// Box marks (`Marks::Boxes`, the culler marking what a host's list drew
+// without the host's shaders): `list` holds the list's indexed draw
+// commands (5 u32 each, the object at `first_instance`), one per
+// instance; an emptied command draws nothing. A box that reaches the near
+// plane (the eye inside it) would lose its fragments to clipping and
+// back-face culling: it draws one small triangle on the near plane over
+// pixel (0, 0) instead, which passes any depth there, so its object is
+// marked, as its own fragments may well have passed.
+override COMMANDS: bool = false;
+
 fn box_out(v: u32, slot: u32) -> BoxOut {
-    let item = list[slot];
-    let b = padded_box(boxes[item], frame.eye.xyz, pixel_angle(frame));
     var out: BoxOut;
+    var item = 0u;
+    if COMMANDS {
+        item = list[slot * 5u + 4u];
+        if list[slot * 5u + 1u] == 0u {
+            out.item = item;
+            out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0);
+            return out;
+        }
+    } else {
+        item = list[slot];
+    }
+    let b = padded_box(boxes[item], frame.eye.xyz, pixel_angle(frame));
     out.item = item;
+    if COMMANDS && box_in_frustum(frame.planes, b.min, b.max) && crosses_near(frame.near_plane, 0.5 * frame.near, b) {
+        // Counter-clockwise in NDC, covering the whole of pixel (0, 0).
+        let d = 4.0 * frame.viewport.zw;
+        var corner = array<vec2<f32>, 3>(vec2<f32>(-1.0, 1.0 - d.y), vec2<f32>(-1.0 + d.x, 1.0), vec2<f32>(-1.0, 1.0));
+        let z = select(0.0, 1.0, frame.reversed != 0u);
+        out.clip = select(vec4<f32>(0.0, 0.0, -1.0, 1.0), vec4<f32>(corner[min(v, 2u)], z, 1.0), v < 3u);
+        return out;
+    }
     if !box_in_frustum(frame.planes, b.min, b.max) || crosses_near(frame.near_plane, 0.5 * frame.near, b) {
         out.clip = vec4<f32>(0.0, 0.0, -1.0, 1.0); // degenerate and clipped: no fragments
         return out;

@@ -37,6 +37,19 @@ pub enum Marks {
     /// methods, and the host's shaders need no hroc snippet. The culler's
     /// box tests compare against the depth they load themselves.
     Ids,
+    /// After every occluding list whose marks it reads, the culler
+    /// rasterizes the boxes of the list's objects against the depth the
+    /// list left and marks those with a fragment at or in front of it
+    /// (everywhere wgpu runs). The host's shaders need no hroc line and,
+    /// for the marks, no ID target: for engines whose depth prepass has no
+    /// fragment stage and whose materials belong to their users. The marks
+    /// hold every object that owns a sample, and more (a box is larger
+    /// than its object), so next frames' occluders grow a little
+    /// (BENCHMARKS.md, "Marks from boxes"); the culler's box tests compare
+    /// against the depth they load themselves. Never picked by
+    /// [`Capabilities::of`]: ask for it in
+    /// [`crate::CullerDesc::capabilities`].
+    Boxes,
 }
 
 /// What the culler runs with: picked from the device

@@ -75,15 +75,3 @@ impl IdPass {
         pass.counted_dispatch(self.size.0.div_ceil(16), self.size.1.div_ceil(16), 1);
     }
 }
-
-/// Where the host's draws of a list mark their objects, as the culler
-/// runs: in the fragment shader ([`crate::capabilities::Marks::EarlyZ`]), or by the
-/// culler's pass over the ID target after the list ([`crate::capabilities::Marks::Ids`]).
-#[derive(Clone, Debug)]
-pub enum MarkTarget {
-    /// The marks bind group the host binds ([`crate::host::marks_wgsl`]),
-    /// and the buffer it holds.
-    Host(wgpu::BindGroup, wgpu::Buffer),
-    /// The pass that marks from the ID target; the host binds a sink.
-    Ids(IdPass),
-}

@@ -103,3 +103,44 @@ fn a_cascade_whose_box_jumps_is_a_cut() {
     }
     assert_eq!(cuts, [0.0, 0.0, 0.0, 1.0, 0.0], "a jump of 14 units (past a tenth of the street's diagonal) is a cut; slides of 0.3 are not");
 }
+
+/// Marks from boxes (`Marks::Boxes`: the host's shaders do not mark, and
+/// no ID target is read for marks): every method that reads marks draws
+/// every object `noc` shows, on the full and the portable tier, in
+/// perspective along the walk (a cut, the eye inside a box) and in an
+/// orthographic cascade, single-sample and at MSAA 4.
+#[test]
+fn marks_from_boxes_draw_every_visible_object() {
+    use glam::Mat4;
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
+    let mut path: Vec<(ViewDesc, bool)> = (0..4).map(|k| (look(Vec3::new(-3.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
+    path.push((look(Vec3::new(0.0, 1.5, 2.5), Vec3::new(0.0, 1.0, -10.0)), true));
+    path.push((look(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
+    let light = Mat4::look_at_rh(Vec3::new(3.0, 12.0, 8.0), Vec3::new(0.0, 0.0, -8.0), Vec3::Z);
+    for k in 0..2 {
+        let proj = Mat4::orthographic_rh(-14.0, 14.0, -14.0, 14.0, -20.0 + k as f32, 60.0);
+        path.push((ViewDesc { view: light, proj, unclipped_depth: false }, k == 0));
+    }
+    let boxes_full = Capabilities { marks: Marks::Boxes, ..Capabilities::FULL };
+    let boxes_portable = Capabilities { marks: Marks::Boxes, ..Capabilities::PORTABLE };
+    for samples in [1, 4] {
+        let (host, objects) = street_on(&device, Depth { samples, ..Depth::default() });
+        let culler = Culler::new(&device, &queue, &CullerDesc { validation: true, ..CullerDesc::new(&objects) }).unwrap();
+        let visible = host.visible_along(&device, &queue, &culler, &path);
+        for caps in [boxes_full, boxes_portable] {
+            let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), validation: true, ..CullerDesc::new(&objects) }).unwrap();
+            assert_eq!(culler.capabilities(), caps);
+            for method in [Method::Roc, Method::Ioc, Method::Hroc(Variant::NA), Method::Hroc(Variant::SF), Method::HROC] {
+                let mut view = culler.view(method, &host.targets()).unwrap();
+                let culled = host.draws_visible_along(&device, &queue, &culler, &mut view, &path, &visible, &format!("{method} ({caps:?}, {samples} samples)"));
+                assert!(culled > 0, "{method} ({caps:?}, {samples} samples) culled nothing");
+                if let Method::Hroc(_) = method {
+                    // The boxes marked effective occluders in the last frame.
+                    let stats = view.stats(&culler).unwrap();
+                    let o = stats.iter().find(|(s, _)| *s == hroc::stats::Stat::O).map_or(0.0, |s| s.1);
+                    assert!(o > 0.0, "{method} ({caps:?}, {samples} samples): no object marked by its box");
+                }
+            }
+        }
+    }
+}

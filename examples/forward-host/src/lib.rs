@@ -367,7 +367,7 @@ impl ForwardHost {
                     entry_point: Some(match (blend, marks) {
                         (true, _) => "fs_blend",
                         (false, Marks::EarlyZ) => "fs_opaque_marked",
-                        (false, Marks::Ids) => "fs_opaque",
+                        (false, Marks::Ids | Marks::Boxes) => "fs_opaque",
                     }),
                     compilation_options: wgpu::PipelineCompilationOptions { constants: &[("SPLIT_IDS", (samples > 1) as u32 as f64)], ..Default::default() },
                     targets: &targets,

@@ -1,6 +1,7 @@
 //! [`Frame`]: what a method records into, and the context it is built
 //! from.
 
+use super::marks::{BoxMarks, MarkTarget};
 use super::*;
 use crate::bvh::Bvh;
 use crate::capabilities::DrawCount;
@@ -10,7 +11,7 @@ use crate::flag_split::FlagSplit;
 use crate::frustum::ViewGeometry;
 use crate::gpu::shape::{EncoderShape, QueueShape};
 use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount, Submission, Uploads};
-use crate::id_marks::{IdMarks, MarkTarget};
+use crate::id_marks::IdMarks;
 use crate::layout::FrameUniform;
 use crate::list_pass::ListPass;
 use crate::objects::SharedObjects;
@@ -140,6 +141,9 @@ impl<'a> Frame<'a> {
                 let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc id marks"), timestamp_writes: None });
                 q.around(&mut pass, |pass| ids.record(pass));
             }
+        }
+        if let Some(MarkTarget::Boxes(boxes)) = marks {
+            boxes.record(self, lists);
         }
     }
 
@@ -335,6 +339,7 @@ impl MethodContext<'_> {
         match (self.capabilities.marks, self.id_marks, &self.targets.ids) {
             (crate::capabilities::Marks::EarlyZ, _, _) => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks]), marks.clone()),
             (crate::capabilities::Marks::Ids, Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, (self.targets.size, self.targets.samples), marks, within)),
+            (crate::capabilities::Marks::Boxes, _, _) => MarkTarget::Boxes(std::sync::Arc::new(BoxMarks::new(self, marks))),
             (crate::capabilities::Marks::Ids, _, _) => unreachable!("Culler::view_with checks the ID target of methods that read marks, and ID marks build the pass"),
         }
     }

@@ -20,12 +20,14 @@ pub mod woc;
 
 mod facts;
 mod frame;
+mod marks;
 mod method;
 mod options;
 
 pub use crate::contract::DrawList;
 pub use crate::metrics::{Stage, Stat};
 pub use frame::*;
+pub use marks::MarkTarget;
 pub use method::*;
 pub use options::*;
 

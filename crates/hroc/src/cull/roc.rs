@@ -71,11 +71,15 @@ pub(crate) struct BoxPass {
 /// filled, or a count the host knows.
 pub(crate) enum BoxCount<'a> {
     Indirect(&'a wgpu::Buffer),
+    /// `DrawArgs` at an offset of the buffer.
+    IndirectAt(&'a wgpu::Buffer, u64),
     Direct(u32),
 }
 
 impl BoxPass {
-    pub(crate) fn new(cx: &MethodContext) -> Self {
+    /// `commands`: the items are a list's indexed draw commands (box
+    /// marks, [`super::marks::BoxMarks`]), not object indices.
+    pub(crate) fn new(cx: &MethodContext, commands: bool) -> Self {
         let gpu = cx.gpu;
         let samples = cx.targets.samples;
         let layout = Layout::RocBoxes.create_for(gpu, samples);
@@ -85,7 +89,7 @@ impl BoxPass {
         let depth = (cx.targets.depth_format, cx.targets.depth, samples);
         // Loading multisampled depth itself, the test runs per sample.
         let stages = if target.mode() == BoxDepth::Manual && samples > 1 { ("box_vs_sample", Some("box_fs_sample")) } else { ("box_vs", Some("box_fs")) };
-        let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, stages, depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth())]);
+        let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, stages, depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth()), ("COMMANDS", commands as u32 as f64)]);
         // Attached, the test never loads depth: a stand-in fills the binding,
         // so GL (no read-only depth attachments) can attach the depth.
         let depth = match target.mode() {
@@ -106,15 +110,23 @@ impl BoxPass {
     }
 
     pub(crate) fn record(&self, f: &mut Frame, bind: &wgpu::BindGroup, count: BoxCount) {
+        self.record_all(f, "box occlusion test", &[(bind, count)]);
+    }
+
+    /// One pass `label` of a draw per `(bind group, count)`.
+    pub(crate) fn record_all(&self, f: &mut Frame, label: &str, draws: &[(&wgpu::BindGroup, BoxCount)]) {
         let targets = f.targets;
         let (enc, q) = f.counted();
-        let mut pass = self.target.begin(enc, "box occlusion test", &targets.depth_attachment);
+        let mut pass = self.target.begin(enc, label, &targets.depth_attachment);
         q.around(&mut pass, |pass| {
             pass.set_pipeline(&self.pipeline);
-            pass.set_bind_group(0, bind, &[]);
-            match count {
-                BoxCount::Indirect(args) => pass.counted_draw_indirect(args, 0),
-                BoxCount::Direct(n) => pass.counted_draw(0..36, 0..n),
+            for (bind, count) in draws {
+                pass.set_bind_group(0, *bind, &[]);
+                match *count {
+                    BoxCount::Indirect(args) => pass.counted_draw_indirect(args, 0),
+                    BoxCount::IndirectAt(args, offset) => pass.counted_draw_indirect(args, offset),
+                    BoxCount::Direct(n) => pass.counted_draw(0..36, 0..n),
+                }
             }
         });
     }
@@ -137,7 +149,7 @@ pub struct Roc {
     v_job: CompactJob,
     u_job: CompactJob,
     /// `roc`: where its lists mark next V (`roc-all` reads no marks).
-    marks_next: Option<crate::id_marks::MarkTarget>,
+    marks_next: Option<super::MarkTarget>,
     bind: wgpu::BindGroup,
     select: wgpu::ComputePipeline,
     split: wgpu::ComputePipeline,
@@ -162,7 +174,7 @@ impl Roc {
         let pl = crate::reflect::pipeline_layout(gpu, "roc", &layout);
         let module = gpu.shader("roc.wgsl", &shader_source("roc.wgsl"));
         let constants = [("ALL", if all { 1.0 } else { 0.0 })];
-        let boxes = BoxPass::new(cx);
+        let boxes = BoxPass::new(cx, false);
         Roc {
             all,
             n,

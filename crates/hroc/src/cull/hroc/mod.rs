@@ -63,9 +63,9 @@ use crate::capabilities::DrawCount;
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
 use crate::cull::DrawList;
+use crate::cull::MarkTarget;
 use crate::error::{Error, Result};
 use crate::gpu::{dispatch_size, Gpu};
-use crate::id_marks::MarkTarget;
 use crate::reflect::Layout;
 use crate::shaders::source_for as shader_source_for;
 use crate::shaders::{BoxDepth, BoxTarget};
@@ -312,7 +312,7 @@ impl Hroc {
     /// OF replaces; |D| is then not kept).
     fn d_marks(&self) -> Option<&MarkTarget> {
         match (&self.marks_d, self.variant.of) {
-            (MarkTarget::Ids(_), true) => None,
+            (MarkTarget::Ids(_) | MarkTarget::Boxes(_), true) => None,
             (marks, _) => Some(marks),
         }
     }

@@ -79,7 +79,7 @@ pub struct Ioc {
     compactor: Compactor,
     v_job: CompactJob,
     u_job: CompactJob,
-    marks_next: crate::id_marks::MarkTarget,
+    marks_next: crate::cull::MarkTarget,
     last: IocCounts,
     debug: bool,
     debug_queues: Vec<Vec<u32>>,
@@ -127,7 +127,7 @@ impl Ioc {
                 gpu.bind_buffers(&layout, &[cx.frame, &nodes, &marks, &queues[q], &counts[q], &queues[o], &counts[o], &visible, &fresh, &leaf_objects, &leaf_range])
             })
             .collect();
-        let boxes = BoxPass::new(cx);
+        let boxes = BoxPass::new(cx, false);
         let box_binds = (0..3).map(|q| boxes.bind(gpu, cx.frame, &queues[q], &nodes, &marks)).collect();
         let compactor = Compactor::new(gpu, n);
         let (v_list, v_job) = compactor.packed_list(gpu, "ioc V list", &visible, cx.commands);

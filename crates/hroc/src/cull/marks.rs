@@ -1,0 +1,105 @@
+//! Where a list's marks go ([`MarkTarget`]), and the culler's own marks
+//! from boxes ([`BoxMarks`], [`Marks::Boxes`]): for hosts whose shaders
+//! cannot mark (an engine's depth prepass has no fragment stage, and its
+//! materials belong to its users) and that have no object-ID target.
+//!
+//! After an occluding list, the culler rasterizes the box of every object
+//! the list drew against the depth the list left, as `roc`'s test does
+//! (`roc_boxes.wgsl` with `COMMANDS`): a box fragment at or in front of
+//! the depth marks its object. A box holds its object, so an object that
+//! owns a sample has its box's front face at or in front of that sample's
+//! depth, and is marked: the marks are a superset of what owns a sample,
+//! within the list's own objects. Every method that reads marks stays
+//! conservative with more marks than owners (a marked object of HROC's V
+//! was drawn, so it needs no test; a marked object of `roc`'s or HROC's
+//! next V is only drawn first), and with fewer (an unmarked object is
+//! tested like any other): boxes outside the frustum mark nothing, and
+//! boxes that reach the near plane are marked without a test.
+//!
+//! [`Marks::Boxes`]: crate::capabilities::Marks::Boxes
+
+use std::sync::{Arc, Mutex};
+
+use super::roc::{BoxCount, BoxPass};
+use super::{DrawList, Frame, MethodContext};
+use crate::gpu::shape::EncoderShape;
+use crate::id_marks::IdPass;
+
+/// Where the host's draws of a list mark their objects, as the culler
+/// runs: in the fragment shader ([`crate::capabilities::Marks::EarlyZ`]),
+/// by the culler's pass over the ID target after the list
+/// ([`crate::capabilities::Marks::Ids`]), or by the culler's box test
+/// against the depth the list left ([`crate::capabilities::Marks::Boxes`]).
+#[derive(Clone, Debug)]
+pub enum MarkTarget {
+    /// The marks bind group the host binds ([`crate::host::marks_wgsl`]),
+    /// and the buffer it holds.
+    Host(wgpu::BindGroup, wgpu::Buffer),
+    /// The pass that marks from the ID target; the host binds a sink.
+    Ids(IdPass),
+    /// The box test that marks the list's objects; the host binds a sink.
+    Boxes(Arc<BoxMarks>),
+}
+
+/// Lists one box-marks pass marks at most (a phase hands one or two: a
+/// list and its overflow); more are marked in further passes.
+const LISTS_PER_PASS: usize = 4;
+
+/// The box test that marks, in one marks buffer, the objects of the lists
+/// it is handed ([`MarkTarget::Boxes`]).
+pub struct BoxMarks {
+    pass: BoxPass,
+    frame: wgpu::Buffer,
+    bounds: wgpu::Buffer,
+    marks: wgpu::Buffer,
+    /// `DrawArgs` per list of a pass: 36 vertices, the list's count as instances.
+    args: wgpu::Buffer,
+    /// A bind group per list's command buffer, built when first marked.
+    binds: Mutex<Vec<(wgpu::Buffer, wgpu::BindGroup)>>,
+}
+
+impl std::fmt::Debug for BoxMarks {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("BoxMarks").field("marks", &self.marks).finish_non_exhaustive()
+    }
+}
+
+impl BoxMarks {
+    /// The box marks of a method's view into `marks` (u32 per object).
+    pub(crate) fn new(cx: &MethodContext, marks: &wgpu::Buffer) -> BoxMarks {
+        let gpu = cx.gpu;
+        let init: Vec<u32> = (0..LISTS_PER_PASS).flat_map(|_| [36, 0, 0, 0]).collect();
+        use wgpu::BufferUsages as U;
+        BoxMarks {
+            pass: BoxPass::new(cx, true),
+            frame: cx.frame.clone(),
+            bounds: cx.bounds.clone(),
+            marks: marks.clone(),
+            args: gpu.buffer_init("hroc box marks args", bytemuck::cast_slice(&init), U::INDIRECT | U::COPY_DST),
+            binds: Mutex::new(Vec::new()),
+        }
+    }
+
+    /// Records the test of `lists`' objects against the depth they left.
+    pub(crate) fn record(&self, f: &mut Frame, lists: &[&DrawList]) {
+        for chunk in lists.chunks(LISTS_PER_PASS) {
+            let binds: Vec<wgpu::BindGroup> = chunk.iter().map(|l| self.bind(f, &l.commands)).collect();
+            let enc = f.encoder();
+            for (i, l) in chunk.iter().enumerate() {
+                enc.counted_copy(&l.count, 0, &self.args, i as u64 * 16 + 4, Some(4));
+            }
+            let draws: Vec<(&wgpu::BindGroup, BoxCount)> = binds.iter().enumerate().map(|(i, b)| (b, BoxCount::IndirectAt(&self.args, i as u64 * 16))).collect();
+            self.pass.record_all(f, "hroc box marks", &draws);
+        }
+    }
+
+    fn bind(&self, f: &Frame, commands: &wgpu::Buffer) -> wgpu::BindGroup {
+        let mut binds = self.binds.lock().unwrap_or_else(|p| p.into_inner());
+        if let Some((_, b)) = binds.iter().find(|(c, _)| c == commands) {
+            return b.clone();
+        }
+        let b = self.pass.bind(f.gpu, &self.frame, commands, &self.bounds, &self.marks);
+        binds.push((commands.clone(), b.clone()));
+        b
+    }
+}
