@@ -115,6 +115,13 @@
 //!     need no hroc line; the culler reads the object-ID target after each
 //!     occluding list whose marks it reads, so views of those methods need
 //!     one ([`ViewTargets::ids`]).
+//!   - [`device::Marks::Boxes`] (asked for in [`CullerDesc::capabilities`]):
+//!     [`Draw::mark`] is never set, the host's shaders need no hroc line,
+//!     and no ID target is read for marks; the culler rasterizes the boxes
+//!     of each such list's objects against the depth the list left. A
+//!     fragment that discards (alpha testing, cutout foliage) then occludes
+//!     too, drawn without early-Z in the same phase: its object needs no
+//!     flag.
 //! - **Object IDs.** For HROC with occluder filtering (OF, §4.2; the default
 //!   [`Method::HROC`]), and with [`device::Marks::Ids`] for every method that reads
 //!   marks, the host writes `object index + 1` to an `R32Uint` target (or,
@@ -210,6 +217,18 @@
 //!   miss). Lists read for marks are in object order, which the check of
 //!   hidden marks relies on.
 //!
+//! ## Engines that draw their own frame
+//! An engine that runs its own passes and builds its own draws (per
+//! material, from its own indirect parameters; Bevy) culls a view with
+//! [`View::steps`] in place of [`View::cull`]: no draw lists, but three
+//! command buffers it submits around its early and late depth passes
+//! ([`Steps`]), and [`View::visibility`], a buffer its shaders read
+//! ([`device::visibility_wgsl`]) to tell which objects each pass draws.
+//! The contract above holds for its passes as for the lists' (depth,
+//! clearing, IDs); its shaders need no hroc line with
+//! [`device::Marks::Boxes`]. [`View::steps`] says which methods run
+//! stepwise and what each step holds.
+//!
 //! ## Methods
 //! [`Method`] is the one registry. Every method fits the contract except
 //! `ref`, the benchmark's ideal culler, which needs `noc`'s ID image before
@@ -241,6 +260,8 @@
 //!   [`ViewDesc`], [`ViewTargets`], [`DepthRange`], [`FrameInput`];
 //! - objects: [`ObjectDesc`], [`ObjectFlags`], [`Aabb`];
 //! - the draws handed to the host: [`Draw`], [`DrawHost`], [`Phase`];
+//! - an engine's own frame: [`Steps`] ([`View::steps`], with
+//!   [`View::visibility`]);
 //! - methods: [`Method`], [`MethodOptions`];
 //! - errors: [`Error`], [`Result`];
 //! - and the modules [`device`] (features, limits, capabilities, the marks
@@ -283,9 +304,10 @@ mod tally;
 #[doc(hidden)]
 pub mod testing;
 mod validation;
+mod visibility;
 
 pub use aabb::Aabb;
 pub use cull::{Method, MethodOptions};
 pub use error::{Error, Result};
 pub use frustum::{DepthRange, ViewDesc};
-pub use host::{Culler, CullerDesc, Draw, DrawHost, FrameInput, ObjectDesc, ObjectFlags, Phase, View, ViewTargets};
+pub use host::{Culler, CullerDesc, Draw, DrawHost, FrameInput, ObjectDesc, ObjectFlags, Phase, Steps, View, ViewTargets};

@@ -34,6 +34,8 @@ pub enum Layout {
     Tally,
     /// The zeroed tail of a list drawn without a GPU count.
     Tail,
+    /// The stamps of visibility as data.
+    Visibility,
     /// ID marks: the objects owning a pixel of the ID target.
     IdMarks,
     /// `vfc`'s frustum test.
@@ -87,12 +89,13 @@ const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 27] = [
+    pub const ALL: [Layout; 28] = [
         Layout::Compact,
         Layout::Refit,
         Layout::FlagSplit,
         Layout::Tally,
         Layout::Tail,
+        Layout::Visibility,
         Layout::IdMarks,
         Layout::Vfc,
         Layout::HiZBuild,
@@ -125,6 +128,7 @@ impl Layout {
             Layout::FlagSplit => "hroc flag split",
             Layout::Tally => "hroc tally",
             Layout::Tail => "hroc emulated count",
+            Layout::Visibility => "hroc visibility",
             Layout::IdMarks => "hroc id marks",
             Layout::Vfc => "vfc",
             Layout::HiZBuild => "hi-z build",
@@ -158,6 +162,7 @@ impl Layout {
             Layout::FlagSplit => &[("split.wgsl", &[])],
             Layout::Tally => &[("tally.wgsl", &[])],
             Layout::Tail => &[("tail.wgsl", &[])],
+            Layout::Visibility => &[("visibility.wgsl", &[])],
             Layout::IdMarks => &[("id_marks.wgsl", &[])],
             Layout::Vfc => &[("vfc.wgsl", &[])],
             Layout::HiZBuild => &[("hzb_pyramid.wgsl", &[])],

@@ -27,6 +27,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("woc_warp.wgsl", include_str!("../shaders/woc_warp.wgsl")),
     ("tally.wgsl", include_str!("../shaders/tally.wgsl")),
     ("tail.wgsl", include_str!("../shaders/tail.wgsl")),
+    ("visibility.wgsl", include_str!("../shaders/visibility.wgsl")),
     ("id_marks.wgsl", include_str!("../shaders/id_marks.wgsl")),
     ("validate.wgsl", include_str!("../shaders/validate.wgsl")),
 ];

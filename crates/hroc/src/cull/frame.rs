@@ -65,6 +65,10 @@ pub struct Frame<'a> {
     pub(crate) validation: Option<&'a mut crate::validation::Validation>,
     /// The check of the host's pipelines ([`Draw::record`]).
     pub(crate) pipelines: &'a crate::contract::PipelineCheck,
+    /// The view's visibility as data, when it keeps it.
+    pub(crate) visibility: Option<&'a mut crate::visibility::Visibility>,
+    /// A stepwise frame's cuts ([`crate::View::steps`]).
+    pub(crate) steps: Option<&'a mut super::steps::StepCuts>,
 }
 
 /// Work of one frame that does not depend on how busy the machine is:
@@ -84,13 +88,16 @@ pub struct WorkCounts {
 }
 
 impl<'a> Frame<'a> {
-    /// The encoder to record into (the host's; replaced after a mid-frame submit).
+    /// The encoder to record into (the host's; replaced after a mid-frame
+    /// submit, and in a stepwise frame after each pass of the engine's).
     pub fn encoder(&mut self) -> &mut wgpu::CommandEncoder {
+        self.take_cut();
         self.encoder
     }
 
     /// Begins GPU stage `stage` here (ends the previous one).
     pub fn stage(&mut self, stage: Stage) {
+        self.take_cut();
         self.current = stage;
         self.end_group();
         self.encoder.push_debug_group(stage.name());
@@ -103,6 +110,7 @@ impl<'a> Frame<'a> {
     /// The encoder, and a pipeline-statistics slot for the pass about to be
     /// recorded into it ([`Frame::pass_count`]).
     pub fn counted(&mut self) -> (&mut wgpu::CommandEncoder, PassCount) {
+        self.take_cut();
         let count = self.pass_count();
         (self.encoder, count)
     }
@@ -165,16 +173,20 @@ impl<'a> Frame<'a> {
     /// commands past its GPU count are emptied first; what it draws is
     /// tallied after.
     pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) {
+        self.step_list(phase);
         self.work.command_slots += list.max_count as u64;
         crate::gpu::shape::count(|s| s.lists += 1);
         if let Some(tail) = self.tail.as_deref_mut() {
-            tail.record(self.gpu, self.encoder, self.uploads, &list.commands, &list.count, list.max_count);
+            tail.record(self.gpu, self.encoder, self.uploads, (&list.commands, &list.count, list.max_count), 0);
         }
         let statistics = self.pass_count();
         let host_marks = match marks {
             Some(MarkTarget::Host(_, buffer)) => Some(buffer),
             _ => None,
         };
+        if let Some(v) = self.visibility.as_deref_mut() {
+            v.record(self.gpu, self.encoder, self.uploads, phase, list);
+        }
         if let Some(v) = self.validation.as_deref_mut() {
             v.before_draw(self.gpu, self.encoder, self.uploads, phase, host_marks);
         }
@@ -220,23 +232,32 @@ impl<'a> Frame<'a> {
                 }
             }
         }
-        let open = self.group_open;
-        self.end_group();
-        let enc = std::mem::replace(self.encoder, self.gpu.encoder("hroc frame"));
-        self.uploads.close(&enc);
+        let enc = self.next_encoder("hroc frame");
         self.gpu.queue.counted_submit([enc.finish()]);
         self.work.submits += 1;
+        Ok(())
+    }
+
+    /// Ends the encoder recorded so far (its stage's debug group closed,
+    /// its uploads closed) and goes on in a fresh one labelled `label`
+    /// (the stage's group opened again); returns the one ended.
+    pub(crate) fn next_encoder(&mut self, label: &str) -> wgpu::CommandEncoder {
+        let open = self.group_open;
+        self.end_group();
+        let enc = std::mem::replace(self.encoder, self.gpu.encoder(label));
+        self.uploads.close(&enc);
         if open {
             self.encoder.push_debug_group(self.current.name());
             self.group_open = true;
         }
-        Ok(())
+        enc
     }
 
     /// Records into the encoder a copy of `bytes` (a non-empty multiple of
     /// 4) to `target` at `offset`: per-frame data travels with the frame's
     /// commands, never through the queue, so frames may share an encoder.
     pub fn write(&mut self, target: &wgpu::Buffer, offset: u64, bytes: &[u8]) {
+        self.take_cut();
         self.uploads.write(self.encoder, target, offset, bytes);
     }
 

@@ -23,6 +23,7 @@ mod frame;
 mod marks;
 mod method;
 mod options;
+pub(crate) mod steps;
 
 pub use crate::contract::DrawList;
 pub use crate::metrics::{Stage, Stat};

@@ -457,12 +457,13 @@ impl Culler {
             tally: DrawTally::new(&self.gpu, method == Method::Auto),
             uploads: Uploads::new(&self.gpu.device),
             tail: None,
-            tail_pass: (self.caps.draw_count == DrawCount::Emulated).then(|| ListPass::new(&self.gpu, Layout::Tail, "tail.wgsl", "tail")),
+            tail_pass: (self.caps.draw_count == DrawCount::Emulated).then(|| ListPass::new(&self.gpu, Layout::Tail, ("tail.wgsl", "tail"), None, &[])),
             interrupted: false,
             last_start: None,
             culled_by: method,
             frames: 0,
             validation,
+            visibility: None,
         })
     }
 

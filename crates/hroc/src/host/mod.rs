@@ -5,6 +5,7 @@
 mod culler;
 mod motion;
 mod serving;
+mod steps;
 mod view;
 
 pub use crate::contract::*;
@@ -12,4 +13,5 @@ pub(crate) use crate::flag_split::*;
 pub use crate::objects::*;
 pub use culler::*;
 pub use motion::*;
+pub use steps::Steps;
 pub use view::*;

@@ -2,12 +2,14 @@
 //! frame.
 
 use super::*;
+use crate::cull::steps::StepCuts;
 use crate::cull::{CullMethod, Frame, FrameBody, Method, MethodContext, MethodOptions, Stage, Stat, WorkCounts};
 use crate::error::{Error, Result};
 use crate::frustum::ViewDesc;
 use crate::gpu::{GpuTimer, InvocationCounter, Invocations, Submission, Uploads};
 use crate::list_pass::ListPass;
 use crate::tally::{DrawTally, FrameStats};
+use crate::visibility::Visibility;
 
 /// What the host hands in per frame of a view. The view draws into the
 /// targets it was created with ([`View::resize`] changes them).
@@ -62,6 +64,8 @@ pub struct View {
     pub(super) culled_by: Method,
     /// The view's validation, when the culler validates.
     pub(super) validation: Option<crate::validation::Validation>,
+    /// Visibility as data, once asked for ([`View::visibility`]).
+    pub(super) visibility: Option<crate::visibility::Visibility>,
 }
 
 impl View {
@@ -97,7 +101,7 @@ impl View {
         } else {
             fresh.interrupted = true;
         }
-        *self = View { frames: self.frames, ..fresh };
+        *self = View { frames: self.frames, visibility: self.visibility.take(), ..fresh };
         Ok(())
     }
 
@@ -115,14 +119,14 @@ impl View {
     /// failure part-way, its next frame starts over as after a cut), and
     /// `encoder` stays balanced and submittable.
     pub fn cull(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost) -> Result<()> {
-        self.record(culler, encoder, input, host, None)
+        self.record(culler, encoder, input, host, None, None)
     }
 
     /// [`View::cull`] with `body` recorded in place of the method's frame:
     /// for tests of a method's building blocks (`cull::queries::QueryRenderer`).
     #[doc(hidden)]
     pub fn cull_with(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: FrameBody) -> Result<()> {
-        self.record(culler, encoder, input, host, Some(body))
+        self.record(culler, encoder, input, host, Some(body), None)
     }
 
     /// What this view's methods are built from (with [`View::cull_with`]).
@@ -133,14 +137,24 @@ impl View {
         cx
     }
 
-    pub(super) fn record(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: Option<FrameBody>) -> Result<()> {
+    pub(super) fn record(
+        &mut self,
+        culler: &Culler,
+        encoder: &mut wgpu::CommandEncoder,
+        input: &FrameInput,
+        host: &mut dyn DrawHost,
+        body: Option<FrameBody>,
+        mut steps: Option<&mut StepCuts>,
+    ) -> Result<()> {
         let (started, shape_before) = (std::time::Instant::now(), crate::gpu::shape::recorded());
         let regrown = self.slots != culler.objects.count;
         let rebuilt = self.generation != culler.generation && self.method.keeps_tree();
         if regrown || rebuilt {
             let fresh = culler.view_with(self.method, &self.targets.desc(), &self.options)?;
-            // Frames keep their numbers across the rebuild.
-            *self = View { frames: self.frames, ..fresh };
+            // Frames keep their numbers across the rebuild, and a view that
+            // keeps its visibility as data keeps it (for the new slots).
+            let visibility = self.visibility.is_some().then(|| Visibility::new(&culler.gpu, culler.objects.count));
+            *self = View { frames: self.frames, visibility, ..fresh };
         }
         if culler.moves > 0 && !self.method.takes_motion() {
             return Err(Error::InvalidScene(format!("{} keeps its own copy of the BVH and takes static scenes only; objects have moved", self.method)));
@@ -161,12 +175,17 @@ impl View {
                 g.depth, self.targets.depth
             )));
         }
-        if let Some(v) = self.validation.as_mut() {
+        // Validation checks the host's draws, which a stepwise frame does not see.
+        let validation = self.validation.as_mut().filter(|_| steps.is_none());
+        if let Some(v) = validation {
             v.begin(&culler.gpu, encoder, self.frames)?;
         }
         culler.flush_oriented();
         let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32);
         self.uploads.write(encoder, &self.frame, 0, bytemuck::bytes_of(&uniform));
+        if let Some(v) = self.visibility.as_mut() {
+            v.begin(encoder, &mut self.uploads, self.frames);
+        }
         let cut = self.detect_cut(culler, &g) || input.cut || std::mem::take(&mut self.interrupted);
         if cut {
             self.imp.reset(encoder);
@@ -213,8 +232,10 @@ impl View {
             tree: (&culler.bvh, culler.generation),
             culled_by: self.method,
             period_ms: period_ms(&mut self.last_start),
-            validation: self.validation.as_mut(),
+            validation: self.validation.as_mut().filter(|_| steps.is_none()),
             pipelines: &culler.pipelines,
+            visibility: self.visibility.as_mut(),
+            steps: steps.as_deref_mut(),
         };
         if let Some(always) = culler.objects.always.as_ref() {
             f.stage(Stage::FlaggedObjects);

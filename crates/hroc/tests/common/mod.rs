@@ -5,6 +5,7 @@
 // Each test binary uses part of this module.
 #![allow(dead_code)]
 
+pub mod engine;
 pub mod street;
 
 /// A device on the first Vulkan adapter, with `features` and the adapter's

@@ -79,13 +79,13 @@ impl Default for Depth {
 /// The host: pipelines writing depth and `object + 1`, one of them marking
 /// its object.
 pub struct Host {
-    at: Depth,
+    pub(super) at: Depth,
     marking: Option<wgpu::RenderPipeline>,
     plain: wgpu::RenderPipeline,
-    camera: wgpu::Buffer,
+    pub(super) camera: wgpu::Buffer,
     camera_bind: wgpu::BindGroup,
-    vertices: wgpu::Buffer,
-    indices: wgpu::Buffer,
+    pub(super) vertices: wgpu::Buffer,
+    pub(super) indices: wgpu::Buffer,
     depth: wgpu::Texture,
     ids: wgpu::Texture,
 }
@@ -128,7 +128,7 @@ impl Host {
         ViewTargets::new(&self.depth, self.at.range).with_ids(&self.ids).at(self.at.layer, self.at.mip)
     }
 
-    fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, clear: bool) -> wgpu::RenderPass<'e> {
+    pub(super) fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, clear: bool) -> wgpu::RenderPass<'e> {
         let depth = self.depth.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
             base_mip_level: self.at.mip,

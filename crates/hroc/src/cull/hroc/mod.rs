@@ -391,7 +391,8 @@ impl CullMethod for Hroc {
         // same rays; no collapse); the walk up from every effective
         // occluder; the objects tested alone; the groups collected.
         f.stage(Stage::GroupExtraction);
-        let refill = !self.seeded && self.seed_mode == Seed::Cuts;
+        // (Not in a stepwise frame: the refill would be a second early pass.)
+        let refill = !self.seeded && self.seed_mode == Seed::Cuts && !f.stepwise();
         let enc = f.encoder();
         enc.counted_clear(&self.refill_list.count, 0, None);
         for b in [&self.state, &self.visited, &self.group_count, &self.occludees, &self.ray_stats] {

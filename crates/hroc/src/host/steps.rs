@@ -1,0 +1,113 @@
+//! The frame of an engine that draws it itself: [`View::steps`] and
+//! [`View::visibility`].
+
+use super::*;
+use crate::cull::steps::{check, Cut, StepCuts};
+use crate::error::Result;
+use crate::visibility::Visibility;
+
+/// One frame of a view culled for an engine that runs its own passes and
+/// builds its own draws ([`View::steps`]): three command buffers, which
+/// the engine submits in this order around its two depth passes (or adds
+/// to its own list of command buffers, as Bevy's `RenderContext` does).
+/// Between them the engine draws what [`View::visibility`] says.
+pub struct Steps {
+    /// Before the engine's early pass: what decides it (the frame's
+    /// stamps, last frame's visible set packed, a seed after a cut).
+    pub begin: wgpu::CommandBuffer,
+    /// After the early pass, before the late pass: the occlusion test
+    /// against the depth the early pass left (marks, Hi-Z or HROC's test).
+    pub occluders_drawn: wgpu::CommandBuffer,
+    /// After the late pass: what the next frame starts from (HROC's next
+    /// occluders), and the non-occluders' stamps, which the engine's
+    /// blended pass reads.
+    pub occludees_drawn: wgpu::CommandBuffer,
+}
+
+/// Takes the host's draws of a stepwise frame: it has none.
+struct EngineDraws;
+
+impl DrawHost for EngineDraws {
+    fn draw(&mut self, _: &mut wgpu::CommandEncoder, _: &Draw) {}
+}
+
+impl View {
+    /// The view's visibility as data: [`crate::device::VISIBILITY_HEADER`] `u32`s of
+    /// this frame's stamp of each phase, then one `u32` per object slot, the
+    /// stamp of the phase this frame draws it in (any other value: not
+    /// drawn). Read it in a shader with [`device::visibility_wgsl`], to
+    /// build per-material indirect draws in the host's own compute pass.
+    /// From the first call on, every frame stamps the objects of every list
+    /// it hands, in the host's encoder, right before the list: a phase's
+    /// stamps are final when it is the host's turn to draw it. The buffer
+    /// changes when the culler's slots grow: take it each frame.
+    ///
+    /// [`device::visibility_wgsl`]: crate::device::visibility_wgsl
+    pub fn visibility(&mut self, culler: &Culler) -> &wgpu::Buffer {
+        &self.visibility.get_or_insert_with(|| Visibility::new(&culler.gpu, culler.objects.count)).buffer
+    }
+
+    /// Culls one frame for an engine that draws it itself: it records the
+    /// view's culling as [`View::cull`] does, and in place of handing draw
+    /// lists, stamps [`View::visibility`] and ends a command buffer at each
+    /// point where the engine draws ([`Steps`]). The engine clears its
+    /// targets before its early pass (the crate docs' clearing rule), then:
+    ///
+    /// 1. submits [`Steps::begin`], and draws its **early pass**: the
+    ///    objects `hroc_early` says (never culled, a single list's, the
+    ///    occluders), writing depth (and IDs where the view has an ID
+    ///    target) as the contract's occluding phases do;
+    /// 2. submits [`Steps::occluders_drawn`], and draws its **late pass**:
+    ///    the objects `hroc_late` says, the same way;
+    /// 3. submits [`Steps::occludees_drawn`]; its blended objects are then
+    ///    those stamped `HROC_NON_OCCLUDERS`.
+    ///
+    /// Which steps each method fills: `noc`, `vfc`, `woc` and `ref` decide
+    /// everything in `begin` (the other two hold only bookkeeping); `hzb`
+    /// tests in `occluders_drawn`; `roc`, `roc-all` and HROC (`hroc`,
+    /// `hroc-sf`, `hroc-na`, `hroc-of`) mark and test in `occluders_drawn`
+    /// and find the next frame's occluders in `occludees_drawn`; `auto`
+    /// runs its choice's steps. Methods that submit mid-frame (`hroc-cr`,
+    /// `ioc`, the query methods) cannot run stepwise, nor HROC with
+    /// occludee or occluder rounds (a third pass); HROC leaves out its
+    /// refill of V's holes, which would need one. The engine's shaders
+    /// cannot mark: methods that read marks need a culler with
+    /// [`device::Marks::Boxes`], or [`device::Marks::Ids`] and an ID
+    /// target. Validation ([`CullerDesc::validation`]) checks the draws
+    /// handed to a host, and is off in stepwise frames.
+    ///
+    /// Errors as [`View::cull`] does, and when the method cannot run
+    /// stepwise; the view's next frame then starts over as after a cut.
+    ///
+    /// [`device::Marks::Boxes`]: crate::device::Marks::Boxes
+    /// [`device::Marks::Ids`]: crate::device::Marks::Ids
+    pub fn steps(&mut self, culler: &Culler, input: &FrameInput) -> Result<Steps> {
+        check(self.method, culler.caps.marks)?;
+        self.visibility(culler);
+        let mut cuts = StepCuts::default();
+        let mut encoder = culler.gpu.encoder("hroc steps");
+        let recorded = self.record(culler, &mut encoder, input, &mut EngineDraws, None, Some(&mut cuts));
+        if let Some(e) = cuts.error.take() {
+            self.interrupted = true;
+            return Err(e);
+        }
+        recorded?;
+        let mut early = None;
+        let mut late = None;
+        for (cut, buffer) in cuts.done {
+            match cut {
+                Cut::Early => early = Some(buffer),
+                Cut::Late => late = Some(buffer),
+            }
+        }
+        let empty = || culler.gpu.encoder("hroc step").finish();
+        let last = encoder.finish();
+        // The buffers in order; a pass that had no cut gets an empty one.
+        Ok(match (early, late) {
+            (Some(e), Some(l)) => Steps { begin: e, occluders_drawn: l, occludees_drawn: last },
+            (Some(e), None) => Steps { begin: e, occluders_drawn: last, occludees_drawn: empty() },
+            (None, Some(l)) => Steps { begin: l, occluders_drawn: empty(), occludees_drawn: last },
+            (None, None) => Steps { begin: last, occluders_drawn: empty(), occludees_drawn: empty() },
+        })
+    }
+}

@@ -1,0 +1,111 @@
+//! Engines that drive their own frame, on lavapipe: visibility as data
+//! (`View::visibility`) and the stepwise frame (`View::steps`). An engine
+//! of a few lines draws the street in its own two passes from the
+//! visibility buffer, and each frame of each method that can run stepwise
+//! draws every object `noc` shows, on the full and the portable tier, with
+//! marks from boxes and from IDs, single-sample and at MSAA 4, along a
+//! walk, a camera cut, the eye inside a box and an orthographic cascade.
+
+use common::engine::Engine;
+use common::street::{look, street, street_on, Depth};
+use glam::{Mat4, Vec3};
+use hroc::device::{Capabilities, Marks};
+use hroc::options::Variant;
+use hroc::{Culler, CullerDesc, Error, Method, MethodOptions, ViewDesc};
+
+mod common;
+
+fn path() -> Vec<(ViewDesc, bool)> {
+    let mut path: Vec<(ViewDesc, bool)> = (0..4).map(|k| (look(Vec3::new(-3.0 + k as f32, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0)), false)).collect();
+    path.push((look(Vec3::new(0.0, 12.0, 2.0), Vec3::new(0.0, 0.0, -12.0)), true));
+    path.push((look(Vec3::new(0.0, 1.5, 2.5), Vec3::new(0.0, 1.0, -10.0)), true));
+    path.push((look(Vec3::new(0.5, 1.5, 2.0), Vec3::new(0.0, 1.0, -10.0)), false));
+    let light = Mat4::look_at_rh(Vec3::new(3.0, 12.0, 8.0), Vec3::new(0.0, 0.0, -8.0), Vec3::Z);
+    for k in 0..2 {
+        let proj = Mat4::orthographic_rh(-14.0, 14.0, -14.0, 14.0, -20.0 + k as f32, 60.0);
+        path.push((ViewDesc { view: light, proj, unclipped_depth: false }, k == 0));
+    }
+    path
+}
+
+#[test]
+fn stepwise_frames_draw_every_visible_object() {
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
+    let path = path();
+    let tiers = [Capabilities { marks: Marks::Boxes, ..Capabilities::FULL }, Capabilities { marks: Marks::Boxes, ..Capabilities::PORTABLE }, Capabilities::PORTABLE];
+    for samples in [1, 4] {
+        let (host, objects) = street_on(&device, Depth { samples, ..Depth::default() });
+        let engine = Engine::new(&device, &host);
+        let truth = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+        let visible = host.visible_along(&device, &queue, &truth, &path);
+        for caps in tiers {
+            let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
+            for method in [Method::Noc, Method::Vfc, Method::Hzb, Method::Roc, Method::Hroc(Variant::SF), Method::HROC, Method::Auto] {
+                let label = format!("{method} stepwise ({caps:?}, {samples} samples)");
+                let mut view = culler.view(method, &host.targets()).unwrap();
+                let mut culled = 0;
+                for (k, &(desc, cut)) in path.iter().enumerate() {
+                    let drawn = engine.frame(&device, &queue, &host, &culler, &mut view, desc, cut).unwrap_or_else(|e| panic!("{label}: {e}"));
+                    let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
+                    assert!(missed.is_empty(), "{label} frame {k}: visible objects {missed:?} not drawn");
+                    // The engine's image: every object noc shows owns a pixel of it, and nothing else does.
+                    assert_eq!(host.visible(&device, &queue), visible[k], "{label} frame {k}: the engine's ID image");
+                    culled += objects.len() - drawn.len();
+                }
+                assert!(culled > 0 || method == Method::Noc, "{label} culled nothing");
+                // The same method through the host's draw lists culls as much (HROC's
+                // refill, left out stepwise, culls a little more).
+                let mut lists = culler.view(method, &host.targets()).unwrap();
+                let listed: usize = path.iter().map(|&(desc, cut)| objects.len() - host.frame(&device, &queue, &culler, &mut lists, desc, cut).len()).sum();
+                assert!(culled * 10 >= listed * 9, "{label}: culled {culled} stepwise, {listed} through the host's lists");
+            }
+        }
+    }
+}
+
+/// Visibility as data in a frame culled through the host's draw lists:
+/// the slots stamped with a phase are the objects of that phase's lists.
+#[test]
+fn visibility_stamps_the_lists_handed() {
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
+    let (host, objects) = street(&device);
+    for caps in [Capabilities::FULL, Capabilities::PORTABLE] {
+        let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
+        for method in [Method::Vfc, Method::Hzb, Method::HROC] {
+            let mut view = culler.view(method, &host.targets()).unwrap();
+            let visibility = view.visibility(&culler).clone();
+            for (k, &(desc, cut)) in path().iter().enumerate() {
+                let drawn = host.frame(&device, &queue, &culler, &mut view, desc, cut);
+                let slots: Vec<u32> = hroc_readback::read(&device, &queue, &visibility, 0, (hroc::device::VISIBILITY_HEADER + culler.object_count()) as u64).unwrap();
+                let (header, slots) = slots.split_at(hroc::device::VISIBILITY_HEADER as usize);
+                let stamped: Vec<u32> = (0..slots.len() as u32).filter(|&o| header[..6].contains(&slots[o as usize])).collect();
+                assert_eq!(stamped, drawn, "{method} ({caps:?}) frame {k}: the stamped objects are the lists'");
+                // Stamps of earlier frames no longer count.
+                assert!(header.iter().take(6).all(|s| *s != 0) && header[..6].iter().collect::<std::collections::BTreeSet<_>>().len() == 6);
+            }
+        }
+    }
+}
+
+/// What a stepwise frame cannot run is refused, naming the fix, and the
+/// view runs its next frame.
+#[test]
+fn what_cannot_run_stepwise_is_refused() {
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
+    let (host, objects) = street(&device);
+    let engine = Engine::new(&device, &host);
+    let desc = look(Vec3::new(0.0, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0));
+    let boxes = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(Capabilities { marks: Marks::Boxes, ..Capabilities::FULL }), ..CullerDesc::new(&objects) }).unwrap();
+    let early_z = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let refused = |culler: &Culler, method: Method, options: &MethodOptions, needle: &str| {
+        let mut view = culler.view_with(method, &host.targets(), options).unwrap();
+        let e = engine.frame(&device, &queue, &host, culler, &mut view, desc, true).unwrap_err();
+        assert!(matches!(e, Error::InvalidScene(_)) && e.to_string().contains(needle), "{method}: {e}");
+    };
+    refused(&boxes, Method::Hroc(Variant::CR), &MethodOptions::default(), "submits mid-frame");
+    refused(&early_z, Method::HROC, &MethodOptions::default(), "Marks::Boxes");
+    refused(&boxes, Method::Ioc, &MethodOptions::default(), "submits mid-frame");
+    // A view refused once runs stepwise as soon as it can: hzb reads no marks.
+    let mut view = early_z.view(Method::Hzb, &host.targets()).unwrap();
+    assert!(engine.frame(&device, &queue, &host, &early_z, &mut view, desc, true).is_ok());
+}
