@@ -80,12 +80,14 @@ struct ObjectBounds {
 const NEVER_CULL: u32 = 1u;
 const NOT_OCCLUDER: u32 = 2u;
 const DYNAMIC: u32 = 4u;
+const CUTOUT: u32 = 8u;
 // Set by the culler, never by the host: the object is tested on its own,
 // from its object box (DYNAMIC, or not in the BVH since the last build),
 // and the object's slot is empty (its command draws nothing).
 const ALONE: u32 = 0x40000000u;
 const REMOVED: u32 = 0x80000000u;
-// The host's flags that change which list draws an object.
+// The host's flags that take an object out of a method's lists (CUTOUT
+// moves it to the list's cutout list).
 const SPLIT_FLAGS: u32 = 3u;
 
 // Object-level BVH node (src/bvh): children of an interior node sit at

@@ -107,6 +107,11 @@ pub struct Draw<'a> {
     /// (always false with [`crate::capabilities::Marks::Ids`], where the culler reads the
     /// ID target instead).
     pub mark: bool,
+    /// True for a list of [`ObjectFlags::CUTOUT`](crate::ObjectFlags::CUTOUT)
+    /// objects (handed right after the list of their phase they were taken
+    /// from): draw it with the alpha-tested pipeline, without forced
+    /// early-Z and without marking (`mark` is false).
+    pub cutout: bool,
     /// The pipeline-statistics slot of this draw, if the view counts.
     pub(crate) statistics: PassCount,
     /// Where [`Draw::record`] checks the host's pipelines.

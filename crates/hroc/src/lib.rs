@@ -85,9 +85,12 @@
 //!   rasterized at its sample count, exact per sample) and loads it in
 //!   compute and fragment passes (Hi-Z, HROC's occlusion map, box tests
 //!   that compare depth themselves), which keep a pixel's farthest
-//!   sample. A fragment that may leave samples it covers unwritten
-//!   (`discard`, alpha-to-coverage, a sample-mask output) cannot occlude:
-//!   flag its object [`ObjectFlags::NOT_OCCLUDER`].
+//!   sample. An object whose fragments may leave samples they cover
+//!   unwritten (`discard`, alpha-to-coverage, a sample-mask output)
+//!   occludes where it writes depth, and cannot force early-Z: flag it
+//!   [`ObjectFlags::CUTOUT`], and draw the lists of such objects
+//!   ([`Draw::cutout`]) with its own pipeline, without forced early-Z and
+//!   without marking.
 //! - **Clearing.** Clear the depth target to its far value (1 standard,
 //!   0 reversed) and the ID target to 0 once per
 //!   frame, before [`View::cull`]: in a pass of its own, or with
@@ -110,7 +113,7 @@
 //!     keeps hidden fragments from running at all, so a mark means "owns a
 //!     fragment that passed" (HROC §3.1). A shader that discards (alpha
 //!     testing) cannot force early-Z: flag such objects
-//!     [`ObjectFlags::NOT_OCCLUDER`] or draw them in a separate pass.
+//!     [`ObjectFlags::CUTOUT`]; the culler marks them by their boxes.
 //!   - [`device::Marks::Ids`]: [`Draw::mark`] is never set and the host's shaders
 //!     need no hroc line; the culler reads the object-ID target after each
 //!     occluding list whose marks it reads, so views of those methods need

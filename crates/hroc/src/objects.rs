@@ -26,8 +26,19 @@ impl ObjectFlags {
     /// tested on its own box, so that moving it costs no refit (HROC §6's
     /// hybrid). Static objects may move too; they are refit into the BVH.
     pub const DYNAMIC: ObjectFlags = ObjectFlags(4);
+    /// Occludes, and its fragment shader discards (alpha-tested foliage,
+    /// fences): it writes depth only where it is drawn, and cannot force
+    /// early-Z. Such objects come in lists of their own
+    /// ([`Draw::cutout`](crate::Draw::cutout)), right after each list of
+    /// their phase: draw them with the alpha-tested pipeline, depth test
+    /// and writes on (and IDs, where the view has an ID target), without
+    /// `@early_depth_test(force)` and without `hroc_mark`. The culler marks
+    /// them itself (from their boxes, or from the ID target with
+    /// [`Marks::Ids`](crate::device::Marks::Ids)), so they occlude as
+    /// any other object.
+    pub const CUTOUT: ObjectFlags = ObjectFlags(8);
 
-    /// The raw bits (`ObjectBounds::flags`, WGSL `NEVER_CULL`/`NOT_OCCLUDER`/`DYNAMIC`).
+    /// The raw bits (`ObjectBounds::flags`, WGSL `NEVER_CULL`/`NOT_OCCLUDER`/`DYNAMIC`/`CUTOUT`).
     pub fn bits(self) -> u32 {
         self.0
     }
@@ -101,7 +112,7 @@ impl SharedObjects {
 
 /// The host sets only the flags it knows.
 pub(super) fn check_flags(i: u32, f: ObjectFlags) -> Result<()> {
-    let known = ObjectFlags::NEVER_CULL | ObjectFlags::NOT_OCCLUDER | ObjectFlags::DYNAMIC;
+    let known = ObjectFlags::NEVER_CULL | ObjectFlags::NOT_OCCLUDER | ObjectFlags::DYNAMIC | ObjectFlags::CUTOUT;
     match f.bits() & !known.bits() {
         0 => Ok(()),
         bad => Err(Error::InvalidObject(format!("object {i}: unknown flag bits {bad:#x}"))),

@@ -13,7 +13,8 @@ use crate::list_pass::ListPass;
 use crate::reflect::Layout;
 
 /// `u32`s before the first object's slot: this frame's stamp of each
-/// phase, by [`phase_index`] (6 phases, 2 unused).
+/// phase: always, visible, occluders, occludees, interleaved,
+/// non-occluders (the order of [`Phase`]), 2 unused.
 pub const HEADER: u32 = 8;
 
 /// The index of `phase`'s stamp in the header.

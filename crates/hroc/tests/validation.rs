@@ -145,6 +145,7 @@ fn pipeline(device: &wgpu::Device, mistake: Mistake) -> (wgpu::RenderPipeline, w
         early_z: !matches!(mistake, Mistake::NoMark | Mistake::MarkWithoutEarlyZ | Mistake::NoMarksGroup),
         mark: !matches!(mistake, Mistake::NoMark | Mistake::NoMarksGroup),
         marks_group: mistake != Mistake::NoMarksGroup,
+        discard: false,
     };
     let bias = match mistake {
         Mistake::BiasTowardViewer => wgpu::DepthBiasState { constant: -2000, slope_scale: -4.0, clamp: 0.0 },

@@ -14,7 +14,7 @@ use crate::gpu::{Gpu, GpuTimer, InvocationCounter, PassCount, Submission, Upload
 use crate::id_marks::IdMarks;
 use crate::layout::FrameUniform;
 use crate::list_pass::ListPass;
-use crate::objects::SharedObjects;
+use crate::objects::{ObjectFlags, SharedObjects};
 
 /// Recorded in place of a method's frame (`View::cull_with`, for tests).
 pub type FrameBody<'b> = &'b mut dyn FnMut(&mut Frame) -> Result<()>;
@@ -69,6 +69,8 @@ pub struct Frame<'a> {
     pub(crate) visibility: Option<&'a mut crate::visibility::Visibility>,
     /// A stepwise frame's cuts ([`crate::View::steps`]).
     pub(crate) steps: Option<&'a mut super::steps::StepCuts>,
+    /// With early-Z marks and CUTOUT objects: the box test that marks them.
+    pub(crate) cutout_marks: Option<std::sync::Arc<BoxMarks>>,
 }
 
 /// Work of one frame that does not depend on how busy the machine is:
@@ -136,11 +138,16 @@ impl<'a> Frame<'a> {
     /// with ID marks, one pass over the ID target after the last marks
     /// them all.
     pub fn draw_all(&mut self, phase: Phase, lists: &[&DrawList], marks: Option<&MarkTarget>) {
+        let mut cutouts = Vec::new();
         for list in lists {
-            self.split_and_hand(phase, list, marks);
+            cutouts.extend(self.split_and_hand(phase, list, marks));
         }
         if let (Some(MarkTarget::Host(_, buffer)), Some(v)) = (marks, self.validation.as_deref_mut()) {
             v.after_marks(self.gpu, self.encoder, self.uploads, buffer);
+        }
+        // Cutouts cannot mark under early-Z: their boxes do.
+        if let (Some(MarkTarget::Host(_, buffer)), Some(boxes), false) = (marks, self.cutout_marks.clone(), cutouts.is_empty()) {
+            boxes.record(self, &cutouts.iter().collect::<Vec<_>>(), buffer);
         }
         if let Some(MarkTarget::Ids(ids)) = marks {
             if !lists.is_empty() {
@@ -150,29 +157,39 @@ impl<'a> Frame<'a> {
                 q.around(&mut pass, |pass| ids.record(pass));
             }
         }
-        if let Some(MarkTarget::Boxes(boxes)) = marks {
-            boxes.record(self, lists);
+        if let Some(MarkTarget::Boxes(boxes, buffer)) = marks {
+            boxes.record(self, lists, buffer);
         }
     }
 
-    /// Hands `list` to the host after the flag split, if the view has one.
-    fn split_and_hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) {
+    /// Hands `list` to the host after the flag split, if the view has one,
+    /// and then its cutout list, if any object is CUTOUT; returns that.
+    pub(crate) fn split_and_hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) -> Option<DrawList> {
         let split;
         let split_count = if self.split.is_some() { self.pass_count() } else { PassCount::NONE };
-        let list = match self.split.as_deref_mut() {
-            Some(s) => {
-                split = s.split(self.gpu, self.encoder, self.uploads, &self.objects.bounds, list, &split_count);
-                &split
-            }
-            None => list,
+        // The never-culled list holds neither NEVER_CULL's nor NOT_OCCLUDER's to take out.
+        let empty = match phase {
+            Phase::Always => ObjectFlags::CUTOUT,
+            _ => ObjectFlags::NEVER_CULL | ObjectFlags::NOT_OCCLUDER | ObjectFlags::CUTOUT,
         };
-        self.hand(phase, list, marks);
+        let (list, cutouts) = match self.split.as_deref_mut() {
+            Some(s) => {
+                split = s.split(self.gpu, self.encoder, self.uploads, &self.objects.bounds, list, &split_count, empty.bits());
+                (&split.0, split.1.clone())
+            }
+            None => (list, None),
+        };
+        self.hand(phase, list, marks, false);
+        if let Some(c) = &cutouts {
+            self.hand(phase, c, None, true);
+        }
+        cutouts
     }
 
     /// Hands `list` to the host as it is: with an emulated draw count, the
     /// commands past its GPU count are emptied first; what it draws is
     /// tallied after.
-    pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>) {
+    pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>, cutout: bool) {
         self.step_list(phase);
         self.work.command_slots += list.max_count as u64;
         crate::gpu::shape::count(|s| s.lists += 1);
@@ -201,6 +218,7 @@ impl<'a> Frame<'a> {
                 _ => self.sink,
             },
             mark: host_marks.is_some(),
+            cutout,
             statistics,
             pipelines: self.pipelines,
         };
@@ -360,7 +378,7 @@ impl MethodContext<'_> {
         match (self.capabilities.marks, self.id_marks, &self.targets.ids) {
             (crate::capabilities::Marks::EarlyZ, _, _) => MarkTarget::Host(self.gpu.bind_buffers(self.marks_layout, &[marks]), marks.clone()),
             (crate::capabilities::Marks::Ids, Some(pass), Some(ids)) => MarkTarget::Ids(pass.bind(self.gpu, ids, (self.targets.size, self.targets.samples), marks, within)),
-            (crate::capabilities::Marks::Boxes, _, _) => MarkTarget::Boxes(std::sync::Arc::new(BoxMarks::new(self, marks))),
+            (crate::capabilities::Marks::Boxes, _, _) => MarkTarget::Boxes(std::sync::Arc::new(BoxMarks::new(self)), marks.clone()),
             (crate::capabilities::Marks::Ids, _, _) => unreachable!("Culler::view_with checks the ID target of methods that read marks, and ID marks build the pass"),
         }
     }

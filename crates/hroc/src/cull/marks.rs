@@ -37,36 +37,37 @@ pub enum MarkTarget {
     Host(wgpu::BindGroup, wgpu::Buffer),
     /// The pass that marks from the ID target; the host binds a sink.
     Ids(IdPass),
-    /// The box test that marks the list's objects; the host binds a sink.
-    Boxes(Arc<BoxMarks>),
+    /// The box test that marks the list's objects into the buffer; the
+    /// host binds a sink.
+    Boxes(Arc<BoxMarks>, wgpu::Buffer),
 }
 
 /// Lists one box-marks pass marks at most (a phase hands one or two: a
 /// list and its overflow); more are marked in further passes.
 const LISTS_PER_PASS: usize = 4;
 
-/// The box test that marks, in one marks buffer, the objects of the lists
-/// it is handed ([`MarkTarget::Boxes`]).
+/// The box test that marks the objects of the lists it is handed in a
+/// marks buffer ([`MarkTarget::Boxes`], and CUTOUT objects under early-Z).
 pub struct BoxMarks {
     pass: BoxPass,
     frame: wgpu::Buffer,
     bounds: wgpu::Buffer,
-    marks: wgpu::Buffer,
     /// `DrawArgs` per list of a pass: 36 vertices, the list's count as instances.
     args: wgpu::Buffer,
-    /// A bind group per list's command buffer, built when first marked.
-    binds: Mutex<Vec<(wgpu::Buffer, wgpu::BindGroup)>>,
+    /// A bind group per list's command buffer and marks buffer, built when
+    /// first marked.
+    binds: Mutex<Vec<((wgpu::Buffer, wgpu::Buffer), wgpu::BindGroup)>>,
 }
 
 impl std::fmt::Debug for BoxMarks {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.debug_struct("BoxMarks").field("marks", &self.marks).finish_non_exhaustive()
+        f.debug_struct("BoxMarks").finish_non_exhaustive()
     }
 }
 
 impl BoxMarks {
-    /// The box marks of a method's view into `marks` (u32 per object).
-    pub(crate) fn new(cx: &MethodContext, marks: &wgpu::Buffer) -> BoxMarks {
+    /// The box marks of a method's view.
+    pub(crate) fn new(cx: &MethodContext) -> BoxMarks {
         let gpu = cx.gpu;
         let init: Vec<u32> = (0..LISTS_PER_PASS).flat_map(|_| [36, 0, 0, 0]).collect();
         use wgpu::BufferUsages as U;
@@ -74,16 +75,16 @@ impl BoxMarks {
             pass: BoxPass::new(cx, true),
             frame: cx.frame.clone(),
             bounds: cx.bounds.clone(),
-            marks: marks.clone(),
             args: gpu.buffer_init("hroc box marks args", bytemuck::cast_slice(&init), U::INDIRECT | U::COPY_DST),
             binds: Mutex::new(Vec::new()),
         }
     }
 
-    /// Records the test of `lists`' objects against the depth they left.
-    pub(crate) fn record(&self, f: &mut Frame, lists: &[&DrawList]) {
+    /// Records the test of `lists`' objects against the depth they left,
+    /// marking in `marks` (u32 per object) those whose boxes pass.
+    pub(crate) fn record(&self, f: &mut Frame, lists: &[&DrawList], marks: &wgpu::Buffer) {
         for chunk in lists.chunks(LISTS_PER_PASS) {
-            let binds: Vec<wgpu::BindGroup> = chunk.iter().map(|l| self.bind(f, &l.commands)).collect();
+            let binds: Vec<wgpu::BindGroup> = chunk.iter().map(|l| self.bind(f, &l.commands, marks)).collect();
             let enc = f.encoder();
             for (i, l) in chunk.iter().enumerate() {
                 enc.counted_copy(&l.count, 0, &self.args, i as u64 * 16 + 4, Some(4));
@@ -93,13 +94,13 @@ impl BoxMarks {
         }
     }
 
-    fn bind(&self, f: &Frame, commands: &wgpu::Buffer) -> wgpu::BindGroup {
+    fn bind(&self, f: &Frame, commands: &wgpu::Buffer, marks: &wgpu::Buffer) -> wgpu::BindGroup {
         let mut binds = self.binds.lock().unwrap_or_else(|p| p.into_inner());
-        if let Some((_, b)) = binds.iter().find(|(c, _)| c == commands) {
+        if let Some((_, b)) = binds.iter().find(|((c, m), _)| c == commands && m == marks) {
             return b.clone();
         }
-        let b = self.pass.bind(f.gpu, &self.frame, commands, &self.bounds, &self.marks);
-        binds.push((commands.clone(), b.clone()));
+        let b = self.pass.bind(f.gpu, &self.frame, commands, &self.bounds, marks);
+        binds.push(((commands.clone(), marks.clone()), b.clone()));
         b
     }
 }

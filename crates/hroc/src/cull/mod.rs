@@ -28,6 +28,7 @@ pub(crate) mod steps;
 pub use crate::contract::DrawList;
 pub use crate::metrics::{Stage, Stat};
 pub use frame::*;
+pub(crate) use marks::BoxMarks;
 pub use marks::MarkTarget;
 pub use method::*;
 pub use options::*;

@@ -464,6 +464,7 @@ impl Culler {
             frames: 0,
             validation,
             visibility: None,
+            cutout_marks: None,
         })
     }
 

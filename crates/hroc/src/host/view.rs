@@ -66,6 +66,8 @@ pub struct View {
     pub(super) validation: Option<crate::validation::Validation>,
     /// Visibility as data, once asked for ([`View::visibility`]).
     pub(super) visibility: Option<crate::visibility::Visibility>,
+    /// With early-Z marks, once some object is CUTOUT: its box marks.
+    pub(super) cutout_marks: Option<std::sync::Arc<crate::cull::BoxMarks>>,
 }
 
 impl View {
@@ -144,7 +146,7 @@ impl View {
         input: &FrameInput,
         host: &mut dyn DrawHost,
         body: Option<FrameBody>,
-        mut steps: Option<&mut StepCuts>,
+        steps: Option<&mut StepCuts>,
     ) -> Result<()> {
         let (started, shape_before) = (std::time::Instant::now(), crate::gpu::shape::recorded());
         let regrown = self.slots != culler.objects.count;
@@ -198,12 +200,16 @@ impl View {
             c.begin_frame();
         }
         // Flags cost nothing until some object has one.
-        let split_flags = ObjectFlags::NEVER_CULL | ObjectFlags::NOT_OCCLUDER;
+        let split_flags = ObjectFlags::NEVER_CULL | ObjectFlags::NOT_OCCLUDER | ObjectFlags::CUTOUT;
         if self.split.is_none() && culler.objects.flags.iter().any(|f| f.bits() & split_flags.bits() != 0) {
             self.split = Some(FlagSplit::new(&culler.gpu, &culler.objects));
         }
+        let cutouts = culler.objects.flags.iter().any(|f| f.contains(ObjectFlags::CUTOUT));
         if let Some(s) = self.split.as_mut() {
-            s.begin(encoder, &culler.objects);
+            s.begin(encoder, &culler.objects, cutouts);
+        }
+        if cutouts && culler.caps.marks == crate::capabilities::Marks::EarlyZ && self.cutout_marks.is_none() {
+            self.cutout_marks = Some(std::sync::Arc::new(crate::cull::BoxMarks::new(&culler.context(&self.frame, &self.targets))));
         }
         self.work = WorkCounts::default();
         self.tally.begin(&culler.gpu, encoder);
@@ -235,11 +241,12 @@ impl View {
             validation: self.validation.as_mut().filter(|_| steps.is_none()),
             pipelines: &culler.pipelines,
             visibility: self.visibility.as_mut(),
-            steps: steps.as_deref_mut(),
+            steps,
+            cutout_marks: self.cutout_marks.clone(),
         };
         if let Some(always) = culler.objects.always.as_ref() {
             f.stage(Stage::FlaggedObjects);
-            f.hand(Phase::Always, always, None);
+            f.split_and_hand(Phase::Always, always, None);
         }
         let recorded = match body {
             Some(body) => body(&mut f),
@@ -260,7 +267,7 @@ impl View {
             f.stage(Stage::FlaggedObjects);
             let (enc, q) = f.counted();
             let list = s.finish(enc, &q);
-            f.hand(Phase::NonOccluders, &list, None);
+            f.hand(Phase::NonOccluders, &list, None, false);
         }
         if let Some(v) = f.validation.as_deref_mut() {
             v.end(f.gpu, f.encoder, f.uploads);

@@ -56,7 +56,7 @@ pub fn host_pipeline(device: &wgpu::Device, ids: bool, mark: bool) -> (wgpu::Ren
 /// format, samples (the ID target's format with them), depth test and
 /// bias, and clamping rather than clipping at the near plane.
 pub fn host_pipeline_on(device: &wgpu::Device, ids: bool, mark: bool, at: &street::Depth) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
-    let shader = Shader { ids: ids.then_some("in.object + 1u"), early_z: mark, mark, marks_group: true };
+    let shader = Shader { ids: ids.then_some("in.object + 1u"), early_z: mark, mark, marks_group: true, discard: false };
     host_pipeline_with(device, &shader, at)
 }
 
@@ -72,6 +72,10 @@ pub struct Shader {
     pub mark: bool,
     /// The layout has the marks group at group 1.
     pub marks_group: bool,
+    /// Alpha testing: objects whose index is a multiple of 4 discard a
+    /// 2 × 2-pixel checkerboard (a CUTOUT object's pipeline, which writes
+    /// depth only where it draws); the others draw whole.
+    pub discard: bool,
 }
 
 /// [`host_pipeline_on`] with the fragment stage and layout `shader` describes.
@@ -84,7 +88,11 @@ pub fn host_pipeline_with(device: &wgpu::Device, shader: &Shader, at: &street::D
         None => (String::new(), String::new()),
     };
     let early = if shader.early_z { "@early_depth_test(force) " } else { "" };
-    let marking = if shader.mark { " hroc_mark(in.object);" } else { "" };
+    let marking = match (shader.discard, shader.mark) {
+        (true, _) => " if in.object % 4u == 0u && ((u32(in.clip.x) / 2u + u32(in.clip.y) / 2u) % 2u) == 0u { discard; }",
+        (false, true) => " hroc_mark(in.object);",
+        (false, false) => "",
+    };
     let mark = shader.mark;
     let source = format!(
         "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\

@@ -82,6 +82,8 @@ pub struct Host {
     pub(super) at: Depth,
     marking: Option<wgpu::RenderPipeline>,
     plain: wgpu::RenderPipeline,
+    /// For CUTOUT lists: discards a checkerboard, no early-Z, no mark.
+    cutout: wgpu::RenderPipeline,
     pub(super) camera: wgpu::Buffer,
     camera_bind: wgpu::BindGroup,
     pub(super) vertices: wgpu::Buffer,
@@ -101,6 +103,7 @@ impl Host {
         // one for draws that need no mark (Marks::Ids, or nothing read).
         let marking = device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST).then(|| super::host_pipeline_on(device, true, true, &at).0);
         let (plain, camera_layout) = super::host_pipeline_on(device, true, false, &at);
+        let cutout = super::host_pipeline_with(device, &super::Shader { ids: Some("in.object + 1u"), early_z: false, mark: false, marks_group: true, discard: true }, &at).0;
         let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let camera = init("camera", &[0u8; 64], wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST);
         let camera_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -115,6 +118,7 @@ impl Host {
             at,
             marking,
             plain,
+            cutout,
             camera,
             camera_bind,
             vertices: init("vertices", bytemuck::cast_slice(vertices), wgpu::BufferUsages::VERTEX),
@@ -183,7 +187,12 @@ impl Host {
             pass.set_bind_group(0, &self.camera_bind, &[]);
             pass.set_vertex_buffer(0, self.vertices.slice(..));
             pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint32);
-            draw.record(&mut pass, if draw.mark { self.marking.as_ref().expect("a mark asked for without early-Z") } else { &self.plain }, 1);
+            let pipeline = match (draw.cutout, draw.mark) {
+                (true, _) => &self.cutout,
+                (false, true) => self.marking.as_ref().expect("a mark asked for without early-Z"),
+                (false, false) => &self.plain,
+            };
+            draw.record(&mut pass, pipeline, 1);
             lists.push((draw.commands.clone(), draw.count.clone(), draw.max_count, draw.draw_count));
         })
         .unwrap();

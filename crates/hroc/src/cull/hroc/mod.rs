@@ -312,7 +312,7 @@ impl Hroc {
     /// OF replaces; |D| is then not kept).
     fn d_marks(&self) -> Option<&MarkTarget> {
         match (&self.marks_d, self.variant.of) {
-            (MarkTarget::Ids(_) | MarkTarget::Boxes(_), true) => None,
+            (MarkTarget::Ids(_) | MarkTarget::Boxes(..), true) => None,
             (marks, _) => Some(marks),
         }
     }
