@@ -72,11 +72,14 @@ pub enum Tier {
     /// [`hroc::device::Capabilities::PORTABLE`]: what every backend has; for every
     /// method and option, what Metal runs (an emulated count, ID marks).
     Portable,
+    /// An engine's: the full device, marks from boxes
+    /// ([`hroc::device::Marks::Boxes`]: the host's shaders do not mark).
+    Boxes,
 }
 
 impl Tier {
     /// Every tier, in `--tier` order.
-    pub const ALL: [Tier; 4] = [Tier::Full, Tier::Gl, Tier::Dx12, Tier::Portable];
+    pub const ALL: [Tier; 5] = [Tier::Full, Tier::Gl, Tier::Dx12, Tier::Portable, Tier::Boxes];
 
     /// The capabilities of the tier.
     pub fn capabilities(self) -> hroc::device::Capabilities {
@@ -86,6 +89,7 @@ impl Tier {
             Tier::Gl => Capabilities { draw_count: DrawCount::Emulated, marks: Marks::EarlyZ, read_only_depth: false },
             Tier::Dx12 => Capabilities { draw_count: DrawCount::Indirect, marks: Marks::Ids, read_only_depth: true },
             Tier::Portable => Capabilities::PORTABLE,
+            Tier::Boxes => Capabilities { marks: Marks::Boxes, ..Capabilities::FULL },
         }
     }
 
@@ -96,6 +100,7 @@ impl Tier {
             Tier::Gl => "gl",
             Tier::Dx12 => "dx12",
             Tier::Portable => "portable",
+            Tier::Boxes => "boxes",
         }
     }
 }
@@ -103,7 +108,7 @@ impl Tier {
 impl std::str::FromStr for Tier {
     type Err = String;
     fn from_str(s: &str) -> std::result::Result<Tier, String> {
-        Tier::ALL.into_iter().find(|t| t.name() == s).ok_or_else(|| format!("unknown tier '{s}' (expected full, gl, dx12 or portable)"))
+        Tier::ALL.into_iter().find(|t| t.name() == s).ok_or_else(|| format!("unknown tier '{s}' (expected full, gl, dx12, portable or boxes)"))
     }
 }
 

@@ -89,9 +89,21 @@ fn box_out(v: u32, slot: u32) -> BoxOut {
     return out;
 }
 
+// Box marks rasterize into a target MARKS_SCALE times smaller each way and
+// test one pixel of each MARKS_SCALE² block of the host's (a sixteenth of
+// the fragments at 4): a box seen only between the pixels tested leaves
+// its object unmarked, which every method takes (an unmarked object is
+// tested like any other).
+override MARKS_SCALE: u32 = 1u;
+
+fn host_pixel(p: vec2<f32>) -> vec2<i32> {
+    let size = vec2<i32>(textureDimensions(depth));
+    return min(vec2<i32>(p) * i32(MARKS_SCALE) + i32(MARKS_SCALE / 2u), size - 1);
+}
+
 @fragment @early_depth_test(force)
 fn box_fs(in: BoxOut) {
-    if MANUAL_DEPTH && std_depth(frame, in.clip.z) > farthest_host_depth(depth, vec2<i32>(in.clip.xy), frame.reversed) + 4e-6 {
+    if MANUAL_DEPTH && std_depth(frame, in.clip.z) > farthest_host_depth(depth, host_pixel(in.clip.xy), frame.reversed) + 4e-6 {
         return;
     }
     marks[in.item] = 1u;

@@ -39,14 +39,18 @@ pub enum Marks {
     Ids,
     /// After every occluding list whose marks it reads, the culler
     /// rasterizes the boxes of the list's objects against the depth the
-    /// list left and marks those with a fragment at or in front of it
-    /// (everywhere wgpu runs). The host's shaders need no hroc line and,
-    /// for the marks, no ID target: for engines whose depth prepass has no
-    /// fragment stage and whose materials belong to their users. The marks
-    /// hold every object that owns a sample, and more (a box is larger
-    /// than its object), so next frames' occluders grow a little
-    /// (BENCHMARKS.md, "Marks from boxes"); the culler's box tests compare
-    /// against the depth they load themselves. Never picked by
+    /// list left (under forced early-Z where the device has it, else one
+    /// pixel in 4 × 4), and marks those with a fragment at or in front of
+    /// it (everywhere wgpu runs). The host's
+    /// shaders need no hroc line and, for the marks, no ID target: for
+    /// engines whose depth prepass has no fragment stage and whose
+    /// materials belong to their users. A box may pass where its object is
+    /// hidden, and an object seen only between the pixels tested is not
+    /// marked; every method that reads marks takes both (BENCHMARKS.md,
+    /// "Marks from boxes", measures C/R and cost against the host's
+    /// marks). The culler's own box tests use forced early-Z where the
+    /// device has it, else compare against the depth they load. Never
+    /// picked by
     /// [`Capabilities::of`]: ask for it in
     /// [`crate::CullerDesc::capabilities`].
     Boxes,
@@ -108,9 +112,16 @@ impl Capabilities {
     /// depth under forced early-Z; false when they load it and compare.
     /// Tests that also sample the depth they are attached to (HROC's rays)
     /// need read-only depth attachments besides; the others (`roc`, `ioc`)
-    /// only early-Z.
-    pub(crate) fn attached_box_tests(self, samples_depth: bool) -> bool {
-        self.marks == Marks::EarlyZ && (self.read_only_depth || !samples_depth)
+    /// only early-Z. Early-Z is there with early-Z marks, and with marks
+    /// from boxes where `device` has it (the host's shaders do not use it,
+    /// the culler's may).
+    pub(crate) fn attached_box_tests(self, device: &wgpu::Device, samples_depth: bool) -> bool {
+        let early_z = match self.marks {
+            Marks::EarlyZ => true,
+            Marks::Boxes => device.features().contains(wgpu::Features::SHADER_EARLY_DEPTH_TEST),
+            Marks::Ids => false,
+        };
+        early_z && (self.read_only_depth || !samples_depth)
     }
 }
 

@@ -122,25 +122,27 @@ pub const MANUAL_TARGET: wgpu::TextureFormat = wgpu::TextureFormat::R8Unorm;
 /// ([`BoxDepth::Manual`]).
 pub struct BoxTarget(Option<wgpu::TextureView>);
 
+fn manual_target(gpu: &Gpu, size: (u32, u32), samples: u32) -> wgpu::TextureView {
+    gpu.device
+        .create_texture(&wgpu::TextureDescriptor {
+            label: Some("hroc box test target"),
+            size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
+            mip_level_count: 1,
+            sample_count: samples,
+            dimension: wgpu::TextureDimension::D2,
+            format: MANUAL_TARGET,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
+            view_formats: &[],
+        })
+        .create_view(&Default::default())
+}
+
 impl BoxTarget {
     /// The target of box tests over `size` pixels of `samples` samples
     /// with `caps`, by whether they sample the depth they test against
     /// ([`crate::capabilities::Capabilities`]).
     pub fn new(gpu: &Gpu, caps: crate::capabilities::Capabilities, samples_depth: bool, (size, samples): ((u32, u32), u32)) -> BoxTarget {
-        BoxTarget((!caps.attached_box_tests(samples_depth)).then(|| {
-            gpu.device
-                .create_texture(&wgpu::TextureDescriptor {
-                    label: Some("hroc box test target"),
-                    size: wgpu::Extent3d { width: size.0.max(1), height: size.1.max(1), depth_or_array_layers: 1 },
-                    mip_level_count: 1,
-                    sample_count: samples,
-                    dimension: wgpu::TextureDimension::D2,
-                    format: MANUAL_TARGET,
-                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT,
-                    view_formats: &[],
-                })
-                .create_view(&Default::default())
-        }))
+        BoxTarget((!caps.attached_box_tests(&gpu.device, samples_depth)).then(|| manual_target(gpu, size, samples)))
     }
 
     /// How the pass's pipelines treat depth.
@@ -155,6 +157,13 @@ impl BoxTarget {
     /// The value of the WGSL override `MANUAL_DEPTH`.
     pub fn manual_depth(&self) -> f64 {
         self.0.is_some() as u32 as f64
+    }
+
+    /// A colour target of [`MANUAL_TARGET`] of `size` pixels, one sample:
+    /// box tests that load the depth they compare against, rasterized at
+    /// a size of their own.
+    pub fn manual(gpu: &Gpu, size: (u32, u32)) -> BoxTarget {
+        BoxTarget(Some(manual_target(gpu, size, 1)))
     }
 
     /// Begins the box-test pass `label` against `depth`, attached with

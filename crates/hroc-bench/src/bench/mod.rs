@@ -11,6 +11,7 @@ mod rows;
 mod run;
 pub mod session;
 pub mod table;
+mod marks_cost;
 mod validation_cost;
 
 use crate::error::Result;
@@ -20,6 +21,7 @@ pub use options::BenchOptions;
 pub use rows::{BenchReport, InvocationsMean, MethodRow};
 pub use run::{frame_count, load_inputs, load_path, run, run_scene, warmup_frames};
 pub use session::{FrameResult, Projection, Session, SessionDesc};
+pub use marks_cost::{marks_cost, MarksCost};
 pub use validation_cost::{validation_cost, ValidationCost};
 
 /// Methods as lists name them: `a,b,c` (in the order given, without

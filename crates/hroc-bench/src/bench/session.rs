@@ -84,6 +84,9 @@ pub struct SessionDesc {
     /// The culler validates the host's draws ([`hroc::CullerDesc::validation`]),
     /// and the renderer declares its index buffer's size.
     pub validate: bool,
+    /// What the culler runs with, in place of the device's
+    /// ([`Headless::capabilities`]).
+    pub capabilities: Option<hroc::device::Capabilities>,
 }
 
 impl SessionDesc {
@@ -91,7 +94,7 @@ impl SessionDesc {
     /// one sample, validation on (every test of the bench validates; `hroc
     /// bench` validates with `--validate`).
     pub fn new(frames: usize, resolution: (u32, u32)) -> Self {
-        SessionDesc { path: None, frames, resolution, split: Split::Sah, timestamps: true, samples: 1, validate: true }
+        SessionDesc { path: None, frames, resolution, split: Split::Sah, timestamps: true, samples: 1, validate: true, capabilities: None }
     }
 }
 
@@ -145,7 +148,7 @@ impl<'g> Session<'g> {
 
     /// The session `desc` describes, over `scene`.
     pub fn with(gpu: &'g Headless, mut scene: Scene, desc: SessionDesc) -> Result<Self> {
-        let SessionDesc { path, frames, resolution: (w, h), split, timestamps, samples, validate } = desc;
+        let SessionDesc { path, frames, resolution: (w, h), split, timestamps, samples, validate, capabilities } = desc;
         check_samples(samples)?;
         if let Some(p) = path {
             scene.path = p;
@@ -163,7 +166,7 @@ impl<'g> Session<'g> {
         let culler = Culler::new(
             &gpu.device,
             &gpu.queue,
-            &CullerDesc { split, timestamps, pipeline_statistics, capabilities: gpu.capabilities, validation: validate, index_count, ..CullerDesc::new(&descs) },
+            &CullerDesc { split, timestamps, pipeline_statistics, capabilities: capabilities.or(gpu.capabilities), validation: validate, index_count, ..CullerDesc::new(&descs) },
         )?;
         let renderer = Renderer::new(gpu, &scene, (w, h, samples), culler.marks_layout())?;
         let noc = culler.view(Method::Noc, &renderer.view_targets())?;

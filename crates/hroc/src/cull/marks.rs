@@ -5,16 +5,20 @@
 //!
 //! After an occluding list, the culler rasterizes the box of every object
 //! the list drew against the depth the list left, as `roc`'s test does
-//! (`roc_boxes.wgsl` with `COMMANDS`): a box fragment at or in front of
-//! the depth marks its object. A box holds its object, so an object that
-//! owns a sample has its box's front face at or in front of that sample's
-//! depth, and is marked: the marks are a superset of what owns a sample,
-//! within the list's own objects. Every method that reads marks stays
-//! conservative with more marks than owners (a marked object of HROC's V
-//! was drawn, so it needs no test; a marked object of `roc`'s or HROC's
-//! next V is only drawn first), and with fewer (an unmarked object is
-//! tested like any other): boxes outside the frustum mark nothing, and
-//! boxes that reach the near plane are marked without a test.
+//! (`roc_boxes.wgsl` with `COMMANDS`): under forced early-Z against the
+//! attached depth where the device has it, else at a quarter of the size
+//! each way ([`MARKS_SCALE`]), each fragment loading one pixel of its
+//! block. A box fragment at or in front of the depth marks its object. A
+//! box holds its object, so an object that owns a tested pixel has its
+//! box's front face at or in front of that pixel's depth, and is marked;
+//! a box may pass where its object does not. Marks are only ever the list's own
+//! objects, and every method that reads marks stays conservative with
+//! more marks than owners (a marked object of HROC's V was drawn, so it
+//! needs no test; a marked object of `roc`'s or HROC's next V is only
+//! drawn first) and with fewer (an unmarked object is tested like any
+//! other: one seen only between the pixels tested, one whose box leaves
+//! the frustum). Boxes that reach the near plane are marked without a
+//! test.
 //!
 //! [`Marks::Boxes`]: crate::capabilities::Marks::Boxes
 
@@ -41,6 +45,12 @@ pub enum MarkTarget {
     /// host binds a sink.
     Boxes(Arc<BoxMarks>, wgpu::Buffer),
 }
+
+/// Pixels per side of the blocks whose one pixel box marks test where
+/// they load depth themselves (`roc_boxes.wgsl`): a sixteenth of the
+/// fragments of a full-size test, each of which loads depth whether or not
+/// it is hidden.
+pub(crate) const MARKS_SCALE: u32 = 4;
 
 /// Lists one box-marks pass marks at most (a phase hands one or two: a
 /// list and its overflow); more are marked in further passes.

@@ -85,11 +85,18 @@ impl BoxPass {
         let layout = Layout::RocBoxes.create_for(gpu, samples);
         let pl = crate::reflect::pipeline_layout(gpu, "roc boxes", &layout);
         let module = gpu.shader("roc_boxes.wgsl", &crate::shaders::source_for("roc_boxes.wgsl", samples));
-        let target = BoxTarget::new(gpu, cx.capabilities, false, (cx.targets.size, samples));
-        let depth = (cx.targets.depth_format, cx.targets.depth, samples);
+        // Marks from boxes that load depth themselves (on a device without
+        // early-Z) rasterize at a reduced size, one sample.
+        let scale = if commands && !cx.capabilities.attached_box_tests(&gpu.device, false) { super::marks::MARKS_SCALE } else { 1 };
+        let (target, drawn) = match scale {
+            1 => (BoxTarget::new(gpu, cx.capabilities, false, (cx.targets.size, samples)), samples),
+            s => (BoxTarget::manual(gpu, (cx.targets.size.0.div_ceil(s), cx.targets.size.1.div_ceil(s))), 1),
+        };
+        let depth = (cx.targets.depth_format, cx.targets.depth, drawn);
         // Loading multisampled depth itself, the test runs per sample.
-        let stages = if target.mode() == BoxDepth::Manual && samples > 1 { ("box_vs_sample", Some("box_fs_sample")) } else { ("box_vs", Some("box_fs")) };
-        let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, stages, depth, target.mode(), &[("MANUAL_DEPTH", target.manual_depth()), ("COMMANDS", commands as u32 as f64)]);
+        let stages = if target.mode() == BoxDepth::Manual && drawn > 1 { ("box_vs_sample", Some("box_fs_sample")) } else { ("box_vs", Some("box_fs")) };
+        let constants = [("MANUAL_DEPTH", target.manual_depth()), ("COMMANDS", commands as u32 as f64), ("MARKS_SCALE", scale as f64)];
+        let pipeline = box_pipeline(gpu, "roc boxes", &pl, &module, stages, depth, target.mode(), &constants);
         // Attached, the test never loads depth: a stand-in fills the binding,
         // so GL (no read-only depth attachments) can attach the depth.
         let depth = match target.mode() {

@@ -45,7 +45,7 @@ impl Culler {
     pub fn serves_with(&self, method: Method, options: &MethodOptions) -> Result<()> {
         let refuse = |reason: String| Err(Error::MethodUnavailable { method: method.to_string(), reason });
         let rounds = options.hroc_rounds > 1 || options.hroc_occluder_rounds;
-        if matches!(method, Method::Hroc(_)) && rounds && !self.caps.attached_box_tests(true) {
+        if matches!(method, Method::Hroc(_)) && rounds && !self.caps.attached_box_tests(&self.gpu.device, true) {
             return refuse(
                 "its rounds test boxes under forced early-Z against a depth attachment they also sample, which needs early-Z marks (SHADER_EARLY_DEPTH_TEST) and read-only depth attachments (READ_ONLY_DEPTH_STENCIL)"
                     .into(),
