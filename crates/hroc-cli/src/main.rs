@@ -88,8 +88,9 @@ struct SceneArgs {
     /// What the culler runs with: `full` (the indirect draw count, early-Z
     /// marks, read-only depth attachments), `portable` (an emulated count,
     /// ID marks, box tests that load depth: what every backend has, and
-    /// what Metal runs), or what wgpu 30 gives `gl` or `dx12`; the most the
-    /// device allows when omitted.
+    /// what Metal runs), what wgpu 30 gives `gl` or `dx12`, or `boxes` (the
+    /// full device, marks from boxes: an engine's shaders that do not
+    /// mark); the most the device allows when omitted.
     #[arg(long)]
     tier: Option<Tier>,
     #[command(flatten)]

@@ -65,9 +65,5 @@ pub fn marks_cost(gpu: &Headless, scene: &Scene, frames: usize, methods: &[Metho
     }
     let timed = (frames - warm).max(1) as f64;
     let hidden = hidden.max(1.0);
-    Ok(methods
-        .iter()
-        .zip(sums)
-        .map(|(&method, s)| MarksCost { method, host_cr: s[0] / hidden, boxes_cr: s[1] / hidden, host_ms: s[2] / timed, boxes_ms: s[3] / timed })
-        .collect())
+    Ok(methods.iter().zip(sums).map(|(&method, s)| MarksCost { method, host_cr: s[0] / hidden, boxes_cr: s[1] / hidden, host_ms: s[2] / timed, boxes_ms: s[3] / timed }).collect())
 }

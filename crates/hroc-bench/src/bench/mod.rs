@@ -4,6 +4,7 @@
 //! run each method (and its cascades), then the rows.
 
 mod check;
+mod marks_cost;
 mod options;
 pub mod plot;
 pub mod report;
@@ -11,17 +12,16 @@ mod rows;
 mod run;
 pub mod session;
 pub mod table;
-mod marks_cost;
 mod validation_cost;
 
 use crate::error::Result;
 pub use check::{Check, Truth};
 use hroc::Method;
+pub use marks_cost::{marks_cost, MarksCost};
 pub use options::BenchOptions;
 pub use rows::{BenchReport, InvocationsMean, MethodRow};
 pub use run::{frame_count, load_inputs, load_path, run, run_scene, warmup_frames};
 pub use session::{FrameResult, Projection, Session, SessionDesc};
-pub use marks_cost::{marks_cost, MarksCost};
 pub use validation_cost::{validation_cost, ValidationCost};
 
 /// Methods as lists name them: `a,b,c` (in the order given, without

@@ -57,7 +57,7 @@ pub struct ViewArgs {
     /// Graphics API: `vulkan`, or `gl` (OpenGL).
     #[arg(long, default_value_t = Backend::Vulkan)]
     pub backend: Backend,
-    /// What the culler runs with: `full`, `gl`, `dx12` or `portable` (as `hroc bench`);
+    /// What the culler runs with: `full`, `gl`, `dx12`, `portable` or `boxes` (as `hroc bench`);
     /// the most the device allows when omitted.
     #[arg(long)]
     pub tier: Option<Tier>,
