@@ -1,0 +1,134 @@
+//! # hroc-bevy: hroc's occlusion culling in Bevy 0.20
+//!
+//! ```ignore
+//! app.add_plugins(hroc_bevy::HrocPlugin);
+//! commands.spawn((Camera3d::default(), DepthPrepass, OcclusionCulling, Msaa::Off, HrocCulling::default()));
+//! ```
+//!
+//! A camera with [`HrocCulling`] (and Bevy's `DepthPrepass` and
+//! `OcclusionCulling`, whose two-phase frame it drives) is culled by hroc
+//! in place of Bevy's Hi-Z test, under every material of the scene, the
+//! user's own included: Bevy's early prepass draws what hroc's early step
+//! says, Bevy's late prepass what its occlusion test found, and the main
+//! passes both. The plugin takes each `Mesh3d` entity as one hroc object
+//! (its world box `Aabb` × `GlobalTransform`; skinned and morphed meshes
+//! are never culled), culls with marks from boxes
+//! (`hroc::device::Marks::Boxes`: no shader of the user's changes), and
+//! runs each camera's frame stepwise (`hroc::View::steps`) at Bevy's own
+//! points. Bevy's preprocessing shader is Bevy's, taken at run time, with
+//! its Hi-Z test replaced by a read of hroc's visibility.
+//!
+//! Pinned to Bevy 0.20.1: it replaces two of Bevy's render systems
+//! (`early_gpu_preprocess`, `late_gpu_preprocess`) by its own, which
+//! dispatch Bevy's work items with Bevy's bind groups.
+
+mod objects;
+mod preprocess;
+mod shader;
+mod steps;
+mod views;
+
+use bevy_app::{App, Plugin, Update};
+use bevy_core_pipeline::schedule::{Core3d, Core3dSystems};
+use bevy_ecs::prelude::*;
+use bevy_ecs::schedule::ScheduleCleanupPolicy;
+use bevy_render::extract_component::{ExtractComponent, ExtractComponentPlugin};
+use bevy_render::sync_component::SyncComponent;
+use bevy_render::{ExtractSchedule, Render, RenderApp, RenderSystems};
+use hroc::Method;
+pub use views::HrocFrameStats;
+
+/// Culls a camera with hroc: put it on a `Camera3d` that has Bevy's
+/// `DepthPrepass` and `OcclusionCulling`.
+#[derive(Component, Clone, Copy, Debug, PartialEq)]
+pub struct HrocCulling {
+    /// The method. Bevy's cameras have no object-ID target: `hroc` runs
+    /// as `hroc-sf` (HROC without occluder filtering by IDs).
+    pub method: Method,
+}
+
+impl Default for HrocCulling {
+    /// HROC.
+    fn default() -> Self {
+        HrocCulling { method: Method::HROC }
+    }
+}
+
+impl SyncComponent<RenderApp> for HrocCulling {
+    type Target = (HrocCulling, views::HrocView, views::HrocFrameStats);
+}
+
+impl ExtractComponent<RenderApp> for HrocCulling {
+    type QueryData = &'static HrocCulling;
+    type QueryFilter = ();
+    type Out = HrocCulling;
+
+    fn extract_component(culling: &HrocCulling) -> Option<HrocCulling> {
+        Some(*culling)
+    }
+}
+
+/// hroc's culling for every camera with [`HrocCulling`].
+pub struct HrocPlugin;
+
+impl HrocPlugin {
+    /// True once the plugin culls: its preprocessing pipelines are
+    /// compiled (Bevy's shader is loaded as an asset, so a few frames
+    /// after start; until then Bevy culls as it would).
+    pub fn ready(app: &App) -> bool {
+        let Some(render) = app.get_sub_app(RenderApp) else { return false };
+        let world = render.world();
+        let (Some(ours), Some(cache)) = (world.get_resource::<preprocess::HrocPipelines>(), world.get_resource::<bevy_render::render_resource::PipelineCache>()) else {
+            return false;
+        };
+        [ours.early, ours.late].iter().all(|id| id.is_some_and(|id| cache.get_compute_pipeline(id).is_some()))
+    }
+}
+
+impl Plugin for HrocPlugin {
+    fn build(&self, app: &mut App) {
+        app.add_plugins(ExtractComponentPlugin::<HrocCulling>::default());
+        app.init_resource::<shader::HrocShaders>().add_systems(Update, shader::make_shaders);
+        app.add_plugins(bevy_render::extract_resource::ExtractResourcePlugin::<shader::HrocShaders>::default());
+        let Some(render_app) = app.get_sub_app_mut(RenderApp) else { return };
+        render_app
+            .init_resource::<objects::ExtractedInstances>()
+            .init_resource::<objects::HrocObjects>()
+            .init_resource::<preprocess::HrocPipelines>()
+            .add_systems(ExtractSchedule, objects::extract)
+            .add_systems(
+                Render,
+                (
+                    objects::sync.in_set(RenderSystems::PrepareResourcesFlush),
+                    preprocess::queue_pipelines.in_set(RenderSystems::Prepare),
+                    views::prepare.in_set(RenderSystems::PrepareBindGroups),
+                ),
+            );
+    }
+
+    fn cleanup(&self, app: &mut App) {
+        let Some(render_app) = app.get_sub_app_mut(RenderApp) else { return };
+        for removed in [
+            render_app.remove_systems_in_set(Core3d, bevy_pbr::early_gpu_preprocess, ScheduleCleanupPolicy::RemoveSystemsOnly),
+            render_app.remove_systems_in_set(Core3d, bevy_pbr::late_gpu_preprocess, ScheduleCleanupPolicy::RemoveSystemsOnly),
+        ] {
+            if let Err(e) = removed {
+                bevy_log::error!("hroc-bevy: Bevy's preprocessing systems are not those of Bevy 0.20.1: {e}");
+                return;
+            }
+        }
+        use bevy_core_pipeline::prepass::node::{early_prepass, late_prepass};
+        use bevy_pbr::{early_prepass_build_indirect_parameters, late_prepass_build_indirect_parameters, per_view_shadow_pass, unpack_bins, EARLY_SHADOW_PASS, LATE_SHADOW_PASS};
+        render_app.add_systems(
+            Core3d,
+            (
+                steps::begin.after(unpack_bins).before(preprocess::early_preprocess),
+                preprocess::early_preprocess.after(unpack_bins).before(early_prepass_build_indirect_parameters),
+                // (Bevy's deferred prepass does not take occlusion culling.)
+                steps::occluders_drawn.after(early_prepass).after(per_view_shadow_pass::<EARLY_SHADOW_PASS>).before(preprocess::late_preprocess),
+                preprocess::late_preprocess.after(steps::occluders_drawn).before(late_prepass_build_indirect_parameters).before(late_prepass),
+                steps::occludees_drawn.after(late_prepass).after(per_view_shadow_pass::<LATE_SHADOW_PASS>).before(Core3dSystems::MainPass),
+            ),
+        );
+    }
+}

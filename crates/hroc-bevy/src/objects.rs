@@ -1,0 +1,170 @@
+//! Bevy's mesh instances as hroc's objects: each entity with a `Mesh3d`
+//! is one object, its world box Bevy's `Aabb` × `GlobalTransform`. The
+//! culler lives in the render world, on Bevy's device; its objects follow
+//! spawns, despawns and motion every frame, and a buffer maps Bevy's input
+//! index of each instance (what its preprocessing shader sees) to the
+//! object's slot.
+
+use bevy_camera::primitives::Aabb;
+use bevy_ecs::prelude::*;
+use bevy_mesh::morph::MeshMorphWeights;
+use bevy_mesh::skinning::SkinnedMesh;
+use bevy_mesh::Mesh3d;
+use bevy_pbr::RenderMeshInstances;
+use bevy_platform::collections::HashMap;
+use bevy_render::renderer::{RenderDevice, RenderQueue};
+use bevy_render::sync_world::MainEntity;
+use bevy_render::Extract;
+use bevy_transform::components::GlobalTransform;
+use hroc::device::{Capabilities, Marks};
+use hroc::{Aabb as Box3, Culler, CullerDesc, ObjectDesc, ObjectFlags};
+
+/// The mesh instances of this frame, extracted from the main world: world
+/// box and whether Bevy deforms the mesh on the GPU (skinned, morphed).
+#[derive(Resource, Default)]
+pub struct ExtractedInstances(pub HashMap<MainEntity, (Box3, bool)>);
+
+/// World box of a local `Aabb` under `transform`.
+fn world_box(aabb: &Aabb, transform: &GlobalTransform) -> Box3 {
+    let m = transform.affine();
+    let c = m.transform_point3a(aabb.center);
+    let h = aabb.half_extents;
+    let (x, y, z) = (m.matrix3.x_axis.abs(), m.matrix3.y_axis.abs(), m.matrix3.z_axis.abs());
+    let e = x * h.x + y * h.y + z * h.z;
+    let (lo, hi) = ((c - e).to_array(), (c + e).to_array());
+    Box3::new(glam::Vec3::from_array(lo), glam::Vec3::from_array(hi))
+}
+
+/// What extraction reads of a mesh entity.
+type MeshItem<'a> = (Entity, &'a Aabb, &'a GlobalTransform, Has<SkinnedMesh>, Has<MeshMorphWeights>);
+
+/// Extract: every mesh entity's world box and deformation.
+pub fn extract(mut out: ResMut<ExtractedInstances>, meshes: Extract<Query<MeshItem, With<Mesh3d>>>) {
+    out.0.clear();
+    for (e, aabb, transform, skinned, morphed) in &meshes {
+        out.0.insert(MainEntity::from(e), (world_box(aabb, transform), skinned || morphed));
+    }
+}
+
+/// The render world's culler and the map from Bevy's instances to its
+/// objects.
+#[derive(Resource, Default)]
+pub struct HrocObjects {
+    pub culler: Option<Culler>,
+    /// Per entity: its object's slot and the box it was given.
+    slots: HashMap<MainEntity, (u32, Box3, bool)>,
+    /// Per Bevy input index: the object's slot, or `u32::MAX`.
+    slot_of_input: Vec<u32>,
+    /// `slot_of_input` on the GPU, grown as needed.
+    pub slot_buffer: Option<wgpu::Buffer>,
+    /// The last error, reported once.
+    pub failed: Option<String>,
+}
+
+/// Slots reserved beyond the instances at creation (the culler doubles
+/// them when instances outgrow them, and its views start over).
+fn capacity_for(n: usize) -> u32 {
+    (n as u32 * 2).max(1024)
+}
+
+fn desc(b: Box3, deformed: bool) -> ObjectDesc {
+    // The engine draws its own meshes: the command is a placeholder the
+    // stepwise frame only reads the object index of.
+    let flags = if deformed { ObjectFlags::NEVER_CULL } else { ObjectFlags::NONE };
+    ObjectDesc { bounds: b, index_count: 3, first_index: 0, base_vertex: 0, flags, oriented: None }
+}
+
+/// Render world, after Bevy prepared its mesh instances: objects added,
+/// removed and moved, and the input-index map uploaded.
+pub fn sync(mut objects: ResMut<HrocObjects>, extracted: Res<ExtractedInstances>, instances: Res<RenderMeshInstances>, device: Res<RenderDevice>, queue: Res<RenderQueue>) {
+    let objects = &mut *objects;
+    if let Err(e) = sync_objects(objects, &extracted, &device, &queue) {
+        if objects.failed.as_deref() != Some(&e.to_string()) {
+            bevy_log::error!("hroc-bevy: {e}");
+            objects.failed = Some(e.to_string());
+        }
+        return;
+    }
+    // Bevy's input index of every instance.
+    objects.slot_of_input.iter_mut().for_each(|s| *s = u32::MAX);
+    for (entity, &(slot, ..)) in &objects.slots {
+        let Some(data) = instances.render_mesh_queue_data(*entity) else { continue };
+        let input = data.current_uniform_index.0 as usize;
+        if objects.slot_of_input.len() <= input {
+            objects.slot_of_input.resize(input + 1, u32::MAX);
+        }
+        objects.slot_of_input[input] = slot;
+    }
+    let bytes = (objects.slot_of_input.len().max(1) * 4) as u64;
+    if objects.slot_buffer.as_ref().is_none_or(|b| b.size() < bytes) {
+        let size = bytes.next_power_of_two().max(4096);
+        objects.slot_buffer = Some(device.wgpu_device().create_buffer(&wgpu::BufferDescriptor {
+            label: Some("hroc slot of input"),
+            size,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        }));
+    }
+    if let Some(b) = &objects.slot_buffer {
+        let mut data = objects.slot_of_input.clone();
+        data.resize((b.size() / 4) as usize, u32::MAX);
+        queue.write_buffer(b, 0, bytemuck::cast_slice(&data));
+    }
+}
+
+fn sync_objects(objects: &mut HrocObjects, extracted: &ExtractedInstances, device: &RenderDevice, queue: &RenderQueue) -> hroc::Result<()> {
+    if objects.culler.is_none() {
+        // The first frame: every instance.
+        let entities: Vec<(MainEntity, Box3, bool)> = extracted.0.iter().map(|(e, &(b, d))| (*e, b, d)).collect();
+        let descs: Vec<ObjectDesc> = entities.iter().map(|&(_, b, d)| desc(b, d)).collect();
+        let device = device.wgpu_device();
+        let capabilities = Some(Capabilities { marks: Marks::Boxes, ..Capabilities::of(device) });
+        let culler = Culler::new(device, queue, &CullerDesc { capabilities, capacity: capacity_for(descs.len()), ..CullerDesc::new(&descs) })?;
+        objects.slots = entities.iter().enumerate().map(|(i, &(e, b, d))| (e, (i as u32, b, d))).collect();
+        objects.culler = Some(culler);
+        return Ok(());
+    }
+    let culler = objects.culler.as_mut().expect("made above");
+    // Removed.
+    let gone: Vec<MainEntity> = objects.slots.keys().filter(|e| !extracted.0.contains_key(*e)).copied().collect();
+    let slots: Vec<u32> = gone.iter().map(|e| objects.slots[e].0).collect();
+    if !slots.is_empty() {
+        culler.remove_objects(&slots)?;
+    }
+    for e in &gone {
+        objects.slots.remove(e);
+    }
+    // Added, moved, and deformed or not.
+    let mut added = Vec::new();
+    let mut moved = Vec::new();
+    let mut flags = Vec::new();
+    for (e, &(b, d)) in &extracted.0 {
+        match objects.slots.get_mut(e) {
+            None => added.push((*e, b, d)),
+            Some((slot, old, deformed)) => {
+                if *old != b {
+                    moved.push((*slot, b));
+                    *old = b;
+                }
+                if *deformed != d {
+                    flags.push((*slot, desc(b, d).flags));
+                    *deformed = d;
+                }
+            }
+        }
+    }
+    if !added.is_empty() {
+        let descs: Vec<ObjectDesc> = added.iter().map(|&(_, b, d)| desc(b, d)).collect();
+        let slots = culler.add_objects(&descs)?;
+        for (&(e, b, d), slot) in added.iter().zip(slots) {
+            objects.slots.insert(e, (slot, b, d));
+        }
+    }
+    if !moved.is_empty() {
+        culler.set_bounds(&moved)?;
+    }
+    if !flags.is_empty() {
+        culler.set_many_flags(&flags)?;
+    }
+    Ok(())
+}
