@@ -68,6 +68,22 @@ impl ExtractComponent<RenderApp> for HrocCulling {
     }
 }
 
+/// Directional lights get Bevy's `OcclusionCulling` once a camera culls
+/// with hroc: Bevy then gives their cascades a late shadow pass, which
+/// draws what hroc's test of each cascade finds.
+fn cull_cascades(
+    mut commands: Commands,
+    lights: Query<Entity, (With<bevy_light::DirectionalLight>, Without<bevy_render::occlusion_culling::OcclusionCulling>)>,
+    cameras: Query<(), With<HrocCulling>>,
+) {
+    if cameras.is_empty() {
+        return;
+    }
+    for light in &lights {
+        commands.entity(light).insert(bevy_render::occlusion_culling::OcclusionCulling);
+    }
+}
+
 /// hroc's culling for every camera with [`HrocCulling`].
 pub struct HrocPlugin;
 
@@ -88,7 +104,7 @@ impl HrocPlugin {
 impl Plugin for HrocPlugin {
     fn build(&self, app: &mut App) {
         app.add_plugins(ExtractComponentPlugin::<HrocCulling>::default());
-        app.init_resource::<shader::HrocShaders>().add_systems(Update, shader::make_shaders);
+        app.init_resource::<shader::HrocShaders>().add_systems(Update, (shader::make_shaders, cull_cascades));
         app.add_plugins(bevy_render::extract_resource::ExtractResourcePlugin::<shader::HrocShaders>::default());
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else { return };
         render_app

@@ -8,6 +8,8 @@
 use std::sync::Mutex;
 
 use bevy_ecs::prelude::*;
+use bevy_pbr::{LightEntity, ViewLightEntities, ViewShadowBindings};
+use bevy_render::occlusion_culling::OcclusionCulling;
 use bevy_render::renderer::RenderDevice;
 use bevy_render::view::{ExtractedView, ViewDepthStencilTexture};
 use hroc::{DepthRange, FrameInput, Method, Steps, ViewDesc, ViewTargets};
@@ -20,8 +22,8 @@ use crate::HrocCulling;
 #[derive(Component)]
 pub struct HrocView {
     view: Mutex<hroc::View>,
-    /// The depth texture and method the view was made for.
-    key: (wgpu::Texture, Method),
+    /// The depth texture, layer and method the view was made for.
+    key: Key,
     /// This frame's command buffers, taken by the `Core3d` systems.
     pub steps: Mutex<StepBuffers>,
     /// Visibility and slot map, at group 1 of the preprocessing shaders.
@@ -64,10 +66,13 @@ pub fn bind_group_layout_entries() -> [wgpu::BindGroupLayoutEntry; 2] {
     [entry(0), entry(1)]
 }
 
-fn view_desc(view: &ExtractedView) -> ViewDesc {
+/// hroc's view of Bevy's: its projection and view matrices; `unclipped`
+/// for Bevy's directional cascades, which draw with depth clamped at the
+/// near plane (casters before it land on it).
+fn view_desc(view: &ExtractedView, unclipped: bool) -> ViewDesc {
     let world_from_view = glam::Mat4::from_cols_array(&view.world_from_view.to_matrix().to_cols_array());
     let proj = glam::Mat4::from_cols_array(&view.clip_from_view.to_cols_array());
-    ViewDesc { view: world_from_view.inverse(), proj, unclipped_depth: false }
+    ViewDesc { view: world_from_view.inverse(), proj, unclipped_depth: unclipped }
 }
 
 impl HrocView {
@@ -107,47 +112,89 @@ impl HrocView {
     }
 }
 
-/// Render world, once Bevy's depth textures and hroc's objects are ready:
-/// each culling camera's view made or resized, and its frame recorded.
+/// What a view is culled into and with: the depth texture, its layer,
+/// and the method.
+type Key = (wgpu::Texture, u32, Method);
+
+/// What every culled view's frame needs.
+struct Frame<'a> {
+    culler: &'a hroc::Culler,
+    slots: &'a wgpu::Buffer,
+    layout: Option<&'a crate::preprocess::HrocLayout>,
+    device: &'a wgpu::Device,
+    seconds: f32,
+}
+
+impl Frame<'_> {
+    /// Culls the view of `entity` (`existing`, or a new one) into layer
+    /// `layer` of `texture` with `method`, as `extracted` sees (a cascade:
+    /// `unclipped`).
+    fn cull(&self, commands: &mut Commands, entity: Entity, existing: Option<Mut<HrocView>>, (texture, layer, method): Key, (extracted, unclipped): (&ExtractedView, bool)) {
+        let targets = ViewTargets::new(&texture, DepthRange::Reversed).at(layer, 0);
+        let input = FrameInput { view: view_desc(extracted, unclipped), cut: false, time: self.seconds };
+        let key = (texture.clone(), layer, method);
+        match existing {
+            Some(mut v) if v.key.2 == method => {
+                if v.key != key {
+                    // A new size or texture: the view carries over where it can.
+                    if let Err(e) = v.view.get_mut().unwrap_or_else(|p| p.into_inner()).resize(self.culler, &targets) {
+                        bevy_log::error!("hroc-bevy: {e}");
+                        return;
+                    }
+                    v.key = key;
+                }
+                if let Some(stats) = v.record(self.culler, &input, self.slots, self.layout, self.device) {
+                    commands.entity(entity).insert(stats);
+                }
+            }
+            _ => match self.culler.view(method, &targets) {
+                Ok(view) => {
+                    let mut v = HrocView { view: Mutex::new(view), key, steps: Mutex::default(), bind_group: None, bound: None };
+                    v.record(self.culler, &input, self.slots, self.layout, self.device);
+                    commands.entity(entity).insert(v);
+                }
+                Err(e) => bevy_log::error!("hroc-bevy: {e}"),
+            },
+        }
+    }
+}
+
+/// Render world, once Bevy's depth textures, shadow maps and hroc's
+/// objects are ready: each culling camera's view, and the views of its
+/// directional cascades (those whose light has `OcclusionCulling`, which
+/// the plugin gives every directional light), made or resized, and their
+/// frames recorded.
+#[allow(clippy::too_many_arguments)]
 pub fn prepare(
     mut commands: Commands,
     objects: Res<HrocObjects>,
     device: Res<RenderDevice>,
     layout: Option<Res<crate::preprocess::HrocLayout>>,
-    mut cameras: Query<(Entity, &HrocCulling, &ExtractedView, &ViewDepthStencilTexture, Option<&mut HrocView>)>,
+    mut cameras: Query<(Entity, &HrocCulling, &ExtractedView, &ViewDepthStencilTexture, Option<&ViewLightEntities>, Option<&ViewShadowBindings>, Option<&mut HrocView>)>,
+    mut cascades: Query<(&ExtractedView, Option<&mut HrocView>), (With<OcclusionCulling>, Without<HrocCulling>)>,
+    kinds: Query<&LightEntity>,
     time: Option<Res<bevy_time::Time>>,
 ) {
     let (Some(culler), Some(slots)) = (objects.culler.as_ref(), objects.slot_buffer.as_ref()) else { return };
-    let seconds = time.map_or(0.0, |t| t.elapsed_secs());
-    for (entity, culling, extracted, depth, existing) in &mut cameras {
+    let frame = Frame { culler, slots, layout: layout.as_deref(), device: device.wgpu_device(), seconds: time.map_or(0.0, |t| t.elapsed_secs()) };
+    for (entity, culling, extracted, depth, lights, shadows, existing) in &mut cameras {
         let method = method_without_ids(culling.method);
         let texture: &wgpu::Texture = depth.texture();
-        let key = (texture.clone(), method);
-        let targets = ViewTargets::new(texture, DepthRange::Reversed);
-        let input = FrameInput { view: view_desc(extracted), cut: false, time: seconds };
-        match existing {
-            Some(mut v) => {
-                if v.key != key {
-                    // A new size or texture: the view carries over where it can.
-                    let result = v.view.get_mut().unwrap_or_else(|p| p.into_inner()).resize(culler, &targets);
-                    if let Err(e) = result {
-                        bevy_log::error!("hroc-bevy: {e}");
-                        continue;
-                    }
-                    v.key = key;
-                }
-                if let Some(stats) = v.record(culler, &input, slots, layout.as_deref(), device.wgpu_device()) {
-                    commands.entity(entity).insert(stats);
-                }
+        frame.cull(&mut commands, entity, existing, (texture.clone(), 0, method), (extracted, false));
+        let (Some(lights), Some(shadows)) = (lights, shadows) else { continue };
+        // The camera's directional cascades, in the order Bevy gave them
+        // the layers of its shadow map.
+        let mut layer = 0;
+        for &light in &lights.lights {
+            if !matches!(kinds.get(light), Ok(LightEntity::Directional { .. })) {
+                continue;
             }
-            None => match culler.view(method, &targets) {
-                Ok(view) => {
-                    let mut v = HrocView { view: Mutex::new(view), key, steps: Mutex::default(), bind_group: None, bound: None };
-                    v.record(culler, &input, slots, layout.as_deref(), device.wgpu_device());
-                    commands.entity(entity).insert(v);
-                }
-                Err(e) => bevy_log::error!("hroc-bevy: {e}"),
-            },
+            let this = layer;
+            layer += 1;
+            // Without OcclusionCulling on its light, Bevy has no late shadow pass for it.
+            let Ok((cascade, existing)) = cascades.get_mut(light) else { continue };
+            let texture: &wgpu::Texture = &shadows.directional_light_depth_texture;
+            frame.cull(&mut commands, light, existing, (texture.clone(), this, method), (cascade, true));
         }
     }
 }

@@ -1,8 +1,11 @@
 //! Bevy on lavapipe, no window: a street of unlit cubes behind a wall,
-//! each cube its own colour, drawn along a camera path (a walk, a cut, the
-//! eye inside a box). Every frame of a camera culled by the plugin is the
-//! image of drawing everything (no frustum or occlusion culling), pixel for
-//! pixel, for `hroc`, `hzb` and `auto`; and the plugin culls.
+//! each cube its own colour, under a directional light's shadow cascades,
+//! drawn along a camera path (a walk, a cut, the eye inside a box). Every
+//! frame of a camera culled by the plugin, single-sample and at MSAA 4, is
+//! the image of drawing everything (no frustum or occlusion culling),
+//! pixel for pixel, and
+//! every cascade's depth is the depth of drawing everything, bit for bit,
+//! for `hroc`, `hzb` and `auto`; and the plugin culls.
 
 use bevy::app::PluginsState;
 use bevy::camera::visibility::NoFrustumCulling;
@@ -33,7 +36,7 @@ enum Mode {
 #[derive(Resource, Clone)]
 struct Target(Handle<Image>);
 
-fn app(mode: Mode) -> App {
+fn app(mode: Mode, msaa: Msaa) -> App {
     let mut app = App::new();
     app.add_plugins(
         DefaultPlugins
@@ -48,12 +51,13 @@ fn app(mode: Mode) -> App {
     if let Mode::Hroc(_) = mode {
         app.add_plugins(HrocPlugin);
     }
+    app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 256 });
     let mut image = Image::new_target_texture(SIZE.0, SIZE.1, TextureFormat::Rgba8Unorm, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
     let target = app.world_mut().resource_mut::<Assets<Image>>().add(image);
     app.insert_resource(Target(target));
     app.add_systems(Startup, move |commands: Commands, target: Res<Target>, meshes: ResMut<Assets<Mesh>>, materials: ResMut<Assets<StandardMaterial>>| {
-        scene(mode, commands, &target, meshes, materials)
+        scene((mode, msaa), commands, &target, meshes, materials)
     });
     while app.plugins_state() == PluginsState::Adding {
         bevy::tasks::tick_global_task_pools_on_main_thread();
@@ -76,19 +80,13 @@ fn boxes() -> Vec<(Vec3, Vec3)> {
     b
 }
 
-fn scene(mode: Mode, mut commands: Commands, target: &Target, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>) {
-    let mut camera = commands.spawn((
-        Camera3d::default(),
-        RenderTarget::Image(target.0.clone().into()),
-        Msaa::Off,
-        Tonemapping::None,
-        DebandDither::Disabled,
-        DepthPrepass,
-        Transform::default(),
-    ));
+fn scene((mode, msaa): (Mode, Msaa), mut commands: Commands, target: &Target, mut meshes: ResMut<Assets<Mesh>>, mut materials: ResMut<Assets<StandardMaterial>>) {
+    let mut camera =
+        commands.spawn((Camera3d::default(), RenderTarget::Image(target.0.clone().into()), msaa, Tonemapping::None, DebandDither::Disabled, DepthPrepass, Transform::default()));
     if let Mode::Hroc(method) = mode {
         camera.insert((OcclusionCulling, HrocCulling { method }));
     }
+    commands.spawn((DirectionalLight { shadow_maps_enabled: true, ..default() }, Transform::from_xyz(3.0, 12.0, 8.0).looking_at(Vec3::new(0.0, 0.0, -8.0), Vec3::Y)));
     let cube = meshes.add(Cuboid::new(1.0, 1.0, 1.0));
     for (i, (lo, hi)) in boxes().into_iter().enumerate() {
         let k = i as u32 + 1;
@@ -111,9 +109,59 @@ fn path() -> Vec<Transform> {
     p
 }
 
-/// Each frame's image along `path`, and what hroc drew (where it culls).
-fn frames(mode: Mode, path: &[Transform]) -> Vec<(Vec<u32>, Option<u32>)> {
-    let mut app = app(mode);
+/// Every layer of a depth array texture (bound, not copied: Bevy's shadow
+/// maps have no `COPY_SRC`).
+fn read_layers(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Vec<f32> {
+    let (w, h, layers) = (texture.width(), texture.height(), texture.depth_or_array_layers());
+    let source = "@group(0) @binding(0) var t: texture_depth_2d_array;\n\
+        @group(0) @binding(1) var<storage, read_write> out: array<f32>;\n\
+        @compute @workgroup_size(8, 8) fn main(@builtin(global_invocation_id) g: vec3<u32>) {\n\
+            let s = textureDimensions(t);\n\
+            if g.x >= s.x || g.y >= s.y { return; }\n\
+            out[(g.z * s.y + g.y) * s.x + g.x] = textureLoad(t, g.xy, i32(g.z), 0);\n\
+        }";
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: None, source: wgpu::ShaderSource::Wgsl(source.into()) });
+    let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: None,
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size: (w * h * layers * 4) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let view =
+        texture.create_view(&wgpu::TextureViewDescriptor { dimension: Some(wgpu::TextureViewDimension::D2Array), aspect: wgpu::TextureAspect::DepthOnly, ..Default::default() });
+    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &pipeline.get_bind_group_layout(0),
+        entries: &[
+            wgpu::BindGroupEntry { binding: 0, resource: wgpu::BindingResource::TextureView(&view) },
+            wgpu::BindGroupEntry { binding: 1, resource: out.as_entire_binding() },
+        ],
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), layers);
+    }
+    queue.submit([enc.finish()]);
+    hroc_readback::read(device, queue, &out, 0, (w * h * layers) as u64).unwrap()
+}
+
+/// A frame: the camera's image, the cascades' depth, what hroc drew.
+type Frame = (Vec<u32>, Vec<f32>, Option<u32>);
+
+/// Each frame along `path`.
+fn frames(mode: Mode, msaa: Msaa, path: &[Transform]) -> Vec<Frame> {
+    let mut app = app(mode, msaa);
     let set_camera = |app: &mut App, t: Transform| {
         let mut q = app.world_mut().query_filtered::<&mut Transform, With<Camera3d>>();
         *q.single_mut(app.world_mut()).unwrap() = t;
@@ -138,24 +186,35 @@ fn frames(mode: Mode, path: &[Transform]) -> Vec<(Vec<u32>, Option<u32>)> {
             let device = render.resource::<RenderDevice>().wgpu_device().clone();
             let queue: wgpu::Queue = (**render.resource::<RenderQueue>()).clone();
             let image: Vec<u32> = hroc_readback::read_texture(&device, &queue, &texture, wgpu::TextureAspect::All).unwrap();
-            let drawn = render.query::<&HrocFrameStats>().iter(render).next().map(|s| s.0.objects);
-            (image, drawn)
+            let shadows = render.query::<&bevy::pbr::ViewShadowBindings>().iter(render).next().expect("the camera's shadow maps").directional_light_depth_texture.clone();
+            let cascades = read_layers(&device, &queue, &shadows);
+            let drawn = render.query_filtered::<&HrocFrameStats, Without<bevy::pbr::LightEntity>>().iter(render).next().map(|s| s.0.objects);
+            (image, cascades, drawn)
         })
         .collect()
 }
 
 #[test]
 fn every_frame_is_the_image_of_drawing_everything() {
+    for msaa in [Msaa::Off, Msaa::Sample4] {
+        same_frames_as_drawing_everything(msaa);
+    }
+}
+
+fn same_frames_as_drawing_everything(msaa: Msaa) {
     let path = path();
-    let truth = frames(Mode::Everything, &path);
-    assert!(truth.iter().all(|(image, _)| image.iter().any(|&p| p != truth[0].0[0])), "the street is in view");
+    let truth = frames(Mode::Everything, msaa, &path);
+    assert!(truth.iter().all(|(image, ..)| image.iter().any(|&p| p != truth[0].0[0])), "the street is in view");
+    assert!(truth.iter().all(|(_, depth, _)| depth.iter().any(|&d| d != 0.0)), "the cascades hold the street's depth");
     for method in [hroc::Method::HROC, hroc::Method::Hzb, hroc::Method::Auto] {
-        let culled = frames(Mode::Hroc(method), &path);
-        for (k, ((image, drawn), (expected, _))) in culled.iter().zip(&truth).enumerate() {
+        let culled = frames(Mode::Hroc(method), msaa, &path);
+        for (k, ((image, depth, drawn), (expected, expected_depth, _))) in culled.iter().zip(&truth).enumerate() {
             let differ = image.iter().zip(expected).filter(|(a, b)| a != b).count();
-            assert_eq!(differ, 0, "{method} frame {k}: {differ} pixels differ from drawing everything (drawn {drawn:?})");
+            assert_eq!(differ, 0, "{method} {msaa:?} frame {k}: {differ} pixels differ from drawing everything (drawn {drawn:?})");
+            let differ = depth.iter().zip(expected_depth).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
+            assert_eq!(differ, 0, "{method} {msaa:?} frame {k}: {differ} cascade texels differ from drawing everything");
         }
-        let drawn: Vec<u32> = culled.iter().filter_map(|f| f.1).collect();
-        assert!(!drawn.is_empty() && drawn.iter().any(|&d| (d as usize) < boxes().len()), "{method} culls: drawn {drawn:?} of {}", boxes().len());
+        let drawn: Vec<u32> = culled.iter().filter_map(|f| f.2).collect();
+        assert!(!drawn.is_empty() && drawn.iter().any(|&d| (d as usize) < boxes().len()), "{method} {msaa:?} culls: drawn {drawn:?} of {}", boxes().len());
     }
 }
