@@ -159,6 +159,11 @@ impl Frame<'_> {
     }
 }
 
+/// What `prepare` reads of a culling camera.
+type CameraItem<'a> = (Entity, &'a HrocCulling, &'a ExtractedView, &'a ViewDepthStencilTexture, Option<&'a ViewLightEntities>, Option<&'a ViewShadowBindings>, Option<&'a mut HrocView>);
+/// What `prepare` reads of a cascade.
+type CascadeItem<'a> = (&'a ExtractedView, Option<&'a mut HrocView>);
+
 /// Render world, once Bevy's depth textures, shadow maps and hroc's
 /// objects are ready: each culling camera's view, and the views of its
 /// directional cascades (those whose light has `OcclusionCulling`, which
@@ -170,8 +175,8 @@ pub fn prepare(
     objects: Res<HrocObjects>,
     device: Res<RenderDevice>,
     layout: Option<Res<crate::preprocess::HrocLayout>>,
-    mut cameras: Query<(Entity, &HrocCulling, &ExtractedView, &ViewDepthStencilTexture, Option<&ViewLightEntities>, Option<&ViewShadowBindings>, Option<&mut HrocView>)>,
-    mut cascades: Query<(&ExtractedView, Option<&mut HrocView>), (With<OcclusionCulling>, Without<HrocCulling>)>,
+    mut cameras: Query<CameraItem>,
+    mut cascades: Query<CascadeItem, (With<OcclusionCulling>, Without<HrocCulling>)>,
     kinds: Query<&LightEntity>,
     time: Option<Res<bevy_time::Time>>,
 ) {
