@@ -160,7 +160,8 @@ impl Frame<'_> {
 }
 
 /// What `prepare` reads of a culling camera.
-type CameraItem<'a> = (Entity, &'a HrocCulling, &'a ExtractedView, &'a ViewDepthStencilTexture, Option<&'a ViewLightEntities>, Option<&'a ViewShadowBindings>, Option<&'a mut HrocView>);
+type CameraItem<'a> =
+    (Entity, &'a HrocCulling, &'a ExtractedView, &'a ViewDepthStencilTexture, Option<&'a ViewLightEntities>, Option<&'a ViewShadowBindings>, Option<&'a mut HrocView>);
 /// What `prepare` reads of a cascade.
 type CascadeItem<'a> = (&'a ExtractedView, Option<&'a mut HrocView>);
 

@@ -1,0 +1,280 @@
+//! The headless comparison: a glTF scene written by `hroc scene export`,
+//! loaded through Bevy's glTF loader (each object a Bevy mesh entity), its
+//! camera path (`--path-out`) replayed at a fixed rate under a directional
+//! light's shadow cascades, in one run per mode: no culling, Bevy's
+//! frustum culling, Bevy's `OcclusionCulling`, and the plugin with `hroc`,
+//! `hzb` and `auto`. Per mode: objects drawn per frame (read from Bevy's
+//! indirect arguments of the main opaque pass), C/R (culled over the
+//! objects that own no pixel of the unculled ID image), ms per frame (the
+//! frame's update and its GPU work), and pixels and objects that differ
+//! from drawing everything.
+//!
+//! `cargo run --release -p hroc-bevy --ignore-rust-version --example compare -- scene.glb path.json [frames] [msaa] [WxH]`
+
+use std::path::Path;
+
+use bevy::app::PluginsState;
+use bevy::camera::visibility::NoFrustumCulling;
+use bevy::camera::{Hdr, RenderTarget};
+use bevy::core_pipeline::core_3d::Opaque3d;
+use bevy::core_pipeline::prepass::DepthPrepass;
+use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
+use bevy::gltf::{Gltf, GltfMesh, GltfNode};
+use bevy::prelude::*;
+use bevy::render::batching::gpu_preprocessing::IndirectParametersBuffers;
+use bevy::render::occlusion_culling::OcclusionCulling;
+use bevy::render::render_asset::RenderAssets;
+use bevy::render::render_resource::{TextureFormat, TextureUsages};
+use bevy::render::renderer::{RenderDevice, RenderQueue};
+use bevy::render::settings::{Backends, RenderCreation, WgpuSettings};
+use bevy::render::texture::GpuImage;
+use bevy::render::{RenderApp, RenderDebugFlags, RenderPlugin};
+use bevy::window::ExitCondition;
+use hroc::Method;
+use hroc_bevy::{HrocCulling, HrocPlugin};
+use hroc_scene::camera::{Camera as PathCamera, CameraPath};
+
+#[derive(Clone, Copy, PartialEq, Debug)]
+enum Mode {
+    /// Unlit, one colour per object, nothing culled: which objects own a pixel.
+    Ids,
+    NoCulling,
+    Frustum,
+    Bevy,
+    Plugin(Method),
+}
+
+impl Mode {
+    fn name(self) -> String {
+        match self {
+            Mode::Ids => "ids".into(),
+            Mode::NoCulling => "no culling".into(),
+            Mode::Frustum => "Bevy frustum".into(),
+            Mode::Bevy => "Bevy OcclusionCulling".into(),
+            Mode::Plugin(m) => format!("hroc-bevy {m}"),
+        }
+    }
+}
+
+#[derive(Resource, Clone)]
+struct Setup {
+    mode: Mode,
+    scene: String,
+    target: Handle<Image>,
+    msaa: Msaa,
+}
+
+/// One mode's frames: images, objects drawn, ms.
+struct Run {
+    images: Vec<Vec<u32>>,
+    drawn: Vec<u64>,
+    ms: Vec<f64>,
+}
+
+fn app(setup: &Setup, dir: &Path, size: (u32, u32)) -> App {
+    let mut app = App::new();
+    app.add_plugins(
+        DefaultPlugins
+            .set(WindowPlugin { primary_window: None, exit_condition: ExitCondition::DontExit, close_when_requested: false, ..default() })
+            .set(RenderPlugin {
+                render_creation: RenderCreation::Automatic(Box::new(WgpuSettings { backends: Some(Backends::VULKAN), ..default() })),
+                synchronous_pipeline_compilation: true,
+                debug_flags: RenderDebugFlags::ALLOW_COPIES_FROM_INDIRECT_PARAMETERS,
+            })
+            .set(AssetPlugin { file_path: dir.to_string_lossy().into_owned(), ..default() })
+            .disable::<bevy::render::pipelined_rendering::PipelinedRenderingPlugin>(),
+    );
+    if let Mode::Plugin(_) = setup.mode {
+        app.add_plugins(HrocPlugin);
+    }
+    app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 1024 });
+    let mut image = Image::new_target_texture(size.0, size.1, TextureFormat::Rgba8Unorm, None);
+    image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
+    let target = app.world_mut().resource_mut::<Assets<Image>>().add(image);
+    app.insert_resource(Setup { target, ..setup.clone() });
+    app.add_systems(Startup, spawn);
+    app.add_systems(Update, (spawn_scene, prepare_meshes).chain());
+    while app.plugins_state() == PluginsState::Adding {
+        bevy::tasks::tick_global_task_pools_on_main_thread();
+    }
+    app.finish();
+    app.cleanup();
+    app
+}
+
+fn spawn(mut commands: Commands, setup: Res<Setup>, server: Res<AssetServer>) {
+    let mut camera =
+        commands.spawn((Camera3d::default(), RenderTarget::Image(setup.target.clone().into()), setup.msaa, Tonemapping::None, DebandDither::Disabled, Transform::default()));
+    match setup.mode {
+        Mode::Ids => {
+            camera.insert((Hdr, Msaa::Off));
+        }
+        Mode::Bevy => {
+            camera.insert((DepthPrepass, OcclusionCulling));
+        }
+        Mode::Plugin(method) => {
+            camera.insert((DepthPrepass, OcclusionCulling, HrocCulling { method }));
+        }
+        Mode::NoCulling | Mode::Frustum => {}
+    }
+    if setup.mode != Mode::Ids && std::env::var("SHADOWS").map_or(true, |v| v != "0") {
+        commands.spawn((DirectionalLight { shadow_maps_enabled: true, ..default() }, Transform::from_xyz(0.3, 1.0, 0.4).looking_at(Vec3::ZERO, Vec3::Y)));
+    }
+    commands.insert_resource(SceneFile(server.load(setup.scene.clone())));
+}
+
+/// The glTF file, as Bevy's loader read it.
+#[derive(Resource)]
+struct SceneFile(Handle<Gltf>);
+
+/// Once loaded: one mesh entity per primitive of every node, at the node's
+/// transform (the export's nodes are at the root), with Bevy's standard
+/// material.
+fn spawn_scene(
+    mut done: Local<bool>,
+    mut commands: Commands,
+    file: Option<Res<SceneFile>>,
+    gltfs: Res<Assets<Gltf>>,
+    nodes: Res<Assets<GltfNode>>,
+    meshes: Res<Assets<GltfMesh>>,
+    mut materials: ResMut<Assets<StandardMaterial>>,
+) {
+    let Some(gltf) = file.as_ref().and_then(|f| gltfs.get(&f.0)) else { return };
+    if *done {
+        return;
+    }
+    let material = materials.add(StandardMaterial { base_color: Color::srgb(0.7, 0.7, 0.72), perceptual_roughness: 0.8, ..default() });
+    for node in gltf.nodes.iter().filter_map(|h| nodes.get(h)) {
+        let Some(mesh) = node.mesh.as_ref().and_then(|m| meshes.get(m)) else { continue };
+        for primitive in &mesh.primitives {
+            commands.spawn((Mesh3d(primitive.mesh.clone()), MeshMaterial3d(material.clone()), node.transform));
+        }
+    }
+    *done = true;
+}
+
+/// The meshes as each mode wants them: no frustum culling, or (ids) one
+/// unlit colour per object, in entity order.
+fn prepare_meshes(mut commands: Commands, setup: Res<Setup>, meshes: Query<Entity, (With<Mesh3d>, Without<NoFrustumCulling>)>, mut materials: ResMut<Assets<StandardMaterial>>) {
+    if !matches!(setup.mode, Mode::NoCulling | Mode::Ids) {
+        return;
+    }
+    let mut entities: Vec<Entity> = meshes.iter().collect();
+    entities.sort();
+    for (i, e) in entities.into_iter().enumerate() {
+        let mut entity = commands.entity(e);
+        entity.insert(NoFrustumCulling);
+        if setup.mode == Mode::Ids {
+            let id = i as u32 + 1;
+            let channel = |shift: u32| ((id >> shift) & 0xff) as f32 / 255.0;
+            let material = materials.add(StandardMaterial { base_color: Color::LinearRgba(LinearRgba::new(channel(0), channel(8), channel(16), 1.0)), unlit: true, ..default() });
+            entity.insert(MeshMaterial3d(material));
+        }
+    }
+}
+
+fn set_camera(app: &mut App, c: &PathCamera) {
+    let mut q = app.world_mut().query_filtered::<(&mut Transform, &mut Projection), With<Camera3d>>();
+    let (mut t, mut p) = q.single_mut(app.world_mut()).unwrap();
+    *t = Transform::from_translation(c.eye.to_array().into()).looking_at(c.target.to_array().into(), Vec3::from_array(c.up.to_array()));
+    *p = Projection::Perspective(PerspectiveProjection { fov: c.fov_y_deg.to_radians(), near: c.near, far: c.far, ..default() });
+}
+
+/// Objects the main opaque pass drew: instances of its indirect draws.
+fn drawn(render: &mut World) -> u64 {
+    let device = render.resource::<RenderDevice>().wgpu_device().clone();
+    let queue: wgpu::Queue = (**render.resource::<RenderQueue>()).clone();
+    let buffers = render.resource::<IndirectParametersBuffers>();
+    let Some(phase) = buffers.get(&std::any::TypeId::of::<Opaque3d>()) else { return 0 };
+    let mut total = 0;
+    // Indexed commands: 5 u32 (instance_count second); non-indexed: 4.
+    for (sets, data, stride) in [(phase.indexed.batch_sets_buffer(), phase.indexed.data_buffer(), 5), (phase.non_indexed.batch_sets_buffer(), phase.non_indexed.data_buffer(), 4)] {
+        let (Some(sets), Some(data)) = (sets, data) else { continue };
+        let sets: Vec<u32> = hroc_readback::read(&device, &queue, sets, 0, sets.size() / 4).unwrap();
+        let data: Vec<u32> = hroc_readback::read(&device, &queue, data, 0, data.size() / 4).unwrap();
+        for set in sets.chunks_exact(2) {
+            let (count, base) = (set[0] as usize, set[1] as usize);
+            for c in base..base + count {
+                total += data.get(c * stride + 1).copied().unwrap_or(0) as u64;
+            }
+        }
+    }
+    total
+}
+
+fn run(mode: Mode, glb: &Path, cameras: &[PathCamera], msaa: Msaa, size: (u32, u32)) -> Run {
+    let setup = Setup { mode, scene: glb.file_name().unwrap().to_string_lossy().into_owned(), target: Handle::default(), msaa };
+    let mut app = app(&setup, glb.parent().unwrap(), size);
+    // Until the scene is spawned, steady, and the plugin culls.
+    let mut last = (0, 0);
+    app.update();
+    for k in 0..600 {
+        set_camera(&mut app, &cameras[0]);
+        app.update();
+        let n = app.world_mut().query::<&Mesh3d>().iter(app.world()).count();
+        last = if n == last.0 { (n, last.1 + 1) } else { (n, 0) };
+        let ready = !matches!(mode, Mode::Plugin(_)) || HrocPlugin::ready(&app);
+        if n > 0 && last.1 >= 5 && ready && k > 10 {
+            break;
+        }
+    }
+    let target = app.world().resource::<Setup>().target.clone();
+    let mut out = Run { images: Vec::new(), drawn: Vec::new(), ms: Vec::new() };
+    for c in cameras {
+        set_camera(&mut app, c);
+        let start = std::time::Instant::now();
+        app.update();
+        let render = app.sub_app_mut(RenderApp).world_mut();
+        let device = render.resource::<RenderDevice>().wgpu_device().clone();
+        let _ = device.poll(wgpu::PollType::wait_indefinitely());
+        out.ms.push(start.elapsed().as_secs_f64() * 1e3);
+        let queue: wgpu::Queue = (**render.resource::<RenderQueue>()).clone();
+        let texture = render.resource::<RenderAssets<GpuImage>>().get(&target).expect("the target on the GPU").texture.clone();
+        out.images.push(hroc_readback::read_texture(&device, &queue, &texture, wgpu::TextureAspect::All).unwrap());
+        out.drawn.push(drawn(render));
+    }
+    out
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let glb = Path::new(args.get(1).expect("a .glb written by hroc scene export")).canonicalize().expect("the scene file");
+    let path = CameraPath::from_file(Path::new(args.get(2).expect("a camera path written by --path-out"))).expect("the camera path");
+    let frames: usize = args.get(3).map_or(60, |s| s.parse().expect("frames"));
+    let msaa = match args.get(4).map_or("1", String::as_str) {
+        "4" => Msaa::Sample4,
+        _ => Msaa::Off,
+    };
+    let size = args.get(5).and_then(|s| s.split_once('x')).map_or((320, 180), |(w, h)| (w.parse().unwrap(), h.parse().unwrap()));
+    let cameras = path.frames(frames, path.near.unwrap_or(0.1), path.far.unwrap_or(2000.0));
+    let ids = run(Mode::Ids, &glb, &cameras, Msaa::Off, size);
+    let objects = ids.drawn.iter().copied().max().unwrap_or(0);
+    // Object id + 1 per pixel.
+    let id_images: Vec<Vec<u32>> = ids.images.iter().map(|img| img.iter().map(|p| p & 0xff_ffff).collect()).collect();
+    let visible: Vec<usize> = id_images.iter().map(|img| img.iter().filter(|&&i| i > 0).collect::<std::collections::BTreeSet<_>>().len()).collect();
+    let reference = run(Mode::NoCulling, &glb, &cameras, msaa, size);
+    println!("{} ({objects} objects), {frames} frames at {}x{}, MSAA {}", glb.display(), size.0, size.1, msaa.samples());
+    println!("| mode | drawn/frame | C/R | ms/frame | false negatives | missing px |");
+    println!("|---|--:|--:|--:|--:|--:|");
+    let warm = 4.min(frames.saturating_sub(1));
+    let all = [Mode::NoCulling, Mode::Frustum, Mode::Bevy, Mode::Plugin(Method::HROC), Mode::Plugin(Method::Hzb), Mode::Plugin(Method::Auto)];
+    let wanted = std::env::var("MODES").unwrap_or_default();
+    for mode in all.into_iter().filter(|m| wanted.is_empty() || wanted.split(',').any(|w| m.name().ends_with(w))) {
+        let r = if mode == Mode::NoCulling {
+            Run { images: reference.images.clone(), drawn: reference.drawn.clone(), ms: reference.ms.clone() }
+        } else {
+            run(mode, &glb, &cameras, msaa, size)
+        };
+        let (mut missing, mut false_negatives, mut culled, mut hidden) = (0usize, 0usize, 0.0f64, 0.0f64);
+        for k in 0..frames {
+            let wrong: std::collections::BTreeSet<u32> = r.images[k].iter().zip(&reference.images[k]).zip(&id_images[k]).filter(|((a, b), _)| a != b).map(|(_, &id)| id).collect();
+            missing += r.images[k].iter().zip(&reference.images[k]).filter(|(a, b)| a != b).count();
+            false_negatives += wrong.len();
+            culled += objects as f64 - r.drawn[k] as f64;
+            hidden += objects as f64 - visible[k] as f64;
+        }
+        let ms: f64 = r.ms[warm..].iter().sum::<f64>() / (frames - warm).max(1) as f64;
+        let drawn = r.drawn.iter().sum::<u64>() as f64 / frames as f64;
+        println!("| {} | {drawn:.0} | {:.3} | {ms:.1} | {false_negatives} | {missing} |", mode.name(), culled / hidden.max(1.0));
+    }
+}
