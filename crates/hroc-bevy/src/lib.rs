@@ -20,7 +20,12 @@
 //!
 //! Pinned to Bevy 0.20.1: it replaces two of Bevy's render systems
 //! (`early_gpu_preprocess`, `late_gpu_preprocess`) by its own, which
-//! dispatch Bevy's work items with Bevy's bind groups.
+//! dispatch Bevy's work items with Bevy's bind groups, and drops Bevy's
+//! Hi-Z pyramids (`early_downsample_depth`, `late_downsample_depth`),
+//! which only Bevy's test read. A view with `OcclusionCulling` that hroc
+//! does not cull (a camera without [`HrocCulling`], the cascades of such a
+//! camera) is then frustum culled only: everything in its frustum is drawn
+//! in its early pass.
 
 mod objects;
 mod preprocess;
@@ -124,9 +129,15 @@ impl Plugin for HrocPlugin {
 
     fn cleanup(&self, app: &mut App) {
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else { return };
+        use bevy_core_pipeline::mip_generation::experimental::depth::{early_downsample_depth, late_downsample_depth};
+        // Bevy's Hi-Z pyramids (built from every occlusion-culled view's
+        // depth, its cascades' included) serve only Bevy's test, which the
+        // plugin replaces.
         for removed in [
             render_app.remove_systems_in_set(Core3d, bevy_pbr::early_gpu_preprocess, ScheduleCleanupPolicy::RemoveSystemsOnly),
             render_app.remove_systems_in_set(Core3d, bevy_pbr::late_gpu_preprocess, ScheduleCleanupPolicy::RemoveSystemsOnly),
+            render_app.remove_systems_in_set(Core3d, early_downsample_depth, ScheduleCleanupPolicy::RemoveSystemsOnly),
+            render_app.remove_systems_in_set(Core3d, late_downsample_depth, ScheduleCleanupPolicy::RemoveSystemsOnly),
         ] {
             if let Err(e) = removed {
                 bevy_log::error!("hroc-bevy: Bevy's preprocessing systems are not those of Bevy 0.20.1: {e}");

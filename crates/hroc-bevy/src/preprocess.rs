@@ -31,11 +31,13 @@ pub struct HrocLayout {
     pub layout: wgpu::BindGroupLayout,
 }
 
-/// The patched pipelines, once queued.
+/// The patched pipelines, once queued, and group 1 for views hroc does
+/// not cull: no visibility, so everything is drawn early.
 #[derive(Resource, Default)]
 pub struct HrocPipelines {
     pub early: Option<CachedComputePipelineId>,
     pub late: Option<CachedComputePipelineId>,
+    pub everything_early: Option<wgpu::BindGroup>,
 }
 
 /// Render world: group 1's layout, and the two pipelines once the patched
@@ -47,6 +49,7 @@ pub fn queue_pipelines(
     shaders: Res<HrocShaders>,
     bevy: Res<PreprocessPipelines>,
     cache: Res<PipelineCache>,
+    device: Res<bevy_render::renderer::RenderDevice>,
 ) {
     let Some(layout) = layout else {
         let desc = BindGroupLayoutDescriptor::new("hroc visibility", &crate::views::bind_group_layout_entries());
@@ -54,6 +57,21 @@ pub fn queue_pipelines(
         commands.insert_resource(HrocLayout { desc, layout });
         return;
     };
+    if pipelines.everything_early.is_none() {
+        let device = device.wgpu_device();
+        let empty = |label| {
+            let b = device.create_buffer(&wgpu::BufferDescriptor { label: Some(label), size: 16, usage: wgpu::BufferUsages::STORAGE, mapped_at_creation: true });
+            b.slice(..).get_mapped_range_mut().unwrap().copy_from_slice(&[0xff; 16]);
+            b.unmap();
+            b
+        };
+        let (visibility, slots) = (empty("hroc no visibility"), empty("hroc no slots"));
+        pipelines.everything_early = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("hroc everything early"),
+            layout: &layout.layout,
+            entries: &[wgpu::BindGroupEntry { binding: 0, resource: visibility.as_entire_binding() }, wgpu::BindGroupEntry { binding: 1, resource: slots.as_entire_binding() }],
+        }));
+    }
     if pipelines.early.is_some() {
         return;
     }
@@ -105,10 +123,13 @@ pub fn early_preprocess(
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("early mesh preprocessing (hroc)"), timestamp_writes: None });
     for view_entity in all {
         let Ok((view, Some(bind_groups), Some(offset), no_indirect, occlusion, hroc)) = views.get(view_entity) else { continue };
-        let hroc_group = hroc.and_then(|h| h.bind_group.as_ref()).filter(|_| occlusion && !no_indirect);
+        // Views with Bevy's occlusion culling that hroc does not cull draw
+        // everything early (Bevy's Hi-Z is not built).
+        let hroc_group = hroc.and_then(|h| h.bind_group.as_ref()).or(ours.everything_early.as_ref()).filter(|_| occlusion && !no_indirect);
         let (id, group1) = match (hroc_group, ours.early) {
             (Some(g), Some(id)) => (Some(id), Some(g)),
             _ if no_indirect => (bevy.direct_preprocess.pipeline_id, None),
+            // (Until the plugin's pipelines compile.)
             _ if occlusion => (bevy.early_gpu_occlusion_culling_preprocess.pipeline_id, None),
             _ => (bevy.gpu_frustum_culling_preprocess.pipeline_id, None),
         };
@@ -182,8 +203,10 @@ pub fn late_preprocess(
         let hroc_group = hroc.and_then(|h| h.bind_group.as_ref());
         let (id, group1) = match (hroc_group, ours.late) {
             (Some(g), Some(id)) => (Some(id), Some(g)),
-            // Bevy runs its late pass for a camera with a depth prepass only.
-            _ if view_entity == camera && prepass.contains(camera) => (bevy.late_gpu_occlusion_culling_preprocess.pipeline_id, None),
+            // Until the plugin's pipelines compile, Bevy's late pass (a
+            // camera with a depth prepass only); after, a view hroc does
+            // not cull drew everything early.
+            _ if ours.late.is_none() && view_entity == camera && prepass.contains(camera) => (bevy.late_gpu_occlusion_culling_preprocess.pipeline_id, None),
             _ => continue,
         };
         let Some(pipeline) = id.and_then(|id| cache.get_compute_pipeline(id)) else { continue };
