@@ -13,7 +13,6 @@
 
 use std::path::Path;
 
-use bevy::app::PluginsState;
 use bevy::camera::visibility::NoFrustumCulling;
 use bevy::camera::{Hdr, RenderTarget};
 use bevy::core_pipeline::core_3d::Opaque3d;
@@ -26,13 +25,14 @@ use bevy::render::occlusion_culling::OcclusionCulling;
 use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::renderer::{RenderDevice, RenderQueue};
-use bevy::render::settings::{Backends, RenderCreation, WgpuSettings};
 use bevy::render::texture::GpuImage;
-use bevy::render::{RenderApp, RenderDebugFlags, RenderPlugin};
-use bevy::window::ExitCondition;
+use bevy::render::{RenderApp, RenderDebugFlags};
 use hroc::Method;
 use hroc_bevy::{HrocCulling, HrocPlugin};
 use hroc_scene::camera::{Camera as PathCamera, CameraPath};
+
+#[path = "../tests/common/headless.rs"]
+mod headless;
 
 #[derive(Clone, Copy, PartialEq, Debug)]
 enum Mode {
@@ -73,17 +73,7 @@ struct Run {
 
 fn app(setup: &Setup, dir: &Path, size: (u32, u32)) -> App {
     let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(WindowPlugin { primary_window: None, exit_condition: ExitCondition::DontExit, close_when_requested: false, ..default() })
-            .set(RenderPlugin {
-                render_creation: RenderCreation::Automatic(Box::new(WgpuSettings { backends: Some(Backends::VULKAN), ..default() })),
-                synchronous_pipeline_compilation: true,
-                debug_flags: RenderDebugFlags::ALLOW_COPIES_FROM_INDIRECT_PARAMETERS,
-            })
-            .set(AssetPlugin { file_path: dir.to_string_lossy().into_owned(), ..default() })
-            .disable::<bevy::render::pipelined_rendering::PipelinedRenderingPlugin>(),
-    );
+    app.add_plugins(headless::plugins(RenderDebugFlags::ALLOW_COPIES_FROM_INDIRECT_PARAMETERS, Some(dir.to_string_lossy().into_owned())));
     if let Mode::Plugin(_) = setup.mode {
         app.add_plugins(HrocPlugin);
     }
@@ -94,11 +84,7 @@ fn app(setup: &Setup, dir: &Path, size: (u32, u32)) -> App {
     app.insert_resource(Setup { target, ..setup.clone() });
     app.add_systems(Startup, spawn);
     app.add_systems(Update, (spawn_scene, prepare_meshes).chain());
-    while app.plugins_state() == PluginsState::Adding {
-        bevy::tasks::tick_global_task_pools_on_main_thread();
-    }
-    app.finish();
-    app.cleanup();
+    headless::start(&mut app);
     app
 }
 

@@ -7,7 +7,6 @@
 //! every cascade's depth is the depth of drawing everything, bit for bit,
 //! for `hroc`, `hzb` and `auto`; and the plugin culls.
 
-use bevy::app::PluginsState;
 use bevy::camera::visibility::NoFrustumCulling;
 use bevy::camera::RenderTarget;
 use bevy::core_pipeline::prepass::DepthPrepass;
@@ -17,11 +16,13 @@ use bevy::render::occlusion_culling::OcclusionCulling;
 use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::renderer::{RenderDevice, RenderQueue};
-use bevy::render::settings::{Backends, RenderCreation, WgpuSettings};
 use bevy::render::texture::GpuImage;
-use bevy::render::{RenderApp, RenderPlugin};
-use bevy::window::ExitCondition;
+use bevy::render::RenderApp;
 use hroc_bevy::{HrocCulling, HrocFrameStats, HrocPlugin};
+
+mod common {
+    pub mod headless;
+}
 
 const SIZE: (u32, u32) = (160, 90);
 
@@ -38,16 +39,7 @@ struct Target(Handle<Image>);
 
 fn app(mode: Mode, msaa: Msaa) -> App {
     let mut app = App::new();
-    app.add_plugins(
-        DefaultPlugins
-            .set(WindowPlugin { primary_window: None, exit_condition: ExitCondition::DontExit, close_when_requested: false, ..default() })
-            .set(RenderPlugin {
-                render_creation: RenderCreation::Automatic(Box::new(WgpuSettings { backends: Some(Backends::VULKAN), ..default() })),
-                synchronous_pipeline_compilation: true,
-                ..default()
-            })
-            .disable::<bevy::render::pipelined_rendering::PipelinedRenderingPlugin>(),
-    );
+    app.add_plugins(common::headless::plugins(Default::default(), None));
     if let Mode::Hroc(_) = mode {
         app.add_plugins(HrocPlugin);
     }
@@ -59,11 +51,7 @@ fn app(mode: Mode, msaa: Msaa) -> App {
     app.add_systems(Startup, move |commands: Commands, target: Res<Target>, meshes: ResMut<Assets<Mesh>>, materials: ResMut<Assets<StandardMaterial>>| {
         scene((mode, msaa), commands, &target, meshes, materials)
     });
-    while app.plugins_state() == PluginsState::Adding {
-        bevy::tasks::tick_global_task_pools_on_main_thread();
-    }
-    app.finish();
-    app.cleanup();
+    common::headless::start(&mut app);
     app
 }
 
