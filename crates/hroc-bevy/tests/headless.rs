@@ -1,6 +1,8 @@
 //! Bevy on lavapipe, no window: a street of unlit cubes behind a wall,
 //! each cube its own colour, under a directional light's shadow cascades,
-//! drawn along a camera path (a walk, a cut, the eye inside a box). Every
+//! drawn along a camera path (a walk, a cut, the eye inside a box) while a
+//! cube moves out from behind the wall, one is despawned and one spawned
+//! (the same in every run). Every
 //! frame of a camera culled by the plugin, single-sample and at MSAA 4, is
 //! the image of drawing everything (no frustum or occlusion culling),
 //! pixel for pixel, and
@@ -166,8 +168,10 @@ fn frames(mode: Mode, msaa: Msaa, path: &[Transform]) -> Vec<Frame> {
     assert!(mode == Mode::Everything || HrocPlugin::ready(&app), "the plugin is not ready after 60 frames");
     let target = app.world().resource::<Target>().0.clone();
     path.iter()
-        .map(|&t| {
+        .enumerate()
+        .map(|(k, &t)| {
             set_camera(&mut app, t);
+            change(&mut app, mode, k);
             app.update();
             let render = app.sub_app_mut(RenderApp).world_mut();
             let texture = render.resource::<RenderAssets<GpuImage>>().get(&target).expect("the target on the GPU").texture.clone();
@@ -180,6 +184,33 @@ fn frames(mode: Mode, msaa: Msaa, path: &[Transform]) -> Vec<Frame> {
             (image, cascades, drawn)
         })
         .collect()
+}
+
+/// The scene's changes before frame `k`: a cube behind the wall moves in
+/// front of it, then one is despawned, then one spawned.
+fn change(app: &mut App, mode: Mode, k: usize) {
+    let world = app.world_mut();
+    let mut q = world.query::<(Entity, &Transform, &Mesh3d, &MeshMaterial3d<StandardMaterial>)>();
+    let mut cubes: Vec<(Entity, Transform, Mesh3d, MeshMaterial3d<StandardMaterial>)> = q.iter(world).map(|(e, t, m, mat)| (e, *t, m.clone(), mat.clone())).collect();
+    cubes.sort_by_key(|c| c.0);
+    match k {
+        2 => {
+            // (Behind the wall, at z = -20.)
+            let (e, t, ..) = cubes[15];
+            world.entity_mut(e).insert(Transform { translation: Vec3::new(t.translation.x, t.translation.y, -3.0), ..t });
+        }
+        4 => {
+            world.despawn(cubes[10].0);
+        }
+        5 => {
+            let (_, _, mesh, material) = cubes[30].clone();
+            let mut cube = world.spawn((mesh, material, Transform::from_xyz(1.0, 0.4, -2.5).with_scale(Vec3::splat(0.8))));
+            if mode == Mode::Everything {
+                cube.insert(NoFrustumCulling);
+            }
+        }
+        _ => {}
+    }
 }
 
 #[test]
