@@ -20,12 +20,9 @@
 //!
 //! Pinned to Bevy 0.20.1: it replaces two of Bevy's render systems
 //! (`early_gpu_preprocess`, `late_gpu_preprocess`) by its own, which
-//! dispatch Bevy's work items with Bevy's bind groups, and drops Bevy's
-//! Hi-Z pyramids (`early_downsample_depth`, `late_downsample_depth`),
-//! which only Bevy's test read. A view with `OcclusionCulling` that hroc
-//! does not cull (a camera without [`HrocCulling`], the cascades of such a
-//! camera) is then frustum culled only: everything in its frustum is drawn
-//! in its early pass.
+//! dispatch Bevy's work items with Bevy's bind groups, and builds Bevy's
+//! Hi-Z pyramids (`early_downsample_depth`, `late_downsample_depth`) only
+//! for cameras hroc does not cull, which Bevy culls as it would.
 
 mod objects;
 mod preprocess;
@@ -89,6 +86,12 @@ fn cull_cascades(
     }
 }
 
+/// The camera whose `Core3d` runs is not culled by hroc: Bevy's Hi-Z is
+/// built for it (and its cascades), which Bevy's own test reads.
+fn not_culled_by_hroc(current: Res<bevy_render::renderer::CurrentView>, hroc: Query<(), With<HrocCulling>>) -> bool {
+    !hroc.contains(current.0)
+}
+
 /// hroc's culling for every camera with [`HrocCulling`].
 pub struct HrocPlugin;
 
@@ -131,8 +134,8 @@ impl Plugin for HrocPlugin {
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else { return };
         use bevy_core_pipeline::mip_generation::experimental::depth::{early_downsample_depth, late_downsample_depth};
         // Bevy's Hi-Z pyramids (built from every occlusion-culled view's
-        // depth, its cascades' included) serve only Bevy's test, which the
-        // plugin replaces.
+        // depth, its cascades' included) serve only Bevy's test: built
+        // again below for cameras hroc does not cull.
         for removed in [
             render_app.remove_systems_in_set(Core3d, bevy_pbr::early_gpu_preprocess, ScheduleCleanupPolicy::RemoveSystemsOnly),
             render_app.remove_systems_in_set(Core3d, bevy_pbr::late_gpu_preprocess, ScheduleCleanupPolicy::RemoveSystemsOnly),
@@ -155,6 +158,8 @@ impl Plugin for HrocPlugin {
                 steps::occluders_drawn.after(early_prepass).after(per_view_shadow_pass::<EARLY_SHADOW_PASS>).before(preprocess::late_preprocess),
                 preprocess::late_preprocess.after(steps::occluders_drawn).before(late_prepass_build_indirect_parameters).before(late_prepass),
                 steps::occludees_drawn.after(late_prepass).after(per_view_shadow_pass::<LATE_SHADOW_PASS>).before(Core3dSystems::MainPass),
+                early_downsample_depth.run_if(not_culled_by_hroc).after(early_prepass).before(late_prepass).before(preprocess::late_preprocess),
+                late_downsample_depth.run_if(not_culled_by_hroc).in_set(Core3dSystems::PostProcess),
             ),
         );
     }

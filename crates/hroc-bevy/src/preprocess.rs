@@ -123,13 +123,14 @@ pub fn early_preprocess(
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("early mesh preprocessing (hroc)"), timestamp_writes: None });
     for view_entity in all {
         let Ok((view, Some(bind_groups), Some(offset), no_indirect, occlusion, hroc)) = views.get(view_entity) else { continue };
-        // Views with Bevy's occlusion culling that hroc does not cull draw
-        // everything early (Bevy's Hi-Z is not built).
-        let hroc_group = hroc.and_then(|h| h.bind_group.as_ref()).or(ours.everything_early.as_ref()).filter(|_| occlusion && !no_indirect);
+        let hroc_group = hroc.and_then(|h| h.bind_group.as_ref()).filter(|_| occlusion && !no_indirect);
         let (id, group1) = match (hroc_group, ours.early) {
             (Some(g), Some(id)) => (Some(id), Some(g)),
             _ if no_indirect => (bevy.direct_preprocess.pipeline_id, None),
-            // (Until the plugin's pipelines compile.)
+            // A view hroc does not cull, or until the plugin's pipelines
+            // compile, where Bevy's Hi-Z is still there: Bevy's test. A
+            // culled camera's view before that: everything early.
+            _ if occlusion && hroc.is_some() && ours.early.is_some() && ours.everything_early.is_some() => (ours.early, ours.everything_early.as_ref()),
             _ if occlusion => (bevy.early_gpu_occlusion_culling_preprocess.pipeline_id, None),
             _ => (bevy.gpu_frustum_culling_preprocess.pipeline_id, None),
         };
@@ -203,10 +204,9 @@ pub fn late_preprocess(
         let hroc_group = hroc.and_then(|h| h.bind_group.as_ref());
         let (id, group1) = match (hroc_group, ours.late) {
             (Some(g), Some(id)) => (Some(id), Some(g)),
-            // Until the plugin's pipelines compile, Bevy's late pass (a
-            // camera with a depth prepass only); after, a view hroc does
-            // not cull drew everything early.
-            _ if ours.late.is_none() && view_entity == camera && prepass.contains(camera) => (bevy.late_gpu_occlusion_culling_preprocess.pipeline_id, None),
+            // A camera hroc does not cull: Bevy's late pass (a camera with a
+            // depth prepass only, as Bevy runs it).
+            _ if hroc.is_none() && view_entity == camera && prepass.contains(camera) => (bevy.late_gpu_occlusion_culling_preprocess.pipeline_id, None),
             _ => continue,
         };
         let Some(pipeline) = id.and_then(|id| cache.get_compute_pipeline(id)) else { continue };
