@@ -18,7 +18,9 @@ pub fn plugins(debug_flags: RenderDebugFlags, assets: Option<String>) -> PluginG
             synchronous_pipeline_compilation: true,
             debug_flags,
         })
-        .disable::<bevy::render::pipelined_rendering::PipelinedRenderingPlugin>();
+        .disable::<bevy::render::pipelined_rendering::PipelinedRenderingPlugin>()
+        // No display: no event loop (the windowed example has one).
+        .disable::<bevy::winit::WinitPlugin>();
     match assets {
         Some(dir) => group.set(AssetPlugin { file_path: dir, ..default() }),
         None => group,
