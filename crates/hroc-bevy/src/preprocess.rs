@@ -105,18 +105,21 @@ fn with_cascades(view: Entity, lights: Option<&ViewLightEntities>, light_query: 
 
 type ViewItem<'a> = (&'a ExtractedView, Option<&'a PreprocessBindGroups>, Option<&'a ViewUniformOffset>, Has<NoIndirectDrawing>, Has<OcclusionCulling>, Option<&'a HrocView>);
 
+/// What both dispatches read: the views, Bevy's work items and
+/// pipelines, and ours.
+#[derive(bevy_ecs::system::SystemParam)]
+pub struct Dispatch<'w, 's> {
+    views: Query<'w, 's, ViewItem<'static>, Without<SkipGpuPreprocess>>,
+    light_query: Query<'w, 's, &'static LightEntity>,
+    buffers: Res<'w, BatchedInstanceBuffers<MeshUniform, MeshInputUniform>>,
+    cache: Res<'w, PipelineCache>,
+    bevy: Res<'w, PreprocessPipelines>,
+    ours: Res<'w, HrocPipelines>,
+}
+
 /// In place of Bevy's `early_gpu_preprocess`.
-#[allow(clippy::too_many_arguments)]
-pub fn early_preprocess(
-    current: ViewQuery<Option<&ViewLightEntities>, Without<SkipGpuPreprocess>>,
-    views: Query<ViewItem, Without<SkipGpuPreprocess>>,
-    light_query: Query<&LightEntity>,
-    buffers: Res<BatchedInstanceBuffers<MeshUniform, MeshInputUniform>>,
-    cache: Res<PipelineCache>,
-    bevy: Res<PreprocessPipelines>,
-    ours: Res<HrocPipelines>,
-    mut ctx: RenderContext,
-) {
+pub fn early_preprocess(current: ViewQuery<Option<&ViewLightEntities>, Without<SkipGpuPreprocess>>, d: Dispatch, mut ctx: RenderContext) {
+    let Dispatch { views, light_query, buffers, cache, bevy, ours } = d;
     let entity = current.entity();
     let all = with_cascades(entity, current.into_inner(), &light_query);
     let encoder = ctx.command_encoder();
@@ -180,18 +183,13 @@ fn dispatch(pass: &mut wgpu::ComputePass<'_>, items: usize) {
 
 /// In place of Bevy's `late_gpu_preprocess`, for the camera and, where
 /// hroc culls them, its directional cascades.
-#[allow(clippy::too_many_arguments)]
 pub fn late_preprocess(
     current: ViewQuery<Option<&ViewLightEntities>, Without<SkipGpuPreprocess>>,
-    views: Query<ViewItem, Without<SkipGpuPreprocess>>,
-    light_query: Query<&LightEntity>,
-    buffers: Res<BatchedInstanceBuffers<MeshUniform, MeshInputUniform>>,
-    cache: Res<PipelineCache>,
-    bevy: Res<PreprocessPipelines>,
-    ours: Res<HrocPipelines>,
+    d: Dispatch,
     prepass: Query<(), With<bevy_core_pipeline::prepass::DepthPrepass>>,
     mut ctx: RenderContext,
 ) {
+    let Dispatch { views, light_query, buffers, cache, bevy, ours } = d;
     let camera = current.entity();
     let all = with_cascades(camera, current.into_inner(), &light_query);
     let encoder = ctx.command_encoder();
