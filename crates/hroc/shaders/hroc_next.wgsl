@@ -1,6 +1,6 @@
 // HROC step 5, the next frame's occluders V (Lee et al. 2021 §3.1, §4.2),
 // the last compute pass of the frame, one dispatch:
-// merge  — next V = O ∪ D;
+// merge  — next V = O ∪ D (D alone without OCCLUDERS_STAY);
 // filter — next V = the objects owning a pixel of the ID target (OF).
 // Its threads also record, with COVER, the cells of the seed's grid the
 // frame's final depth covers (for the next frame's refill of V's holes,
@@ -43,12 +43,17 @@ fn end_of_frame(t: u32) {
     }
 }
 
+// O joins next V (else D alone is next V: with marks from boxes at the
+// end of the frame, D holds V's objects in front of the final depth, and O
+// is all of V).
+override OCCLUDERS_STAY: bool = true;
+
 @compute @workgroup_size(256)
 fn merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>, @builtin(local_invocation_index) lid: u32) {
     let i = flat_id(wid, nwg, lid, 256u);
     end_of_frame(i);
     if i < frame.object_count {
-        visible[i] = select(0u, 1u, occluders[i] != 0u || drawn[i] != 0u);
+        visible[i] = select(0u, 1u, (OCCLUDERS_STAY && occluders[i] != 0u) || drawn[i] != 0u);
     }
 }
 

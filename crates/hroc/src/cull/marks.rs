@@ -18,7 +18,10 @@
 //! drawn first) and with fewer (an unmarked object is tested like any
 //! other: one seen only between the pixels tested, one whose box leaves
 //! the frustum). Boxes that reach the near plane are marked without a
-//! test.
+//! test. HROC without occluder filtering or rounds marks once a frame
+//! instead, after its occludees: the boxes of all it drew against the
+//! final depth, which alone make its next occluders (its walk takes all
+//! of V as occluders: every one was drawn).
 //!
 //! [`Marks::Boxes`]: crate::capabilities::Marks::Boxes
 

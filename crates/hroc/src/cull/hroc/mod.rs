@@ -156,6 +156,13 @@ pub struct Hroc {
     u_job: CompactJob,
     marks_o: MarkTarget,
     marks_d: MarkTarget,
+    /// With marks from boxes (and no OF, no rounds): V's objects are all
+    /// occluders O, and one box pass after U's draw marks V's and U's
+    /// objects against the frame's final depth as D, which alone is next
+    /// frame's V. One box pass a frame, not one per list: the walk from all
+    /// of V tests none of V's objects, which step 1 drew anyway, and V
+    /// keeps only what is in front of the final depth.
+    marks_at_end: bool,
     test_bind: wgpu::BindGroup,
     /// Step 2's passes: the walk up from the effective occluders, the
     /// objects tested alone, and the collection of the groups.
@@ -368,7 +375,11 @@ impl CullMethod for Hroc {
         }
         // 1. Occlusion map.
         f.stage(Stage::OcclusionMap);
-        f.encoder().counted_clear(&self.occluders, 0, None);
+        match self.marks_at_end {
+            // O = V, which the seed (if any) has just written.
+            true => f.encoder().counted_copy(&self.visible, 0, &self.occluders, 0, None),
+            false => f.encoder().counted_clear(&self.occluders, 0, None),
+        }
         if let Some(sf) = self.sf.as_mut() {
             let bytes = sf.begin(f.gpu);
             f.count_async_read(bytes);
@@ -384,8 +395,10 @@ impl CullMethod for Hroc {
         } else {
             self.v_list.max_count = self.max_count(f, Counted::V, &self.v_list.count, n, Stage::OcclusionMap)?;
             self.v_drawn = self.v_list.clone();
-            self.draw_list(f, Phase::Occluders, &self.v_list, over, Some(&self.marks_o));
+            let marks = (!self.marks_at_end).then_some(&self.marks_o);
+            self.draw_list(f, Phase::Occluders, &self.v_list, over.clone(), marks);
         }
+        let mut v_lists: Vec<DrawList> = [(self.v_list.max_count > 0).then(|| self.v_list.clone()), over].into_iter().flatten().collect();
         // 1b and 2, one pass: where V left the map empty, the ray grid's
         // first hits join the occluders (not after a seed, which cast the
         // same rays; no collapse); the walk up from every effective
@@ -429,6 +442,7 @@ impl CullMethod for Hroc {
         if refill {
             f.stage(Stage::OcclusionMap);
             f.draw(Phase::Occluders, &self.refill_list, None);
+            v_lists.push(self.refill_list.clone());
         }
         // 3. Batch occlusion test against the occlusion map (read-only depth).
         f.stage(Stage::OcclusionTest);
@@ -468,7 +482,16 @@ impl CullMethod for Hroc {
             self.rounds(f, r, RoundsOf::Occludees)?;
         } else {
             self.u_list.max_count = self.max_count(f, Counted::U, &self.u_list.count, n, Stage::OccludeeRendering)?;
-            self.draw_list(f, Phase::Occludees, &self.u_list, over, self.d_marks());
+            match (&self.marks_d, self.marks_at_end) {
+                (MarkTarget::Boxes(boxes, drawn), true) => {
+                    self.draw_list(f, Phase::Occludees, &self.u_list, over.clone(), None);
+                    // V's and U's objects against the final depth, in one pass.
+                    let u_lists = [(self.u_list.max_count > 0).then_some(&self.u_list), over.as_ref()];
+                    let lists: Vec<&DrawList> = v_lists.iter().chain(u_lists.into_iter().flatten()).collect();
+                    boxes.record(f, &lists, drawn);
+                }
+                _ => self.draw_list(f, Phase::Occludees, &self.u_list, over, self.d_marks()),
+            }
         }
         // 5. Next frame's occluders; the same threads record the cells the
         // depth covers (for the refill) and reset step 2's counts.

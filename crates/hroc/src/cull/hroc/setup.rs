@@ -87,7 +87,9 @@ impl Hroc {
         let collect = step(Layout::HrocGroups, "hroc_groups.wgsl", "collect", &test_scale);
         // Step 5 records the covered cells where the refill reads them.
         let cover = [("COVER", (cx.options.hroc_seed == Seed::Cuts) as u32 as f64), grid[0], grid[1]];
-        let merge = step(Layout::HrocNext, "hroc_next.wgsl", "merge", &cover);
+        // Marks from boxes, in one pass at the end of the frame (`Hroc::marks_at_end`).
+        let marks_at_end = cx.capabilities.marks == crate::capabilities::Marks::Boxes && !variant.of && cx.options.hroc_rounds <= 1 && !cx.options.hroc_occluder_rounds;
+        let merge = step(Layout::HrocNext, "hroc_next.wgsl", "merge", &[cover[0], cover[1], cover[2], ("OCCLUDERS_STAY", (!marks_at_end) as u32 as f64)]);
         let filter = step(
             Layout::HrocNext,
             "hroc_next.wgsl",
@@ -167,6 +169,7 @@ impl Hroc {
             // O skips the test of what it marks: only V's own objects.
             marks_o: cx.mark_target(&occluders, Some(&visible)),
             marks_d: cx.mark_target(&drawn, None),
+            marks_at_end,
             extract,
             alone,
             collect,
