@@ -10,6 +10,14 @@
 //! from drawing everything.
 //!
 //! `cargo run --release -p hroc-bevy --ignore-rust-version --example compare -- scene.glb path.json [frames] [msaa] [WxH]`
+//!
+//! Environment: `MODES` (comma-separated ends of mode names, e.g.
+//! `OcclusionCulling,hroc`; all when unset), `SHADOWS=0` (no light),
+//! `CASCADES=0` (the light's cascades culled by the frustum in every
+//! mode; else by occlusion wherever the camera is: Bevy's
+//! `OcclusionCulling` on the light, the plugin's `HrocCulling::cascades`),
+//! `REPEATS=n` (every mode run n times in turn, ms the median),
+//! `TIMES_ONLY=1` (no ID and reference runs: drawn and ms only).
 
 use std::path::Path;
 
@@ -62,6 +70,12 @@ struct Setup {
     scene: String,
     target: Handle<Image>,
     msaa: Msaa,
+    /// A directional light with shadow cascades.
+    shadows: bool,
+    /// Its cascades culled by occlusion in the modes that cull the camera
+    /// by occlusion (Bevy's `OcclusionCulling` on the light, the plugin's
+    /// `HrocCulling::cascades`); else by the frustum.
+    cascades: bool,
 }
 
 /// One mode's frames: images, objects drawn, ms.
@@ -99,12 +113,17 @@ fn spawn(mut commands: Commands, setup: Res<Setup>, server: Res<AssetServer>) {
             camera.insert((DepthPrepass, OcclusionCulling));
         }
         Mode::Plugin(method) => {
-            camera.insert((DepthPrepass, OcclusionCulling, HrocCulling { method }));
+            camera.insert((DepthPrepass, OcclusionCulling, HrocCulling { method, cascades: setup.cascades }));
         }
         Mode::NoCulling | Mode::Frustum => {}
     }
-    if setup.mode != Mode::Ids && std::env::var("SHADOWS").map_or(true, |v| v != "0") {
-        commands.spawn((DirectionalLight { shadow_maps_enabled: true, ..default() }, Transform::from_xyz(0.3, 1.0, 0.4).looking_at(Vec3::ZERO, Vec3::Y)));
+    if setup.mode != Mode::Ids && setup.shadows {
+        let mut light = commands.spawn((DirectionalLight { shadow_maps_enabled: true, ..default() }, Transform::from_xyz(0.3, 1.0, 0.4).looking_at(Vec3::ZERO, Vec3::Y)));
+        // Bevy's switch for culling a light's shadows by occlusion, as the
+        // plugin's cascades are.
+        if setup.mode == Mode::Bevy && setup.cascades {
+            light.insert(OcclusionCulling);
+        }
     }
     commands.insert_resource(SceneFile(server.load(setup.scene.clone())));
 }
@@ -188,8 +207,20 @@ fn drawn(render: &mut World) -> u64 {
     total
 }
 
-fn run(mode: Mode, glb: &Path, cameras: &[PathCamera], msaa: Msaa, size: (u32, u32)) -> Run {
-    let setup = Setup { mode, scene: glb.file_name().unwrap().to_string_lossy().into_owned(), target: Handle::default(), msaa };
+/// What every mode's run shares.
+struct Config<'a> {
+    glb: &'a Path,
+    cameras: &'a [PathCamera],
+    msaa: Msaa,
+    size: (u32, u32),
+    shadows: bool,
+    cascades: bool,
+}
+
+fn run(mode: Mode, c: &Config) -> Run {
+    let (glb, cameras, size) = (c.glb, c.cameras, c.size);
+    let msaa = if mode == Mode::Ids { Msaa::Off } else { c.msaa };
+    let setup = Setup { mode, scene: glb.file_name().unwrap().to_string_lossy().into_owned(), target: Handle::default(), msaa, shadows: c.shadows, cascades: c.cascades };
     let mut app = app(&setup, glb.parent().unwrap(), size);
     // Until the scene is spawned, steady, and the plugin culls.
     let mut last = (0, 0);
@@ -222,6 +253,12 @@ fn run(mode: Mode, glb: &Path, cameras: &[PathCamera], msaa: Msaa, size: (u32, u
     out
 }
 
+/// The median of `v`.
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().collect();
     let glb = Path::new(args.get(1).expect("a .glb written by hroc scene export")).canonicalize().expect("the scene file");
@@ -232,35 +269,65 @@ fn main() {
         _ => Msaa::Off,
     };
     let size = args.get(5).and_then(|s| s.split_once('x')).map_or((320, 180), |(w, h)| (w.parse().unwrap(), h.parse().unwrap()));
+    let env_on = |name: &str| std::env::var(name).map_or(true, |v| v != "0");
+    let repeats: usize = std::env::var("REPEATS").ok().and_then(|s| s.parse().ok()).unwrap_or(1).max(1);
+    let times_only = std::env::var("TIMES_ONLY").is_ok_and(|v| v != "0");
     let cameras = path.frames(frames, path.near.unwrap_or(0.1), path.far.unwrap_or(2000.0));
-    let ids = run(Mode::Ids, &glb, &cameras, Msaa::Off, size);
-    let objects = ids.drawn.iter().copied().max().unwrap_or(0);
-    // Object id + 1 per pixel.
-    let id_images: Vec<Vec<u32>> = ids.images.iter().map(|img| img.iter().map(|p| p & 0xff_ffff).collect()).collect();
-    let visible: Vec<usize> = id_images.iter().map(|img| img.iter().filter(|&&i| i > 0).collect::<std::collections::BTreeSet<_>>().len()).collect();
-    let reference = run(Mode::NoCulling, &glb, &cameras, msaa, size);
-    println!("{} ({objects} objects), {frames} frames at {}x{}, MSAA {}", glb.display(), size.0, size.1, msaa.samples());
+    let config = Config { glb: &glb, cameras: &cameras, msaa, size, shadows: env_on("SHADOWS"), cascades: env_on("CASCADES") };
+    let all = [Mode::NoCulling, Mode::Frustum, Mode::Bevy, Mode::Plugin(Method::HROC), Mode::Plugin(Method::Hzb), Mode::Plugin(Method::Auto)];
+    let wanted = std::env::var("MODES").unwrap_or_default();
+    let modes: Vec<Mode> = all.into_iter().filter(|m| wanted.is_empty() || wanted.split(',').any(|w| m.name().ends_with(w))).collect();
+    // Which objects own a pixel, and the image of drawing everything.
+    let reference = (!times_only).then(|| {
+        let ids = run(Mode::Ids, &config);
+        let objects = ids.drawn.iter().copied().max().unwrap_or(0);
+        // Object id + 1 per pixel.
+        let id_images: Vec<Vec<u32>> = ids.images.iter().map(|img| img.iter().map(|p| p & 0xff_ffff).collect()).collect();
+        let visible: Vec<usize> = id_images.iter().map(|img| img.iter().filter(|&&i| i > 0).collect::<std::collections::BTreeSet<_>>().len()).collect();
+        (objects, id_images, visible, run(Mode::NoCulling, &config))
+    });
+    let cascades = match (config.shadows, config.cascades) {
+        (false, _) => "no shadows",
+        (true, true) => "a directional light's 4 cascades culled by occlusion (Bevy's OcclusionCulling on the light, the plugin's cascades)",
+        (true, false) => "a directional light's 4 cascades culled by the frustum",
+    };
+    println!("{} ({frames} frames at {}x{}, MSAA {}, {cascades}; ms: median of {repeats})", glb.display(), size.0, size.1, msaa.samples());
     println!("| mode | drawn/frame | C/R | ms/frame | false negatives | missing px |");
     println!("|---|--:|--:|--:|--:|--:|");
     let warm = 4.min(frames.saturating_sub(1));
-    let all = [Mode::NoCulling, Mode::Frustum, Mode::Bevy, Mode::Plugin(Method::HROC), Mode::Plugin(Method::Hzb), Mode::Plugin(Method::Auto)];
-    let wanted = std::env::var("MODES").unwrap_or_default();
-    for mode in all.into_iter().filter(|m| wanted.is_empty() || wanted.split(',').any(|w| m.name().ends_with(w))) {
-        let r = if mode == Mode::NoCulling {
-            Run { images: reference.images.clone(), drawn: reference.drawn.clone(), ms: reference.ms.clone() }
-        } else {
-            run(mode, &glb, &cameras, msaa, size)
+    // Each repeat runs every mode in turn, so that a slow spell of the
+    // machine falls on all of them.
+    let mut runs: Vec<Vec<Run>> = modes.iter().map(|_| Vec::new()).collect();
+    for _ in 0..repeats {
+        for (m, mode) in modes.iter().enumerate() {
+            runs[m].push(run(*mode, &config));
+        }
+    }
+    for (mode, runs) in modes.iter().zip(&runs) {
+        let per_run: Vec<f64> = runs.iter().map(|r| r.ms[warm..].iter().sum::<f64>() / (frames - warm).max(1) as f64).collect();
+        let (lo, hi) = per_run.iter().fold((f64::MAX, f64::MIN), |(lo, hi), &m| (lo.min(m), hi.max(m)));
+        let ms = match repeats {
+            1 => format!("{:.1}", per_run[0]),
+            _ => format!("{:.1} ({lo:.1}-{hi:.1})", median(per_run)),
+        };
+        let drawn = runs[0].drawn.iter().sum::<u64>() as f64 / frames as f64;
+        let Some((objects, id_images, visible, reference)) = reference.as_ref() else {
+            println!("| {} | {drawn:.0} | - | {ms} | - | - |", mode.name());
+            continue;
         };
         let (mut missing, mut false_negatives, mut culled, mut hidden) = (0usize, 0usize, 0.0f64, 0.0f64);
-        for k in 0..frames {
-            let wrong: std::collections::BTreeSet<u32> = r.images[k].iter().zip(&reference.images[k]).zip(&id_images[k]).filter(|((a, b), _)| a != b).map(|(_, &id)| id).collect();
-            missing += r.images[k].iter().zip(&reference.images[k]).filter(|(a, b)| a != b).count();
-            false_negatives += wrong.len();
-            culled += objects as f64 - r.drawn[k] as f64;
-            hidden += objects as f64 - visible[k] as f64;
+        for r in runs {
+            for k in 0..frames {
+                let wrong: std::collections::BTreeSet<u32> =
+                    r.images[k].iter().zip(&reference.images[k]).zip(&id_images[k]).filter(|((a, b), _)| a != b).map(|(_, &id)| id).collect();
+                missing += r.images[k].iter().zip(&reference.images[k]).filter(|(a, b)| a != b).count();
+                false_negatives += wrong.len();
+            }
         }
-        let ms: f64 = r.ms[warm..].iter().sum::<f64>() / (frames - warm).max(1) as f64;
-        let drawn = r.drawn.iter().sum::<u64>() as f64 / frames as f64;
-        println!("| {} | {drawn:.0} | {:.3} | {ms:.1} | {false_negatives} | {missing} |", mode.name(), culled / hidden.max(1.0));
+        for k in 0..frames {
+            culled += *objects as f64 - runs[0].drawn[k] as f64;
+            hidden += *objects as f64 - visible[k] as f64;
+        }
+        println!("| {} | {drawn:.0} | {:.3} | {ms} | {false_negatives} | {missing} |", mode.name(), culled / hidden.max(1.0));
     }
 }

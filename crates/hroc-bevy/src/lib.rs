@@ -47,12 +47,27 @@ pub struct HrocCulling {
     /// The method. Bevy's cameras have no object-ID target: `hroc` runs
     /// as `hroc-sf` (HROC without occluder filtering by IDs).
     pub method: Method,
+    /// Also cull the camera's directional-light cascades by occlusion,
+    /// each against its own shadow map, with `method`: the plugin gives
+    /// every directional light Bevy's `OcclusionCulling` (Bevy's switch for
+    /// culling a light's shadows by occlusion, which adds their late
+    /// shadow pass). Where false, cascades are culled as Bevy culls them:
+    /// by the frustum, or by hroc where the user gave the light
+    /// `OcclusionCulling`.
+    pub cascades: bool,
 }
 
 impl Default for HrocCulling {
-    /// HROC.
+    /// HROC, cascades included.
     fn default() -> Self {
-        HrocCulling { method: Method::HROC }
+        HrocCulling { method: Method::HROC, cascades: true }
+    }
+}
+
+impl HrocCulling {
+    /// Culls with `method`, cascades included.
+    pub fn new(method: Method) -> Self {
+        HrocCulling { method, ..Default::default() }
     }
 }
 
@@ -71,14 +86,15 @@ impl ExtractComponent<RenderApp> for HrocCulling {
 }
 
 /// Directional lights get Bevy's `OcclusionCulling` once a camera culls
-/// with hroc: Bevy then gives their cascades a late shadow pass, which
-/// draws what hroc's test of each cascade finds.
+/// its cascades with hroc ([`HrocCulling::cascades`]): Bevy then gives
+/// their cascades a late shadow pass, which draws what hroc's test of each
+/// cascade finds.
 fn cull_cascades(
     mut commands: Commands,
     lights: Query<Entity, (With<bevy_light::DirectionalLight>, Without<bevy_render::occlusion_culling::OcclusionCulling>)>,
-    cameras: Query<(), With<HrocCulling>>,
+    cameras: Query<&HrocCulling>,
 ) {
-    if cameras.is_empty() {
+    if !cameras.iter().any(|c| c.cascades) {
         return;
     }
     for light in &lights {

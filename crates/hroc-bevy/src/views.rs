@@ -147,7 +147,7 @@ impl Frame<'_> {
                     commands.entity(entity).insert(stats);
                 }
             }
-            _ => match self.culler.view(method, &targets) {
+            _ => match self.culler.view_with(method, &targets, &options(&texture)) {
                 Ok(view) => {
                     let mut v = HrocView { view: Mutex::new(view), key, steps: Mutex::default(), bind_group: None, bound: None };
                     v.record(self.culler, &input, self.slots, self.layout, self.device);
@@ -203,4 +203,12 @@ pub fn prepare(
             frame.cull(&mut commands, light, existing, (texture.clone(), this, method), (cascade, true));
         }
     }
+}
+
+/// The options of a view of `texture`: HROC's test on single pixels below
+/// 640 × 360, where the reduction to blocks costs more than the rays it
+/// saves (BENCHMARKS.md, "Bevy").
+fn options(texture: &wgpu::Texture) -> hroc::MethodOptions {
+    let small = texture.width() * texture.height() < 640 * 360;
+    hroc::MethodOptions { hroc_test_scale: if small { 1 } else { hroc::MethodOptions::default().hroc_test_scale }, ..Default::default() }
 }
