@@ -1,7 +1,7 @@
 //! Bevy's mesh instances as hroc's objects: each entity with a `Mesh3d`
 //! is one object, its world box Bevy's `Aabb` × `GlobalTransform`. The
 //! culler lives in the render world, on Bevy's device; its objects follow
-//! spawns, despawns and motion every frame, and a buffer maps Bevy's input
+//! the spawns, despawns and motion Bevy's change detection reports, and a buffer maps Bevy's input
 //! index of each instance (what its preprocessing shader sees) to the
 //! object's slot.
 
@@ -19,10 +19,14 @@ use bevy_transform::components::GlobalTransform;
 use hroc::device::{Capabilities, Marks};
 use hroc::{Aabb as Box3, Culler, CullerDesc, ObjectDesc, ObjectFlags};
 
-/// The mesh instances of this frame, extracted from the main world: world
-/// box and whether Bevy deforms the mesh on the GPU (skinned, morphed).
+/// The mesh instances that changed since the last extraction: new or
+/// moved (world box, and whether Bevy deforms the mesh on the GPU:
+/// skinned, morphed), and despawned or no longer meshes.
 #[derive(Resource, Default)]
-pub struct ExtractedInstances(pub HashMap<MainEntity, (Box3, bool)>);
+pub struct ExtractedInstances {
+    pub changed: HashMap<MainEntity, (Box3, bool)>,
+    pub removed: Vec<MainEntity>,
+}
 
 /// World box of a local `Aabb` under `transform`.
 fn world_box(aabb: &Aabb, transform: &GlobalTransform) -> Box3 {
@@ -37,12 +41,22 @@ fn world_box(aabb: &Aabb, transform: &GlobalTransform) -> Box3 {
 
 /// What extraction reads of a mesh entity.
 type MeshItem<'a> = (Entity, &'a Aabb, &'a GlobalTransform, Has<SkinnedMesh>, Has<MeshMorphWeights>);
+/// The mesh entities whose box or deformation may have changed (a mesh
+/// that stops being skinned stays never culled: only speed is lost).
+type MeshChanged = (With<Mesh3d>, Or<(Changed<GlobalTransform>, Changed<Aabb>, Added<Mesh3d>, Added<SkinnedMesh>, Added<MeshMorphWeights>)>);
 
-/// Extract: every mesh entity's world box and deformation.
-pub fn extract(mut out: ResMut<ExtractedInstances>, meshes: Extract<Query<MeshItem, With<Mesh3d>>>) {
-    out.0.clear();
+/// Extract: the world box and deformation of every mesh entity that
+/// changed, and the entities that lost their mesh or were despawned.
+pub fn extract(mut out: ResMut<ExtractedInstances>, meshes: Extract<Query<MeshItem, MeshChanged>>, mut removed: Extract<RemovedComponents<Mesh3d>>) {
+    let out = &mut *out;
+    // Extraction runs each frame; what the render world has not taken
+    // (no culler yet) stays.
+    out.removed.extend(removed.read().map(MainEntity::from));
+    for e in &out.removed {
+        out.changed.remove(e);
+    }
     for (e, aabb, transform, skinned, morphed) in &meshes {
-        out.0.insert(MainEntity::from(e), (world_box(aabb, transform), skinned || morphed));
+        out.changed.insert(MainEntity::from(e), (world_box(aabb, transform), skinned || morphed));
     }
 }
 
@@ -76,27 +90,35 @@ fn desc(b: Box3, deformed: bool) -> ObjectDesc {
 
 /// Render world, after Bevy prepared its mesh instances: objects added,
 /// removed and moved, and the input-index map uploaded.
-pub fn sync(mut objects: ResMut<HrocObjects>, extracted: Res<ExtractedInstances>, instances: Res<RenderMeshInstances>, device: Res<RenderDevice>, queue: Res<RenderQueue>) {
+pub fn sync(mut objects: ResMut<HrocObjects>, mut extracted: ResMut<ExtractedInstances>, instances: Res<RenderMeshInstances>, device: Res<RenderDevice>, queue: Res<RenderQueue>) {
     let objects = &mut *objects;
-    if let Err(e) = sync_objects(objects, &extracted, &device, &queue) {
+    let changes = std::mem::take(&mut *extracted);
+    // Until the culler exists, the changes are every instance: kept for
+    // the next try if it cannot be made.
+    let first = objects.culler.is_none().then(|| ExtractedInstances { changed: changes.changed.clone(), removed: Vec::new() });
+    if let Err(e) = sync_objects(objects, changes, &device, &queue) {
+        if let Some(first) = first.filter(|_| objects.culler.is_none()) {
+            *extracted = first;
+        }
         if objects.failed.as_deref() != Some(&e.to_string()) {
             bevy_log::error!("hroc-bevy: {e}");
             objects.failed = Some(e.to_string());
         }
         return;
     }
-    // Bevy's input index of every instance.
-    objects.slot_of_input.iter_mut().for_each(|s| *s = u32::MAX);
+    // Bevy's input index of every instance, uploaded when it changed.
+    let mut slot_of_input = vec![u32::MAX; objects.slot_of_input.len()];
     for (entity, &(slot, ..)) in &objects.slots {
         let Some(data) = instances.render_mesh_queue_data(*entity) else { continue };
         let input = data.current_uniform_index.0 as usize;
-        if objects.slot_of_input.len() <= input {
-            objects.slot_of_input.resize(input + 1, u32::MAX);
+        if slot_of_input.len() <= input {
+            slot_of_input.resize(input + 1, u32::MAX);
         }
-        objects.slot_of_input[input] = slot;
+        slot_of_input[input] = slot;
     }
-    let bytes = (objects.slot_of_input.len().max(1) * 4) as u64;
-    if objects.slot_buffer.as_ref().is_none_or(|b| b.size() < bytes) {
+    let bytes = (slot_of_input.len().max(1) * 4) as u64;
+    let grown = objects.slot_buffer.as_ref().is_none_or(|b| b.size() < bytes);
+    if grown {
         let size = bytes.next_power_of_two().max(4096);
         objects.slot_buffer = Some(device.wgpu_device().create_buffer(&wgpu::BufferDescriptor {
             label: Some("hroc slot of input"),
@@ -105,17 +127,21 @@ pub fn sync(mut objects: ResMut<HrocObjects>, extracted: Res<ExtractedInstances>
             mapped_at_creation: false,
         }));
     }
-    if let Some(b) = &objects.slot_buffer {
-        let mut data = objects.slot_of_input.clone();
-        data.resize((b.size() / 4) as usize, u32::MAX);
-        queue.write_buffer(b, 0, bytemuck::cast_slice(&data));
+    if grown || slot_of_input != objects.slot_of_input {
+        if let Some(b) = &objects.slot_buffer {
+            let mut data = slot_of_input.clone();
+            data.resize((b.size() / 4) as usize, u32::MAX);
+            queue.write_buffer(b, 0, bytemuck::cast_slice(&data));
+        }
+        objects.slot_of_input = slot_of_input;
     }
 }
 
-fn sync_objects(objects: &mut HrocObjects, extracted: &ExtractedInstances, device: &RenderDevice, queue: &RenderQueue) -> hroc::Result<()> {
+fn sync_objects(objects: &mut HrocObjects, changes: ExtractedInstances, device: &RenderDevice, queue: &RenderQueue) -> hroc::Result<()> {
+    let ExtractedInstances { changed, removed } = changes;
     if objects.culler.is_none() {
         // The first frame: every instance.
-        let entities: Vec<(MainEntity, Box3, bool)> = extracted.0.iter().map(|(e, &(b, d))| (*e, b, d)).collect();
+        let entities: Vec<(MainEntity, Box3, bool)> = changed.iter().map(|(e, &(b, d))| (*e, b, d)).collect();
         let descs: Vec<ObjectDesc> = entities.iter().map(|&(_, b, d)| desc(b, d)).collect();
         let device = device.wgpu_device();
         let capabilities = Some(Capabilities { marks: Marks::Boxes, ..Capabilities::of(device) });
@@ -125,8 +151,9 @@ fn sync_objects(objects: &mut HrocObjects, extracted: &ExtractedInstances, devic
         return Ok(());
     }
     let culler = objects.culler.as_mut().expect("made above");
-    // Removed.
-    let gone: Vec<MainEntity> = objects.slots.keys().filter(|e| !extracted.0.contains_key(*e)).copied().collect();
+    // Removed (an entity may lose its mesh and get one again in a frame:
+    // it is then among the changed too, and comes back as a new object).
+    let gone: Vec<MainEntity> = removed.into_iter().filter(|e| objects.slots.contains_key(e)).collect::<std::collections::BTreeSet<_>>().into_iter().collect();
     let slots: Vec<u32> = gone.iter().map(|e| objects.slots[e].0).collect();
     if !slots.is_empty() {
         culler.remove_objects(&slots)?;
@@ -138,9 +165,9 @@ fn sync_objects(objects: &mut HrocObjects, extracted: &ExtractedInstances, devic
     let mut added = Vec::new();
     let mut moved = Vec::new();
     let mut flags = Vec::new();
-    for (e, &(b, d)) in &extracted.0 {
-        match objects.slots.get_mut(e) {
-            None => added.push((*e, b, d)),
+    for (e, (b, d)) in changed {
+        match objects.slots.get_mut(&e) {
+            None => added.push((e, b, d)),
             Some((slot, old, deformed)) => {
                 if *old != b {
                     moved.push((*slot, b));
