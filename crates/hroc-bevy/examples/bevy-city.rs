@@ -2,7 +2,7 @@
 //! object a Bevy mesh entity, lit under a directional light's cascades.
 //! `C` switches the camera between hroc's culling and Bevy's own
 //! `OcclusionCulling`; the window's title says which, and the objects
-//! hroc drew in its last frame. `WASD` move, the arrow keys turn,
+//! the main pass drew (read from Bevy's indirect draws every 30 frames). `WASD` move, the arrow keys turn,
 //! `Q`/`E` go down and up.
 //!
 //! `cargo run --release -p hroc-bevy --ignore-rust-version --example bevy-city -- scene.glb [--frames N]`
@@ -16,10 +16,13 @@ use bevy::core_pipeline::tonemapping::Tonemapping;
 use bevy::gltf::{Gltf, GltfMesh, GltfNode};
 use bevy::prelude::*;
 use bevy::render::occlusion_culling::OcclusionCulling;
-use bevy::render::{Render, RenderApp, RenderSystems};
-use hroc_bevy::{HrocCulling, HrocFrameStats, HrocPlugin};
+use bevy::render::{Render, RenderApp, RenderDebugFlags, RenderPlugin, RenderSystems};
+use hroc_bevy::{HrocCulling, HrocPlugin};
 
-/// Objects hroc drew, from the render world to the window's title.
+#[path = "common/drawn.rs"]
+mod drawn;
+
+/// Objects the main pass drew, from the render world to the window's title.
 #[derive(Resource, Clone, Default)]
 struct Drawn(Arc<AtomicU32>);
 
@@ -36,7 +39,8 @@ fn main() {
     let frames = args.iter().position(|a| a == "--frames").and_then(|i| args.get(i + 1)).map(|n| n.parse().expect("a count of frames"));
     let drawn = Drawn::default();
     let mut app = App::new();
-    app.add_plugins(DefaultPlugins.set(AssetPlugin { file_path: scene.parent().unwrap().to_string_lossy().into_owned(), ..default() }))
+    let render = RenderPlugin { debug_flags: RenderDebugFlags::ALLOW_COPIES_FROM_INDIRECT_PARAMETERS, ..default() };
+    app.add_plugins(DefaultPlugins.set(AssetPlugin { file_path: scene.parent().unwrap().to_string_lossy().into_owned(), ..default() }).set(render))
         .add_plugins(HrocPlugin)
         .insert_resource(drawn.clone())
         .insert_resource(Frames(frames))
@@ -51,10 +55,13 @@ fn main() {
     app.run();
 }
 
-/// Render world: the camera's last hroc frame's objects.
-fn publish(drawn: Res<Drawn>, stats: Query<&HrocFrameStats, Without<bevy::pbr::LightEntity>>) {
-    if let Some(s) = stats.iter().next() {
-        drawn.0.store(s.0.objects, Ordering::Relaxed);
+/// Render world, every 30th frame: the objects the main opaque pass drew,
+/// the instances of Bevy's indirect draws, whichever culls.
+fn publish(world: &mut World, mut frame: Local<u32>) {
+    *frame += 1;
+    if *frame % 30 == 1 {
+        let n = drawn::drawn(world);
+        world.resource::<Drawn>().0.store(n as u32, Ordering::Relaxed);
     }
 }
 
@@ -105,8 +112,8 @@ fn switch(keys: Res<ButtonInput<KeyCode>>, mut commands: Commands, camera: Query
 
 fn title(drawn: Res<Drawn>, camera: Query<Has<HrocCulling>, With<Camera3d>>, mut windows: Query<&mut Window>) {
     let (Ok(hroc), Ok(mut window)) = (camera.single(), windows.single_mut()) else { return };
-    window.title =
-        if hroc { format!("hroc: {} objects drawn (C: Bevy's occlusion culling)", drawn.0.load(Ordering::Relaxed)) } else { "Bevy's occlusion culling (C: hroc)".into() };
+    let n = drawn.0.load(Ordering::Relaxed);
+    window.title = if hroc { format!("hroc: {n} objects drawn (C: Bevy's occlusion culling)") } else { format!("Bevy's occlusion culling: {n} objects drawn (C: hroc)") };
 }
 
 fn count_frames(mut frames: ResMut<Frames>, mut exit: MessageWriter<AppExit>) {

@@ -23,12 +23,10 @@ use std::path::Path;
 
 use bevy::camera::visibility::NoFrustumCulling;
 use bevy::camera::{Hdr, RenderTarget};
-use bevy::core_pipeline::core_3d::Opaque3d;
 use bevy::core_pipeline::prepass::DepthPrepass;
 use bevy::core_pipeline::tonemapping::{DebandDither, Tonemapping};
 use bevy::gltf::{Gltf, GltfMesh, GltfNode};
 use bevy::prelude::*;
-use bevy::render::batching::gpu_preprocessing::IndirectParametersBuffers;
 use bevy::render::occlusion_culling::OcclusionCulling;
 use bevy::render::render_asset::RenderAssets;
 use bevy::render::render_resource::{TextureFormat, TextureUsages};
@@ -39,8 +37,11 @@ use hroc::Method;
 use hroc_bevy::{HrocCulling, HrocPlugin};
 use hroc_scene::camera::{Camera as PathCamera, CameraPath};
 
+#[path = "common/drawn.rs"]
+mod drawn;
 #[path = "../tests/common/headless.rs"]
 mod headless;
+use drawn::drawn;
 
 #[derive(Clone, Copy, PartialEq, Debug)]
 enum Mode {
@@ -185,28 +186,6 @@ fn set_camera(app: &mut App, c: &PathCamera) {
     *p = Projection::Perspective(PerspectiveProjection { fov: c.fov_y_deg.to_radians(), near: c.near, far: c.far, ..default() });
 }
 
-/// Objects the main opaque pass drew: instances of its indirect draws.
-fn drawn(render: &mut World) -> u64 {
-    let device = render.resource::<RenderDevice>().wgpu_device().clone();
-    let queue: wgpu::Queue = (**render.resource::<RenderQueue>()).clone();
-    let buffers = render.resource::<IndirectParametersBuffers>();
-    let Some(phase) = buffers.get(&std::any::TypeId::of::<Opaque3d>()) else { return 0 };
-    let mut total = 0;
-    // Indexed commands: 5 u32 (instance_count second); non-indexed: 4.
-    for (sets, data, stride) in [(phase.indexed.batch_sets_buffer(), phase.indexed.data_buffer(), 5), (phase.non_indexed.batch_sets_buffer(), phase.non_indexed.data_buffer(), 4)] {
-        let (Some(sets), Some(data)) = (sets, data) else { continue };
-        let sets: Vec<u32> = hroc_readback::read(&device, &queue, sets, 0, sets.size() / 4).unwrap();
-        let data: Vec<u32> = hroc_readback::read(&device, &queue, data, 0, data.size() / 4).unwrap();
-        for set in sets.chunks_exact(2) {
-            let (count, base) = (set[0] as usize, set[1] as usize);
-            for c in base..base + count {
-                total += data.get(c * stride + 1).copied().unwrap_or(0) as u64;
-            }
-        }
-    }
-    total
-}
-
 /// What every mode's run shares.
 struct Config<'a> {
     glb: &'a Path,
@@ -317,16 +296,15 @@ fn main() {
         };
         let (mut missing, mut false_negatives, mut culled, mut hidden) = (0usize, 0usize, 0.0f64, 0.0f64);
         for r in runs {
-            for k in 0..frames {
-                let wrong: std::collections::BTreeSet<u32> =
-                    r.images[k].iter().zip(&reference.images[k]).zip(&id_images[k]).filter(|((a, b), _)| a != b).map(|(_, &id)| id).collect();
-                missing += r.images[k].iter().zip(&reference.images[k]).filter(|(a, b)| a != b).count();
+            for ((image, expected), ids) in r.images.iter().zip(&reference.images).zip(id_images) {
+                let wrong: std::collections::BTreeSet<u32> = image.iter().zip(expected).zip(ids).filter(|((a, b), _)| a != b).map(|(_, &id)| id).collect();
+                missing += image.iter().zip(expected).filter(|(a, b)| a != b).count();
                 false_negatives += wrong.len();
             }
         }
-        for k in 0..frames {
-            culled += *objects as f64 - runs[0].drawn[k] as f64;
-            hidden += *objects as f64 - visible[k] as f64;
+        for (&drawn, &visible) in runs[0].drawn.iter().zip(visible) {
+            culled += *objects as f64 - drawn as f64;
+            hidden += *objects as f64 - visible as f64;
         }
         println!("| {} | {drawn:.0} | {:.3} | {ms} | {false_negatives} | {missing} |", mode.name(), culled / hidden.max(1.0));
     }

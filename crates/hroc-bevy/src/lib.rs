@@ -10,9 +10,11 @@
 //! in place of Bevy's Hi-Z test, under every material of the scene, the
 //! user's own included: Bevy's early prepass draws what hroc's early step
 //! says, Bevy's late prepass what its occlusion test found, and the main
-//! passes both. The plugin takes each `Mesh3d` entity as one hroc object
-//! (its world box `Aabb` × `GlobalTransform`; skinned and morphed meshes
-//! are never culled), culls with marks from boxes
+//! passes both. Its directional lights' cascades are culled the same way,
+//! each against its own shadow map ([`HrocCulling::cascades`]). The
+//! plugin takes each `Mesh3d` entity as one hroc object (its world box
+//! `Aabb` × `GlobalTransform`; skinned and morphed meshes are never
+//! culled), culls with marks from boxes
 //! (`hroc::device::Marks::Boxes`: no shader of the user's changes), and
 //! runs each camera's frame stepwise (`hroc::View::steps`) at Bevy's own
 //! points. Bevy's preprocessing shader is Bevy's, taken at run time, with

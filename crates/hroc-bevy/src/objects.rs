@@ -1,9 +1,9 @@
 //! Bevy's mesh instances as hroc's objects: each entity with a `Mesh3d`
 //! is one object, its world box Bevy's `Aabb` × `GlobalTransform`. The
 //! culler lives in the render world, on Bevy's device; its objects follow
-//! the spawns, despawns and motion Bevy's change detection reports, and a buffer maps Bevy's input
-//! index of each instance (what its preprocessing shader sees) to the
-//! object's slot.
+//! the spawns, despawns and motion Bevy's change detection reports, and a
+//! buffer maps Bevy's input index of each instance (what its
+//! preprocessing shader sees) to the object's slot.
 
 use bevy_camera::primitives::Aabb;
 use bevy_ecs::prelude::*;
