@@ -78,3 +78,25 @@ fn gl_serves_its_methods_with_no_false_negatives() {
         assert_eq!((row.false_negatives, row.missing_pixels), (0, 0), "{} on GL with shadow cascades", row.method);
     }
 }
+
+/// Marks from boxes (`Marks::Boxes`, as the Bevy plugin culls) on GL,
+/// where the box tests load depth themselves: the methods that read marks
+/// draw every object `noc` shows on the hard path (cuts, the eye inside
+/// boxes, boxes across the near plane) and the cuts path.
+#[test]
+fn gl_marks_from_boxes_with_no_false_negatives() {
+    let mut gpu = Headless::open(Backend::Gl).expect("OpenGL through EGL (scripts/ensure-gl.sh)");
+    let caps = hroc::device::Capabilities { marks: hroc::device::Marks::Boxes, ..hroc_bench::gpu::Tier::Gl.capabilities() };
+    gpu.capabilities = Some(caps);
+    let methods = hroc_bench::bench::parse_methods("noc,roc,hroc,hroc-na,hroc-sf").unwrap();
+    for path in ["hard", "cuts"] {
+        let o = BenchOptions { frames: 12, resolution: (160, 90), camera_path: Some(path.into()), ..BenchOptions::new("radial-city", Some(1500), methods.clone()) };
+        let r = bench::run(&gpu, &o).unwrap();
+        assert!(r.capabilities.contains("Boxes marks"), "{}", r.capabilities);
+        for row in &r.rows {
+            assert_eq!((row.false_negatives, row.missing_pixels), (0, 0), "{} on GL with marks from boxes, path {path}", row.method);
+        }
+        let sf = r.rows.iter().find(|row| row.method.to_string() == "hroc-sf").unwrap();
+        assert!(sf.drawn_mean < r.objects as f64 / 2.0, "hroc-sf culled little on GL with marks from boxes: {}", sf.drawn_mean);
+    }
+}

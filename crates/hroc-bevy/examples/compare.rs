@@ -80,6 +80,7 @@ struct Setup {
 }
 
 /// One mode's frames: images, objects drawn, ms.
+#[derive(Clone)]
 struct Run {
     images: Vec<Vec<u32>>,
     drawn: Vec<u64>,
@@ -277,9 +278,11 @@ fn main() {
     // Each repeat runs every mode in turn, so that a slow spell of the
     // machine falls on all of them.
     let mut runs: Vec<Vec<Run>> = modes.iter().map(|_| Vec::new()).collect();
-    for _ in 0..repeats {
+    for r in 0..repeats {
         for (m, mode) in modes.iter().enumerate() {
-            runs[m].push(run(*mode, &config));
+            // The reference is the first run of drawing everything.
+            let first_reference = (r == 0 && *mode == Mode::NoCulling).then(|| reference.as_ref().map(|(.., run)| run.clone())).flatten();
+            runs[m].push(first_reference.unwrap_or_else(|| run(*mode, &config)));
         }
     }
     for (mode, runs) in modes.iter().zip(&runs) {

@@ -139,7 +139,9 @@ fn marks_from_boxes_draw_every_visible_object() {
                 let culled = host.draws_visible_along(device, queue, &culler, &mut view, &path, &visible, &label);
                 assert!(culled > 0, "{label} culled nothing");
                 if let Method::Hroc(_) = method {
-                    // The boxes marked effective occluders in the last frame.
+                    // Effective occluders in the last frame: those the boxes
+                    // marked, or all of V where the boxes mark once a frame
+                    // (hroc-sf, hroc-na: then the boxes' marks are next V).
                     let stats = view.stats(&culler).unwrap();
                     let o = stats.iter().find(|(s, _)| *s == hroc::stats::Stat::O).map_or(0.0, |s| s.1);
                     assert!(o > 0.0, "{label}: no object marked by its box");
