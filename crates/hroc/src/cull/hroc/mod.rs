@@ -398,7 +398,11 @@ impl CullMethod for Hroc {
             let marks = (!self.marks_at_end).then_some(&self.marks_o);
             self.draw_list(f, Phase::Occluders, &self.v_list, over.clone(), marks);
         }
-        let mut v_lists: Vec<DrawList> = [(self.v_list.max_count > 0).then(|| self.v_list.clone()), over].into_iter().flatten().collect();
+        // What the box pass at the end marks, besides U.
+        let mut v_lists: Vec<DrawList> = match self.marks_at_end {
+            true => [(self.v_list.max_count > 0).then(|| self.v_list.clone()), over].into_iter().flatten().collect(),
+            false => Vec::new(),
+        };
         // 1b and 2, one pass: where V left the map empty, the ray grid's
         // first hits join the occluders (not after a seed, which cast the
         // same rays; no collapse); the walk up from every effective
@@ -442,7 +446,9 @@ impl CullMethod for Hroc {
         if refill {
             f.stage(Stage::OcclusionMap);
             f.draw(Phase::Occluders, &self.refill_list, None);
-            v_lists.push(self.refill_list.clone());
+            if self.marks_at_end {
+                v_lists.push(self.refill_list.clone());
+            }
         }
         // 3. Batch occlusion test against the occlusion map (read-only depth).
         f.stage(Stage::OcclusionTest);
