@@ -11,12 +11,16 @@
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(3) var<storage, read> occluders: array<u32>;      // O marks
 @group(0) @binding(8) var<storage, read> drawn: array<u32>;           // D marks
-@group(0) @binding(9) var<storage, read_write> visible: array<u32>;   // next V
+@group(0) @binding(9) var<storage, read_write> visible: array<atomic<u32>>; // next V
 @group(0) @binding(10) var ids: HostIds;
 @group(0) @binding(12) var depth: HostDepth;
 @group(0) @binding(16) var<storage, read_write> covered: array<u32>;  // per cell: this frame drew there
 @group(0) @binding(18) var<storage, read_write> collect_launch: array<u32>;
 @group(0) @binding(19) var<storage, read_write> work: array<u32>;
+// With MEASURE: [0] objects the filter keeps, [1] objects O ∪ D holds
+// (what the merge would keep), for the view's filter gate
+// (`cull/hroc/filter_gate.rs`).
+@group(0) @binding(20) var<storage, read_write> filter_tally: array<atomic<u32>, 2>;
 
 // Record the covered cells (the refill runs: `Seed::Cuts`).
 override COVER: bool = true;
@@ -53,7 +57,7 @@ fn merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: ve
     let i = flat_id(wid, nwg, lid, 256u);
     end_of_frame(i);
     if i < frame.object_count {
-        visible[i] = select(0u, 1u, (OCCLUDERS_STAY && occluders[i] != 0u) || drawn[i] != 0u);
+        atomicStore(&visible[i], select(0u, 1u, (OCCLUDERS_STAY && occluders[i] != 0u) || drawn[i] != 0u));
     }
 }
 
@@ -65,10 +69,24 @@ fn merge(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: ve
 // one thread per pixel.
 override FILTER_STRIDE: u32 = 1u;
 override FILTER_TILE: u32 = 2u;
+// Count what the filter keeps against what the merge would keep.
+override MEASURE: bool = false;
 
 @compute @workgroup_size(16, 16)
 fn filter_occluders(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    end_of_frame(gid.y * nwg.x * 16u + gid.x);
+    let t = gid.y * nwg.x * 16u + gid.x;
+    end_of_frame(t);
+    if MEASURE {
+        // O ∪ D, the threads striding over the objects.
+        let threads = nwg.x * nwg.y * 256u;
+        var merged = 0u;
+        for (var i = t; i < frame.object_count; i += threads) {
+            merged += u32(occluders[i] != 0u || drawn[i] != 0u);
+        }
+        if merged > 0u {
+            atomicAdd(&filter_tally[1], merged);
+        }
+    }
     let size = textureDimensions(ids);
     var last = 0u;
     for (var ty = 0u; ty < FILTER_TILE; ty++) {
@@ -80,7 +98,13 @@ fn filter_occluders(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_
             for (var s = 0; s < i32(HOST_SAMPLES); s++) {
                 let id = host_id(ids, vec2<i32>(px), s);
                 if id != 0u && id != last {
-                    visible[id - 1u] = 1u;
+                    if MEASURE {
+                        if atomicExchange(&visible[id - 1u], 1u) == 0u {
+                            atomicAdd(&filter_tally[0], 1u);
+                        }
+                    } else {
+                        atomicStore(&visible[id - 1u], 1u);
+                    }
                     last = id;
                 }
             }

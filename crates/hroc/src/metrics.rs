@@ -138,6 +138,9 @@ named_enum!(
         Cut => "cut",
         /// 1 when HROC seeded V with its ray grid this frame.
         Seeded => "seeded",
+        /// 1 when HROC's step 5 ran occluder filtering this frame (with OF,
+        /// where its filter gate found that it changes the next V).
+        Filtered => "filtered",
         /// `auto`: the method that culled the frame, as its index in `Method::ALL`.
         Chosen => "chosen",
         /// `auto`: 1 when the frame probed a method other than the choice.

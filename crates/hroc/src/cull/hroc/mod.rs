@@ -47,6 +47,7 @@
 mod blocks;
 pub mod cpu;
 mod debug;
+pub mod filter_gate;
 mod rounds;
 mod setup;
 pub mod stall_free;
@@ -69,6 +70,7 @@ use crate::gpu::{dispatch_size, Gpu};
 use crate::reflect::Layout;
 use crate::shaders::source_for as shader_source_for;
 use crate::shaders::{BoxDepth, BoxTarget};
+use filter_gate::{FilterGate, Next};
 use stall_free::{Counted, Spill, StallFree};
 
 /// The facts of HROC's variant `v`: it reads marks, IDs with OF, and
@@ -171,6 +173,13 @@ pub struct Hroc {
     collect: Step,
     merge: Step,
     filter: Step,
+    /// The filter counting what it changes, for `filter_gate`.
+    probe: Option<Step>,
+    /// With OF where D is marked: filtering only where it changes the
+    /// next V ([`filter_gate`]).
+    filter_gate: Option<FilterGate>,
+    /// What step 5 ran in the last frame.
+    next_ran: Next,
     /// The seed's grid ([`seed_grid`]).
     grid: (u32, u32),
     /// One ID pixel read in every `filter_stride²` ([`MethodOptions::hroc_filter_stride`](super::MethodOptions)).
@@ -331,6 +340,9 @@ impl CullMethod for Hroc {
     }
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
+        if let Some(g) = self.filter_gate.as_mut() {
+            g.reset();
+        }
         enc.counted_clear(&self.visible, 0, None);
         self.reset_walk(enc);
         self.seed_next = true;
@@ -503,18 +515,36 @@ impl CullMethod for Hroc {
         // depth covers (for the refill) and reset step 2's counts.
         f.stage(Stage::Filtering);
         let cover = if self.seed_mode == Seed::Cuts { cells } else { 1 };
+        // OF where it changes the result (`filter_gate`).
+        let next = match self.filter_gate.as_mut() {
+            Some(gate) => {
+                let (next, bytes) = gate.choose(f.gpu);
+                f.count_async_read(bytes);
+                next
+            }
+            None if self.variant.of => Next::Filter,
+            None => Next::Merge,
+        };
+        self.next_ran = next;
         // With a spare list, the same pass packs the next frame's V.
-        let (step, label, launch) = if self.variant.of {
+        let (step, label, launch) = if next != Next::Merge {
             let (w, h) = f.size();
             f.encoder().counted_clear(&self.visible, 0, None);
+            if let (Next::Probe, Some(gate)) = (next, &self.filter_gate) {
+                gate.begin_probe(f.encoder());
+            }
             let s = self.filter_stride * FILTER_TILE;
             let x = w.div_ceil(s).div_ceil(16);
-            (&self.filter, "hroc occluder filtering", Launch::Grid(x, h.div_ceil(s).div_ceil(16).max(cover.div_ceil(x * 256))))
+            let step = if next == Next::Probe { self.probe.as_ref().unwrap_or(&self.filter) } else { &self.filter };
+            (step, "hroc occluder filtering", Launch::Grid(x, h.div_ceil(s).div_ceil(16).max(cover.div_ceil(x * 256))))
         } else {
             let (x, y) = dispatch_size(n.max(cover), 256);
             (&self.merge, "hroc next occluders", Launch::Grid(x, y))
         };
         self.compute(f, label, &[(step, launch)], self.spare_v.as_ref().map(|(_, job)| job), None);
+        if let (Next::Probe, Some(gate)) = (next, self.filter_gate.as_mut()) {
+            gate.end_probe(f.encoder);
+        }
         if let Some(spare) = self.spare_v.as_mut() {
             std::mem::swap(&mut self.v_list, &mut spare.0);
             std::mem::swap(&mut self.v_job, &mut spare.1);
@@ -548,6 +578,7 @@ impl CullMethod for Hroc {
             (Stat::Rays, c.rays as f64),
             (Stat::NodesPerRay, if c.rays > 0 { c.nodes_visited as f64 / c.rays as f64 } else { 0.0 }),
             (Stat::Seeded, self.seeded as u32 as f64),
+            (Stat::Filtered, (self.next_ran != Next::Merge) as u32 as f64),
         ])
     }
 }

@@ -71,6 +71,16 @@ impl Hroc {
             (18, collect_launch.as_entire_binding()),
             (19, walk.as_entire_binding()),
         ]);
+        // OF only where it changes the next V: where D is marked, which the
+        // merge needs (early-Z marks; OF with ID or box marks leaves D
+        // unmarked), and without rounds.
+        let marks_d = cx.mark_target(&drawn, None);
+        let gate = (variant.of && matches!(marks_d, MarkTarget::Host(..)) && cx.options.hroc_rounds <= 1 && !cx.options.hroc_occluder_rounds).then(|| FilterGate::new(gpu));
+        let filter_tally = match &gate {
+            Some(g) => g.tally.clone(),
+            None => gpu.buffer("hroc filter tally", 8, U::STORAGE),
+        };
+        resources.push((20, filter_tally.as_entire_binding()));
         let step = |layout: Layout, pass: &str, entry: &str, constants: &[(&str, f64)]| {
             let bind_layout = layout.create_for(gpu, samples);
             let module = gpu.shader(pass, &shader_source_for(pass, samples));
@@ -90,12 +100,15 @@ impl Hroc {
         // Marks from boxes, in one pass at the end of the frame (`Hroc::marks_at_end`).
         let marks_at_end = cx.capabilities.marks == crate::capabilities::Marks::Boxes && !variant.of && cx.options.hroc_rounds <= 1 && !cx.options.hroc_occluder_rounds;
         let merge = step(Layout::HrocNext, "hroc_next.wgsl", "merge", &[cover[0], cover[1], cover[2], ("OCCLUDERS_STAY", (!marks_at_end) as u32 as f64)]);
-        let filter = step(
-            Layout::HrocNext,
-            "hroc_next.wgsl",
-            "filter_occluders",
-            &[cover[0], cover[1], cover[2], ("FILTER_STRIDE", filter_stride as f64), ("FILTER_TILE", FILTER_TILE as f64)],
-        );
+        let filter_step = |measure: bool| {
+            step(
+                Layout::HrocNext,
+                "hroc_next.wgsl",
+                "filter_occluders",
+                &[cover[0], cover[1], cover[2], ("FILTER_STRIDE", filter_stride as f64), ("FILTER_TILE", FILTER_TILE as f64), ("MEASURE", measure as u32 as f64)],
+            )
+        };
+        let (filter, probe) = (filter_step(false), gate.is_some().then(|| filter_step(true)));
 
         let test_layout = Layout::HrocTest.create_for(gpu, samples);
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source_for("hroc_test.wgsl", samples));
@@ -168,7 +181,7 @@ impl Hroc {
             tree_nodes: bvh.nodes.len() as u32,
             // O skips the test of what it marks: only V's own objects.
             marks_o: cx.mark_target(&occluders, Some(&visible)),
-            marks_d: cx.mark_target(&drawn, None),
+            marks_d,
             marks_at_end,
             extract,
             alone,
@@ -179,6 +192,9 @@ impl Hroc {
             walk_open: false,
             merge,
             filter,
+            probe,
+            filter_gate: gate,
+            next_ran: Next::Filter,
             filter_stride,
             grid: grid_size,
             seed,
