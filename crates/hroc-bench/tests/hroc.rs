@@ -533,6 +533,7 @@ fn occluder_filtering_samples_every_stride() {
         s.options = hroc::MethodOptions { hroc_filter_stride: stride, ..Default::default() };
         let mut h = s.create("hroc-of".parse().unwrap()).unwrap();
         let (w, ht) = RES;
+        let mut filtered_frames = 0;
         for k in 0..s.cameras.len() {
             s.run_frame(&mut h, k).unwrap();
             let ids = s.read_truth().unwrap().ids;
@@ -545,8 +546,18 @@ fn occluder_filtering_samples_every_stride() {
                     }
                 }
             }
-            assert_eq!(h.method_state::<Hroc>().unwrap().next_occluders(&core_gpu(s.gpu)).unwrap(), want, "stride {stride} frame {k}");
+            let next = h.method_state::<Hroc>().unwrap().next_occluders(&core_gpu(s.gpu)).unwrap();
+            // Where the view's filter gate merged instead (OF would have
+            // kept most of O ∪ D), next V holds every object the filter keeps.
+            let filtered = h.stats(&s.culler).unwrap().iter().any(|x| x.0 == hroc::stats::Stat::Filtered && x.1 > 0.0);
+            if filtered {
+                assert_eq!(next, want, "stride {stride} frame {k}");
+                filtered_frames += 1;
+            } else {
+                assert!(want.iter().zip(&next).all(|(w, n)| !w || *n), "stride {stride} frame {k}: merged, yet an object the filter keeps is not in V");
+            }
         }
+        assert!(filtered_frames > 0, "stride {stride}: no frame filtered");
         if stride > 1 {
             assert_variants_conservative(&mut s, "radial-city, filter stride 3");
         }
@@ -561,4 +572,37 @@ fn host_list(l: &hroc::testing::cull::DrawList) -> hroc_bench::render::DrawList 
 /// The culler's own GPU helper on the bench's device (for its debug read-backs).
 fn core_gpu(g: &hroc_bench::gpu::Headless) -> hroc::testing::gpu::Gpu {
     hroc::testing::gpu::Gpu::from_device(&g.device, &g.queue)
+}
+
+/// The filter gate (`cull/hroc/filter_gate.rs`): in a light's cascade over
+/// the city, where nearly every object drawn owns a pixel, `hroc` merges
+/// (next V = O ∪ D) between its measuring frames, one in eight; in the
+/// camera, where the filter drops a share of O ∪ D, it filters in more
+/// frames; every cascade frame draws every object the unculled cascade
+/// shows.
+#[test]
+fn occluder_filtering_runs_where_it_changes_the_result() {
+    let scene = hroc_bench::scene::load("radial-city", Some(3000), 0).unwrap();
+    let mut s = Session::new(gpu(), scene, None, 32, (320, 180), Split::Sah).unwrap();
+    s.set_shadow_cascades(1).unwrap();
+    let (mut camera, mut light) = (s.create(hroc::Method::HROC).unwrap(), s.create_cascade(hroc::Method::HROC, 0).unwrap());
+    let filtered = |v: &mut hroc::View, s: &Session| v.stats(&s.culler).unwrap().iter().any(|x| x.0 == hroc::stats::Stat::Filtered && x.1 > 0.0);
+    let (mut camera_filtered, mut light_filtered) = (0, 0);
+    for k in 0..s.cameras.len() {
+        s.run_frame(&mut camera, k).unwrap();
+        camera_filtered += filtered(&mut camera, &s) as u32;
+        let cascade = s.cascades(k)[0];
+        let time = s.times[k];
+        let (_, truth) = s.cascade_truth(0, &cascade, time).unwrap();
+        let r = s.run_cascade(&mut light, 0, &cascade, time).unwrap();
+        let chk = s.check_cascade(0, &r, &truth).unwrap();
+        assert_eq!((chk.false_negatives, chk.missing_pixels), (0, 0), "cascade frame {k}");
+        light_filtered += filtered(&mut light, &s) as u32;
+    }
+    let frames = s.cameras.len() as u32;
+    // The first frames filter until the first measurement arrives, then
+    // one frame in PROBE_EVERY measures.
+    let probes = frames.div_ceil(hroc::testing::cull::hroc::filter_gate::PROBE_EVERY);
+    assert!(light_filtered <= probes + 4, "the light's view filtered {light_filtered} of {frames} frames");
+    assert!(camera_filtered > light_filtered, "camera filtered {camera_filtered}, light {light_filtered} of {frames}");
 }

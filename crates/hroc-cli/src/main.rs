@@ -176,6 +176,11 @@ struct MethodArgs {
     /// occludees.
     #[arg(long)]
     hroc_occluder_rounds: bool,
+    /// hroc: in a view where occlusion culled less than this share of the
+    /// frustum's objects (measured one frame in 8), cull by the frustum
+    /// alone until the next measurement, 0 to 1 (0: always by occlusion).
+    #[arg(long, default_value_t = 0.05, value_parser = parse_share)]
+    hroc_frustum_below: f32,
     /// Degrees the view may turn between frames before the frame is culled
     /// as after a camera cut (`inf`: never).
     #[arg(long, default_value_t = 45.0)]
@@ -200,9 +205,17 @@ impl MethodArgs {
             hroc_filter_stride: self.hroc_filter_stride,
             hroc_rounds: self.hroc_rounds,
             hroc_occluder_rounds: self.hroc_occluder_rounds,
+            hroc_frustum_below: self.hroc_frustum_below,
             cut_turn_deg: self.cut_turn,
             cut_move: self.cut_move,
         }
+    }
+}
+
+fn parse_share(s: &str) -> std::result::Result<f32, String> {
+    match s.parse::<f32>() {
+        Ok(v) if (0.0..=1.0).contains(&v) => Ok(v),
+        _ => Err(format!("'{s}' is not a share from 0 to 1")),
     }
 }
 

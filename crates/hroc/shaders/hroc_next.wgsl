@@ -19,8 +19,8 @@
 @group(0) @binding(19) var<storage, read_write> work: array<u32>;
 // With MEASURE: [0] objects the filter keeps, [1] objects O ∪ D holds
 // (what the merge would keep), for the view's filter gate
-// (`cull/hroc/filter_gate.rs`).
-@group(0) @binding(20) var<storage, read_write> filter_tally: array<atomic<u32>, 2>;
+// (`cull/hroc/gate.rs`).
+@group(0) @binding(20) var<storage, read_write> filter_tally: array<atomic<u32>, 4>;
 
 // Record the covered cells (the refill runs: `Seed::Cuts`).
 override COVER: bool = true;

@@ -238,6 +238,16 @@
 //! the frame ([`View::set_oracle`]); `woc` takes standard depth only and is
 //! not conservative.
 //!
+//! HROC's occluder filtering (OF, in [`Method::HROC`]) runs in each view
+//! only where it changes the result: one frame in eight, the filter also
+//! counts the objects it keeps against those the merge (O ∪ D) would keep,
+//! read back without a stall, and until the next count arrives the view
+//! filters only if the last one kept at most nine tenths (a camera in a
+//! city), else merges (a light looking down on roofs, where every drawn
+//! object owns a pixel). Either next V is conservative, as V only orders
+//! the frame. Where D is not marked (ID or box marks) the view always
+//! filters. [`View::stats`]' `filtered` says what a frame ran.
+//!
 //! [`Method::Auto`] is the culler to leave on: each frame of each view, the
 //! cheapest of `noc`, `vfc`, `hzb` and HROC (`hroc` with an ID target, else
 //! `hroc-sf`) on this device, scene and path, chosen by a cost model that

@@ -141,6 +141,10 @@ named_enum!(
         /// 1 when HROC's step 5 ran occluder filtering this frame (with OF,
         /// where its filter gate found that it changes the next V).
         Filtered => "filtered",
+        /// 1 when HROC culled the frame by occlusion; 0 by the frustum
+        /// alone, where its gate found that occlusion culls little in the
+        /// view ([`crate::MethodOptions::hroc_frustum_below`]).
+        Occlusion => "occlusion",
         /// `auto`: the method that culled the frame, as its index in `Method::ALL`.
         Chosen => "chosen",
         /// `auto`: 1 when the frame probed a method other than the choice.

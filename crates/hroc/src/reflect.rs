@@ -64,6 +64,8 @@ pub enum Layout {
     HrocGroups,
     /// HROC's step 5: the next V.
     HrocNext,
+    /// What occlusion culls in a view, and frames of frustum culling alone.
+    HrocYield,
     /// HROC's batch occlusion test (step 3).
     HrocTest,
     /// HROC's front-to-back rounds.
@@ -89,7 +91,7 @@ const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 28] = [
+    pub const ALL: [Layout; 29] = [
         Layout::Compact,
         Layout::Refit,
         Layout::FlagSplit,
@@ -109,6 +111,7 @@ impl Layout {
         Layout::HrocWalk,
         Layout::HrocGroups,
         Layout::HrocNext,
+        Layout::HrocYield,
         Layout::HrocTest,
         Layout::HrocRounds,
         Layout::HrocRoundsInit,
@@ -142,6 +145,7 @@ impl Layout {
             Layout::HrocWalk => "hroc walk",
             Layout::HrocGroups => "hroc groups",
             Layout::HrocNext => "hroc next occluders",
+            Layout::HrocYield => "hroc occlusion yield",
             Layout::HrocTest => "hroc test",
             Layout::HrocRounds => "hroc rounds",
             Layout::HrocRoundsInit => "hroc rounds init",
@@ -179,6 +183,7 @@ impl Layout {
             Layout::HrocWalk => &[("hroc_groups.wgsl", &["extract"])],
             Layout::HrocGroups => &[("hroc_groups.wgsl", &["alone", "collect"])],
             Layout::HrocNext => &[("hroc_next.wgsl", &[])],
+            Layout::HrocYield => &[("hroc_yield.wgsl", &[])],
             Layout::HrocTest => &[("hroc_test.wgsl", &["box_vs", "group_vs", "box_fs"])],
             Layout::HrocRounds => &[("hroc_test.wgsl", ROUNDS)],
             Layout::HrocRoundsInit => &[("hroc_test.wgsl", ROUNDS), ("hroc_test.wgsl", &["rounds_init"])],

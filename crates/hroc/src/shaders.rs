@@ -18,6 +18,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("hroc_groups.wgsl", include_str!("../shaders/hroc_groups.wgsl")),
     ("hroc_test.wgsl", include_str!("../shaders/hroc_test.wgsl")),
     ("hroc_next.wgsl", include_str!("../shaders/hroc_next.wgsl")),
+    ("hroc_yield.wgsl", include_str!("../shaders/hroc_yield.wgsl")),
     ("overflow.wgsl", include_str!("../shaders/overflow.wgsl")),
     ("roc_boxes.wgsl", include_str!("../shaders/roc_boxes.wgsl")),
     ("roc.wgsl", include_str!("../shaders/roc.wgsl")),

@@ -206,7 +206,7 @@ impl<'g, 'o> Run<'g, 'o> {
             }
             let mut r = self.s.run_frame(view, k)?;
             let mut chk = self.s.check(&r, truth)?;
-            let stats = view.stats(&self.s.culler)?;
+            let mut stats = view.stats(&self.s.culler)?;
             let mut views = vec![chk.drawn];
             for (cs, sv) in shadow_views.iter_mut().enumerate() {
                 let shadow_truth = &t.shadows[cs].1;
@@ -216,6 +216,12 @@ impl<'g, 'o> Run<'g, 'o> {
                 let rc = self.s.run_cascade(sv, cs as u32, &t.cascades[cs], self.s.times[k])?;
                 let cc = self.s.check_cascade(cs as u32, &rc, shadow_truth)?;
                 views.push(cc.drawn);
+                // The frame's shape is every view's.
+                for (st, v) in sv.shape_stats() {
+                    if let Some(x) = stats.iter_mut().find(|x| x.0 == st) {
+                        x.1 += v;
+                    }
+                }
                 r.add(&rc);
                 chk += cc;
             }

@@ -57,6 +57,14 @@ pub struct MethodOptions {
     /// ones it culls leave the occluder set O, so G and next frame's V
     /// shrink too; every object that owns a pixel is still drawn.
     pub hroc_occluder_rounds: bool,
+    /// `hroc`: in a view where occlusion culled less than this share of
+    /// the objects in the frustum (a light's view of roofs), the frames
+    /// between two measurements (one in eight, read back without a stall)
+    /// cull by the frustum alone: one compute pass and one list, where
+    /// HROC's frame would cost its passes to cull a few objects. 0 always
+    /// culls by occlusion. Conservative either way. `auto` keeps its HROC
+    /// candidate whole (it chooses the frustum itself).
+    pub hroc_frustum_below: f32,
     /// A frame whose view direction turned more than this many degrees
     /// since the last frame is culled as after a camera cut (the host need
     /// not say so): 45° is an eighth of a turn, past which most of last
@@ -120,6 +128,7 @@ impl Default for MethodOptions {
             hroc_filter_stride: 1,
             hroc_rounds: 1,
             hroc_occluder_rounds: false,
+            hroc_frustum_below: 0.05,
             cut_turn_deg: 45.0,
             cut_move: 0.1,
         }

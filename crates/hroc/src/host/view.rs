@@ -380,8 +380,17 @@ impl View {
             (Stat::CommandSlots, w.command_slots as f64),
             (Stat::IdPasses, w.id_passes as f64),
         ]);
+        s.extend(self.shape_stats());
+        Ok(s)
+    }
+
+    /// The last frame's shape ([`crate::gpu::FrameShape`]: what the culler
+    /// recorded, the host's draws counted as lists) and CPU ms of
+    /// recording, as statistics, without a wait: what [`View::stats`]
+    /// reports of it. A host sums them over a frame's views.
+    pub fn shape_stats(&self) -> [(Stat, f64); 12] {
         let (f, record_ns) = self.shape;
-        s.extend([
+        [
             (Stat::ComputePasses, f.compute_passes as f64),
             (Stat::RenderPasses, f.render_passes as f64),
             (Stat::Dispatches, (f.dispatches + f.indirect_dispatches) as f64),
@@ -394,8 +403,7 @@ impl View {
             (Stat::Created, (f.bind_groups + f.buffers) as f64),
             (Stat::Maps, f.map_requests as f64),
             (Stat::RecordMs, record_ns as f64 / 1e6),
-        ]);
-        Ok(s)
+        ]
     }
 
     /// BVH nodes whose boxes the method tested last frame, if it tests boxes.

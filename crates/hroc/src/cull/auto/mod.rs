@@ -108,6 +108,10 @@ impl Auto {
         if let Some(m) = candidates.iter().find(|m| unfit(m)) {
             return Err(crate::error::Error::Arg(format!("{m} cannot be one of auto's candidates")));
         }
+        // `auto` chooses the frustum itself: its HROC candidate culls every
+        // frame it runs by occlusion.
+        let whole = super::MethodOptions { hroc_frustum_below: 0.0, ..cx.options.clone() };
+        let cx = &super::MethodContext { options: &whole, ..*cx };
         let methods = candidates.iter().map(|&m| Ok((m, m.create(cx)?))).collect::<Result<Vec<_>>>()?;
         let loads = candidates
             .iter()

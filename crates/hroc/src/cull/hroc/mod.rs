@@ -47,7 +47,7 @@
 mod blocks;
 pub mod cpu;
 mod debug;
-pub mod filter_gate;
+pub mod gate;
 mod rounds;
 mod setup;
 pub mod stall_free;
@@ -70,7 +70,7 @@ use crate::gpu::{dispatch_size, Gpu};
 use crate::reflect::Layout;
 use crate::shaders::source_for as shader_source_for;
 use crate::shaders::{BoxDepth, BoxTarget};
-use filter_gate::{FilterGate, Next};
+use gate::{Gate, Next, Plan};
 use stall_free::{Counted, Spill, StallFree};
 
 /// The facts of HROC's variant `v`: it reads marks, IDs with OF, and
@@ -173,13 +173,17 @@ pub struct Hroc {
     collect: Step,
     merge: Step,
     filter: Step,
-    /// The filter counting what it changes, for `filter_gate`.
+    /// The filter counting what it changes, for the gate.
     probe: Option<Step>,
-    /// With OF where D is marked: filtering only where it changes the
-    /// next V ([`filter_gate`]).
-    filter_gate: Option<FilterGate>,
-    /// What step 5 ran in the last frame.
-    next_ran: Next,
+    /// The frame sized to what it saves in the view ([`gate`]): occlusion
+    /// where it culls, OF where it changes the next V.
+    gate: Option<Gate>,
+    /// With the gate: the count of what occlusion culls (after the
+    /// test), and the frames of frustum culling alone.
+    measure: Option<Step>,
+    frustum: Option<Step>,
+    /// What the last frame ran.
+    plan: Plan,
     /// The seed's grid ([`seed_grid`]).
     grid: (u32, u32),
     /// One ID pixel read in every `filter_stride²` ([`MethodOptions::hroc_filter_stride`](super::MethodOptions)).
@@ -284,12 +288,12 @@ impl Hroc {
         }
     }
 
-    /// Compacts `job`'s list and, with SF, fills the overflow of `which`
+    /// Records `steps`, then compacts `job`'s list and, with SF, fills the overflow of `which`
     /// (when it is drawn as it is) after it, in one compute pass; returns
     /// the overflow list.
-    fn compact(&self, f: &mut Frame, job: &CompactJob, which: Option<Counted>) -> Option<DrawList> {
+    fn compact(&self, f: &mut Frame, steps: &[(&Step, Launch)], job: &CompactJob, which: Option<Counted>) -> Option<DrawList> {
         let spill = which.and_then(|w| self.sf.as_ref()?.overflow(f, w));
-        self.compute(f, "hroc compact", &[], Some(job), spill.as_ref().map(|(_, s)| s));
+        self.compute(f, "hroc compact", steps, Some(job), spill.as_ref().map(|(_, s)| s));
         spill.map(|(list, _)| list)
     }
 
@@ -323,6 +327,23 @@ impl Hroc {
         enc.counted_copy(&self.collect_init, 0, &self.collect_launch, 0, Some(16));
     }
 
+    /// A frame of frustum culling alone, where the view's gate found that
+    /// occlusion culls little ([`gate`]): every object whose box meets the
+    /// frustum, packed in object order into U's list, drawn as one list.
+    /// V stays as the last HROC frame left it, for the next probe.
+    fn frustum_frame(&mut self, f: &mut Frame) -> Result<()> {
+        f.stage(Stage::FrustumCull);
+        let frustum = self.frustum.as_ref().expect("a gate has the frustum pass");
+        let (x, y) = dispatch_size(self.n, 256);
+        self.compute(f, "hroc frustum", &[(frustum, Launch::Grid(x, y))], Some(&self.u_job), None);
+        self.u_list.max_count = self.n;
+        f.stage(Stage::Draw);
+        f.draw(Phase::Visible, &self.u_list, None);
+        // The next HROC frame packs V anew.
+        self.v_packed = None;
+        Ok(())
+    }
+
     /// Where step 4's lists mark D: nowhere with occluder filtering and ID
     /// marks (OF reads the ID target itself, and D serves only the merge
     /// OF replaces; |D| is then not kept).
@@ -340,7 +361,7 @@ impl CullMethod for Hroc {
     }
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
-        if let Some(g) = self.filter_gate.as_mut() {
+        if let Some(g) = self.gate.as_mut() {
             g.reset();
         }
         enc.counted_clear(&self.visible, 0, None);
@@ -375,6 +396,21 @@ impl CullMethod for Hroc {
             // A frame stopped between its walk and step 5, which resets it.
             self.reset_walk(f.encoder());
         }
+        // What this frame runs, by what the view's last probe measured.
+        self.plan = match self.gate.as_mut() {
+            Some(g) => {
+                let (plan, bytes) = g.plan(f.gpu);
+                f.count_async_read(bytes);
+                plan
+            }
+            None => Plan::whole(self.variant.of),
+        };
+        if !self.plan.occlusion {
+            return self.frustum_frame(f);
+        }
+        if let (true, Some(g)) = (self.plan.probe, &self.gate) {
+            g.begin_probe(f.encoder());
+        }
         // 0. After a cut V is stale or empty: seed it from a ray grid.
         self.seeded = match self.seed_mode {
             Seed::Cuts | Seed::CutsOnly => std::mem::take(&mut self.seed_next),
@@ -399,7 +435,7 @@ impl CullMethod for Hroc {
         // V's list (which instances the rounds' box passes when they draw
         // it), unless step 5 packed it from the same flags and commands.
         let packed = self.v_packed.take() == Some(f.objects.commands_version) && !self.seeded;
-        let over = if packed { None } else { self.compact(f, &self.v_job, self.occluder_rounds.is_none().then_some(Counted::V)) };
+        let over = if packed { None } else { self.compact(f, &[], &self.v_job, self.occluder_rounds.is_none().then_some(Counted::V)) };
         if let Some(r) = &self.occluder_rounds {
             self.v_drawn = self.v_list.clone();
             r.clear(f.encoder());
@@ -494,8 +530,10 @@ impl CullMethod for Hroc {
         // 4. Occludee rendering.
         f.stage(Stage::OccludeeRendering);
         f.encoder().counted_clear(&self.drawn, 0, None);
-        // U's list instances the rounds' box passes when they draw it.
-        let over = self.compact(f, &self.u_job, self.rounds.is_none().then_some(Counted::U));
+        // U's list instances the rounds' box passes when they draw it. A
+        // probe counts what occlusion culls in the same pass.
+        let measure = self.measure.as_ref().filter(|_| self.plan.probe).map(|m| (m, Launch::Grid(ox, oy)));
+        let over = self.compact(f, measure.as_slice(), &self.u_job, self.rounds.is_none().then_some(Counted::U));
         if let Some(r) = &self.rounds {
             self.rounds(f, r, RoundsOf::Occludees)?;
         } else {
@@ -515,24 +553,12 @@ impl CullMethod for Hroc {
         // depth covers (for the refill) and reset step 2's counts.
         f.stage(Stage::Filtering);
         let cover = if self.seed_mode == Seed::Cuts { cells } else { 1 };
-        // OF where it changes the result (`filter_gate`).
-        let next = match self.filter_gate.as_mut() {
-            Some(gate) => {
-                let (next, bytes) = gate.choose(f.gpu);
-                f.count_async_read(bytes);
-                next
-            }
-            None if self.variant.of => Next::Filter,
-            None => Next::Merge,
-        };
-        self.next_ran = next;
+        // OF where it changes the result (`gate`).
+        let next = self.plan.next;
         // With a spare list, the same pass packs the next frame's V.
         let (step, label, launch) = if next != Next::Merge {
             let (w, h) = f.size();
             f.encoder().counted_clear(&self.visible, 0, None);
-            if let (Next::Probe, Some(gate)) = (next, &self.filter_gate) {
-                gate.begin_probe(f.encoder());
-            }
             let s = self.filter_stride * FILTER_TILE;
             let x = w.div_ceil(s).div_ceil(16);
             let step = if next == Next::Probe { self.probe.as_ref().unwrap_or(&self.filter) } else { &self.filter };
@@ -542,8 +568,8 @@ impl CullMethod for Hroc {
             (&self.merge, "hroc next occluders", Launch::Grid(x, y))
         };
         self.compute(f, label, &[(step, launch)], self.spare_v.as_ref().map(|(_, job)| job), None);
-        if let (Next::Probe, Some(gate)) = (next, self.filter_gate.as_mut()) {
-            gate.end_probe(f.encoder);
+        if let (true, Some(g)) = (self.plan.probe, self.gate.as_mut()) {
+            g.end_probe(f.encoder);
         }
         if let Some(spare) = self.spare_v.as_mut() {
             std::mem::swap(&mut self.v_list, &mut spare.0);
@@ -578,7 +604,8 @@ impl CullMethod for Hroc {
             (Stat::Rays, c.rays as f64),
             (Stat::NodesPerRay, if c.rays > 0 { c.nodes_visited as f64 / c.rays as f64 } else { 0.0 }),
             (Stat::Seeded, self.seeded as u32 as f64),
-            (Stat::Filtered, (self.next_ran != Next::Merge) as u32 as f64),
+            (Stat::Filtered, (self.plan.occlusion && self.plan.next != Next::Merge) as u32 as f64),
+            (Stat::Occlusion, self.plan.occlusion as u32 as f64),
         ])
     }
 }

@@ -106,7 +106,7 @@ impl Hroc {
             let bind = &r.front_binds[k as usize];
             boxes(f, "hroc front depth", &r.front_map.view, true, &r.front_depth, bind);
             boxes(f, "hroc front", &r.front_map.view, false, &r.front_marks, bind);
-            let over = self.compact(f, job, Some(front_counted(k)));
+            let over = self.compact(f, &[], job, Some(front_counted(k)));
             let max_count = self.max_count(f, front_counted(k), &list.count, n, stage)?;
             f.stage(draw_stage);
             let drawn = DrawList { max_count, ..list.clone() };
@@ -122,7 +122,7 @@ impl Hroc {
             boxes(f, "hroc late test", test_view, false, &r.late, &r.late_binds[k as usize]);
         }
         let (list, job) = &r.last;
-        let over = self.compact(f, job, Some(last_counted));
+        let over = self.compact(f, &[], job, Some(last_counted));
         let max_count = self.max_count(f, last_counted, &list.count, n, stage)?;
         f.stage(draw_stage);
         self.draw_list(f, phase, &DrawList { max_count, ..list.clone() }, over, marks);

@@ -75,12 +75,15 @@ impl Hroc {
         // merge needs (early-Z marks; OF with ID or box marks leaves D
         // unmarked), and without rounds.
         let marks_d = cx.mark_target(&drawn, None);
-        let gate = (variant.of && matches!(marks_d, MarkTarget::Host(..)) && cx.options.hroc_rounds <= 1 && !cx.options.hroc_occluder_rounds).then(|| FilterGate::new(gpu));
-        let filter_tally = match &gate {
+        let no_rounds = cx.options.hroc_rounds <= 1 && !cx.options.hroc_occluder_rounds;
+        let filter_gated = matches!(marks_d, MarkTarget::Host(..));
+        let gated = no_rounds && ((variant.of && filter_gated) || cx.options.hroc_frustum_below > 0.0);
+        let gate = gated.then(|| Gate::new(gpu, variant.of, filter_gated, cx.options.hroc_frustum_below));
+        let gate_tally = match &gate {
             Some(g) => g.tally.clone(),
-            None => gpu.buffer("hroc filter tally", 8, U::STORAGE),
+            None => gpu.buffer("hroc gate tally", 16, U::STORAGE),
         };
-        resources.push((20, filter_tally.as_entire_binding()));
+        resources.push((20, gate_tally.as_entire_binding()));
         let step = |layout: Layout, pass: &str, entry: &str, constants: &[(&str, f64)]| {
             let bind_layout = layout.create_for(gpu, samples);
             let module = gpu.shader(pass, &shader_source_for(pass, samples));
@@ -108,7 +111,11 @@ impl Hroc {
                 &[cover[0], cover[1], cover[2], ("FILTER_STRIDE", filter_stride as f64), ("FILTER_TILE", FILTER_TILE as f64), ("MEASURE", measure as u32 as f64)],
             )
         };
-        let (filter, probe) = (filter_step(false), gate.is_some().then(|| filter_step(true)));
+        let (filter, probe) = (filter_step(false), (gate.is_some() && variant.of && filter_gated).then(|| filter_step(true)));
+        let (measure, frustum) = match gate {
+            Some(_) => (Some(step(Layout::HrocYield, "hroc_yield.wgsl", "measure", &[])), Some(step(Layout::HrocYield, "hroc_yield.wgsl", "frustum", &[]))),
+            None => (None, None),
+        };
 
         let test_layout = Layout::HrocTest.create_for(gpu, samples);
         let test_module = gpu.shader("hroc_test.wgsl", &shader_source_for("hroc_test.wgsl", samples));
@@ -193,8 +200,10 @@ impl Hroc {
             merge,
             filter,
             probe,
-            filter_gate: gate,
-            next_ran: Next::Filter,
+            gate,
+            measure,
+            frustum,
+            plan: Plan::whole(variant.of),
             filter_stride,
             grid: grid_size,
             seed,

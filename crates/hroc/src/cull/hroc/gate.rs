@@ -1,0 +1,160 @@
+//! HROC's frame sized to what it saves in each view, measured in the view
+//! without a stall. One frame in [`PROBE_EVERY`] is a probe: a full HROC
+//! frame that also counts, on the GPU, what two of its parts change, read
+//! back without waiting; until the next probe's counts arrive, the view
+//! runs only the parts the last counts found paying.
+//!
+//! - **Occlusion where it culls.** The probe counts the objects in the
+//!   view's frustum and those of them the frame culls by occlusion (in
+//!   neither V nor U; `measure` in `hroc_yield.wgsl`). Where occlusion
+//!   culled less than [`MethodOptions::hroc_frustum_below`](crate::MethodOptions)
+//!   of the frustum's objects (a light looking down on roofs: a few per
+//!   cent), the view's frames cull by the frustum alone: one compute pass,
+//!   one list (`frustum`). Frustum culling is conservative, and the next
+//!   probe runs HROC from the last V it had (V only orders a frame).
+//! - **Occluder filtering where it changes the result.** OF (step 5 with
+//!   the ID target, Lee et al. 2021 §4.2) makes the next V the objects
+//!   that own a pixel, where the merge makes it O ∪ D: it pays where many
+//!   drawn objects own no pixel, and costs a pass over every pixel where
+//!   nearly all of them own one. The probe's filter also counts the
+//!   objects it keeps and those O ∪ D holds (`filter_occluders` with
+//!   `MEASURE`, `hroc_next.wgsl`); the view filters only if the last probe
+//!   kept at most [`FILTER_PAYS_BELOW`] of O ∪ D, else merges. Either next
+//!   V is conservative. Only where D is marked (early-Z marks), which the
+//!   merge needs.
+//!
+//! A camera cut runs the whole frame and probes at once: the last counts
+//! describe another view.
+
+use crate::gpu::shape::EncoderShape;
+use crate::gpu::{Gpu, Readback};
+
+/// A probe every this many frames of the view.
+pub const PROBE_EVERY: u32 = 8;
+
+/// Filtering pays when it keeps at most this share of O ∪ D.
+pub const FILTER_PAYS_BELOW: f64 = 0.9;
+
+/// Staging buffers in flight.
+const RING: usize = 2;
+
+/// Bytes of the tally: objects the filter keeps, objects of O ∪ D,
+/// objects in the frustum, of those culled by occlusion (u32 each).
+const TALLY: u64 = 16;
+
+/// What step 5 runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Next {
+    /// The filter, counting what it changes.
+    Probe,
+    /// The filter.
+    Filter,
+    /// The merge: next V = O ∪ D.
+    Merge,
+}
+
+/// What a frame of the view runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) struct Plan {
+    /// The frame counts what occlusion culls (and with the filter gate,
+    /// what the filter changes), read back without a stall.
+    pub(super) probe: bool,
+    /// The frame culls by occlusion; else by the frustum alone.
+    pub(super) occlusion: bool,
+    /// Step 5.
+    pub(super) next: Next,
+}
+
+impl Plan {
+    /// The whole frame, as without a gate: `of` filters.
+    pub(super) fn whole(of: bool) -> Plan {
+        Plan { probe: false, occlusion: true, next: if of { Next::Filter } else { Next::Merge } }
+    }
+}
+
+/// One view's measurements of what its frame's parts change.
+pub(super) struct Gate {
+    /// `[kept, merged, inside, culled]`, counted by the probes.
+    pub(super) tally: wgpu::Buffer,
+    ring: Vec<(wgpu::Buffer, Readback<()>)>,
+    /// The view filters with OF where it pays (else `of` alone decides).
+    filter: bool,
+    /// The variant filters (OF).
+    of: bool,
+    /// Occlusion pays from this share of the frustum's objects culled.
+    frustum_below: f64,
+    filter_pays: bool,
+    occlusion_pays: bool,
+    /// Frames since the last probe.
+    since_probe: u32,
+    /// The last counts that arrived.
+    pub(super) last: Option<[u32; 4]>,
+}
+
+impl Gate {
+    /// A gate for a view of variant `of`: `filter` where D is marked,
+    /// occlusion culled by the frustum below `frustum_below` (0: never).
+    pub(super) fn new(gpu: &Gpu, of: bool, filter: bool, frustum_below: f32) -> Self {
+        use wgpu::BufferUsages as U;
+        Gate {
+            tally: gpu.buffer("hroc gate tally", TALLY, U::STORAGE | U::COPY_DST | U::COPY_SRC),
+            ring: (0..RING).map(|_| (gpu.buffer("hroc gate tally staging", TALLY, U::MAP_READ | U::COPY_DST), Readback::Free)).collect(),
+            filter: of && filter,
+            of,
+            frustum_below: frustum_below.max(0.0) as f64,
+            filter_pays: true,
+            occlusion_pays: true,
+            since_probe: PROBE_EVERY,
+            last: None,
+        }
+    }
+
+    /// Takes the counts that arrived (polling, never waiting) and plans
+    /// this frame; returns the bytes read back too.
+    pub(super) fn plan(&mut self, gpu: &Gpu) -> (Plan, u64) {
+        let _ = gpu.device.poll(wgpu::PollType::Poll);
+        let mut bytes = 0;
+        for (buf, slot) in self.ring.iter_mut() {
+            let Some(c) = slot.take(buf, |(), v| std::array::from_fn::<u32, 4, _>(|k| bytemuck::pod_read_unaligned(&v[k * 4..k * 4 + 4]))) else { continue };
+            bytes += TALLY;
+            self.last = Some(c);
+            let [kept, merged, inside, culled] = c.map(f64::from);
+            if self.filter {
+                self.filter_pays = merged == 0.0 || kept <= FILTER_PAYS_BELOW * merged;
+            }
+            self.occlusion_pays = inside == 0.0 || culled >= self.frustum_below * inside;
+        }
+        let probe = self.since_probe >= PROBE_EVERY && self.ring.iter().any(|(_, s)| s.is_free());
+        self.since_probe = if probe { 0 } else { self.since_probe + 1 };
+        let next = match (self.of, self.filter) {
+            (false, _) => Next::Merge,
+            (true, false) => Next::Filter,
+            (true, true) if probe => Next::Probe,
+            (true, true) if self.filter_pays => Next::Filter,
+            (true, true) => Next::Merge,
+        };
+        (Plan { probe, occlusion: probe || self.occlusion_pays, next }, bytes)
+    }
+
+    /// Before a probe's counts: the tally starts at zero.
+    pub(super) fn begin_probe(&self, enc: &mut wgpu::CommandEncoder) {
+        enc.counted_clear(&self.tally, 0, None);
+    }
+
+    /// After a probe's last count: the tally goes to a free staging
+    /// buffer, mapped once `enc` is submitted ([`Gate::plan`] probes only
+    /// with one free).
+    pub(super) fn end_probe(&mut self, enc: &mut wgpu::CommandEncoder) {
+        if let Some((buf, slot)) = self.ring.iter_mut().find(|(_, s)| s.is_free()) {
+            enc.counted_copy(&self.tally, 0, buf, 0, Some(TALLY));
+            *slot = Readback::request(enc, buf, ());
+        }
+    }
+
+    /// A camera cut: the whole frame, and a probe at once.
+    pub(super) fn reset(&mut self) {
+        self.filter_pays = true;
+        self.occlusion_pays = true;
+        self.since_probe = PROBE_EVERY;
+    }
+}
