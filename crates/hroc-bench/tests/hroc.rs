@@ -265,7 +265,8 @@ fn conservative_on_cut_paths_with_every_seed() {
         let mut s = Session::new(gpu(), scene, Some(path), 21, RES, Split::Sah).unwrap();
         let mut drawn = Vec::new();
         for seed in [hroc::options::Seed::Cuts, hroc::options::Seed::Always, hroc::options::Seed::Never, hroc::options::Seed::CutsOnly] {
-            s.options = hroc::MethodOptions { hroc_seed: seed, ..Default::default() };
+            // The seed alone: every frame culled by occlusion.
+            s.options = hroc::MethodOptions { hroc_seed: seed, hroc_frustum_below: 0.0, ..Default::default() };
             let ratio = assert_variants_conservative(&mut s, &format!("{key} seed {seed:?}"));
             // Drawn over visible: every visible object is drawn.
             assert!(ratio >= 1.0, "{key} seed {seed:?}: {ratio}");
@@ -413,10 +414,11 @@ fn stall_free_overflow_draws_what_the_estimate_misses() {
 }
 
 /// Work counters: hroc-cr+of (counter read-back) submits and waits three times a
-/// frame, reading 4 bytes each time; hroc-na never waits; hroc (sf+of) never
+/// frame, reading 4 bytes each time; hroc-na never waits and reads only
+/// its gate's tallies; hroc (sf+of) never
 /// waits either, yet its counts arrive (bytes read without a wait): |V|,
 /// |G| and |U|, 12 bytes a frame's counts, and no more (no lists of rounds
-/// it does not run).
+/// it does not run), beside its gate's 16-byte tallies.
 #[test]
 fn work_counters_count_submits_waits_and_bytes() {
     // Every list above the 4,096 commands under which SF draws to the capacity.
@@ -430,15 +432,22 @@ fn work_counters_count_submits_waits_and_bytes() {
             let st = v.stats(&s.culler).unwrap();
             let get = |w: hroc::stats::Stat| st.iter().find(|x| x.0 == w).unwrap().1;
             assert_eq!((get(hroc::stats::Stat::Waits), get(hroc::stats::Stat::Submits)), (waits, waits), "{m} frame {k}");
+            // The gate's tallies (16 bytes each, one a probe) come back
+            // without a wait too (`cull/hroc/gate.rs`).
+            let read = get(hroc::stats::Stat::BytesRead) as u32;
             if waits > 0.0 {
-                assert_eq!(get(hroc::stats::Stat::BytesRead), 4.0 * waits, "{m} frame {k}");
+                assert!(read >= 4 * waits as u32 && (read - 4 * waits as u32) % 16 == 0, "{m} frame {k}: {read} bytes");
             }
             if m == "hroc" {
-                assert_eq!(get(hroc::stats::Stat::BytesRead) % 12.0, 0.0, "{m} frame {k}: whole frames of three counts");
+                assert!((0..=read / 16).any(|t| (read - 16 * t) % 12 == 0), "{m} frame {k}: {read} bytes, not whole frames of three counts and whole tallies");
             }
             bytes += get(hroc::stats::Stat::BytesRead);
         }
-        assert_eq!(bytes > 0.0, m != "hroc-na", "{m}: {bytes} bytes read");
+        // hroc-na reads only its gate's tallies.
+        assert!(bytes > 0.0, "{m}: no bytes read");
+        if m == "hroc-na" {
+            assert_eq!(bytes % 16.0, 0.0, "{m}: {bytes} bytes read, not whole tallies");
+        }
     }
 }
 
@@ -572,37 +581,4 @@ fn host_list(l: &hroc::testing::cull::DrawList) -> hroc_bench::render::DrawList 
 /// The culler's own GPU helper on the bench's device (for its debug read-backs).
 fn core_gpu(g: &hroc_bench::gpu::Headless) -> hroc::testing::gpu::Gpu {
     hroc::testing::gpu::Gpu::from_device(&g.device, &g.queue)
-}
-
-/// The filter gate (`cull/hroc/filter_gate.rs`): in a light's cascade over
-/// the city, where nearly every object drawn owns a pixel, `hroc` merges
-/// (next V = O ∪ D) between its measuring frames, one in eight; in the
-/// camera, where the filter drops a share of O ∪ D, it filters in more
-/// frames; every cascade frame draws every object the unculled cascade
-/// shows.
-#[test]
-fn occluder_filtering_runs_where_it_changes_the_result() {
-    let scene = hroc_bench::scene::load("radial-city", Some(3000), 0).unwrap();
-    let mut s = Session::new(gpu(), scene, None, 32, (320, 180), Split::Sah).unwrap();
-    s.set_shadow_cascades(1).unwrap();
-    let (mut camera, mut light) = (s.create(hroc::Method::HROC).unwrap(), s.create_cascade(hroc::Method::HROC, 0).unwrap());
-    let filtered = |v: &mut hroc::View, s: &Session| v.stats(&s.culler).unwrap().iter().any(|x| x.0 == hroc::stats::Stat::Filtered && x.1 > 0.0);
-    let (mut camera_filtered, mut light_filtered) = (0, 0);
-    for k in 0..s.cameras.len() {
-        s.run_frame(&mut camera, k).unwrap();
-        camera_filtered += filtered(&mut camera, &s) as u32;
-        let cascade = s.cascades(k)[0];
-        let time = s.times[k];
-        let (_, truth) = s.cascade_truth(0, &cascade, time).unwrap();
-        let r = s.run_cascade(&mut light, 0, &cascade, time).unwrap();
-        let chk = s.check_cascade(0, &r, &truth).unwrap();
-        assert_eq!((chk.false_negatives, chk.missing_pixels), (0, 0), "cascade frame {k}");
-        light_filtered += filtered(&mut light, &s) as u32;
-    }
-    let frames = s.cameras.len() as u32;
-    // The first frames filter until the first measurement arrives, then
-    // one frame in PROBE_EVERY measures.
-    let probes = frames.div_ceil(hroc::testing::cull::hroc::filter_gate::PROBE_EVERY);
-    assert!(light_filtered <= probes + 4, "the light's view filtered {light_filtered} of {frames} frames");
-    assert!(camera_filtered > light_filtered, "camera filtered {camera_filtered}, light {light_filtered} of {frames}");
 }

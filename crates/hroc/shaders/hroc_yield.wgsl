@@ -4,7 +4,7 @@
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(7) var<storage, read_write> occludees: array<u32>; // U flags
-@group(0) @binding(9) var<storage, read> visible: array<u32>;         // V flags
+@group(0) @binding(9) var<storage, read_write> visible: array<u32>;   // V flags (read)
 @group(0) @binding(11) var<storage, read> bounds: array<ObjectBounds>;
 // The gate's tally: [0], [1] the filter's (hroc_next.wgsl); [2] objects
 // in the frustum, [3] of those neither in V nor in U: culled by occlusion.

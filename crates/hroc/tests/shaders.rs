@@ -98,13 +98,13 @@ fn layouts_come_from_the_shaders() {
     let reduce = entries(&[("hroc_test.wgsl", &["reduce_vs", "reduce_fs"])], 0);
     assert_eq!(reduce.iter().map(|e| e.binding).collect::<Vec<_>>(), [0, 4]);
     assert_eq!(reduce[1].ty, entry(4).ty);
-    // Steps 0, 2 and 5 number their bindings from one list of resources
-    // (12 to 17: the seed's refill of V's holes; 18 and 19: the walk's
-    // launch and counts).
-    let groups = entries(&[("hroc_seed.wgsl", &[]), ("hroc_groups.wgsl", &[]), ("hroc_next.wgsl", &[])], 0);
-    assert_eq!(groups.iter().map(|e| e.binding).collect::<Vec<_>>(), (0..20).collect::<Vec<_>>());
+    // Steps 0, 2 and 5 and the gate's passes number their bindings from
+    // one list of resources (12 to 17: the seed's refill of V's holes; 18
+    // and 19: the walk's launch and counts; 20: the gate's tally).
+    let groups = entries(&[("hroc_seed.wgsl", &[]), ("hroc_groups.wgsl", &[]), ("hroc_next.wgsl", &[]), ("hroc_yield.wgsl", &[])], 0);
+    assert_eq!(groups.iter().map(|e| e.binding).collect::<Vec<_>>(), (0..21).collect::<Vec<_>>());
     // HROC runs on wgpu's default limits: 8 storage buffers a stage.
-    for layout in [Layout::HrocSeed, Layout::HrocWalk, Layout::HrocGroups, Layout::HrocNext, Layout::HrocTest] {
+    for layout in [Layout::HrocSeed, Layout::HrocWalk, Layout::HrocGroups, Layout::HrocNext, Layout::HrocYield, Layout::HrocTest] {
         assert!(layout.storage_buffers_per_stage() <= 8, "{layout:?}");
     }
 }

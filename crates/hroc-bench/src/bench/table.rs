@@ -117,7 +117,10 @@ pub fn render(r: &BenchReport, markdown: bool) -> String {
             if markdown { "" } else { "# " },
             if r.msaa > 1 { format!(" ({}× MSAA)", r.msaa) } else { String::new() },
             if r.shadow_cascades > 0 {
-                format!(" and {} shadow cascades (orthographic, depth-biased; every view checked against its own noc picture; the frame's shape summed over the views)", r.shadow_cascades)
+                format!(
+                    " and {} shadow cascades (orthographic, depth-biased; every view checked against its own noc picture; the frame's shape summed over the views)",
+                    r.shadow_cascades
+                )
             } else {
                 String::new()
             },

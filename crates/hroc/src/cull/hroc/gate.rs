@@ -26,8 +26,11 @@
 //! A camera cut runs the whole frame and probes at once: the last counts
 //! describe another view.
 
+use super::{Hroc, Launch, Step};
+use crate::contract::{DrawList, Phase};
+use crate::cull::{Frame, Stage};
 use crate::gpu::shape::EncoderShape;
-use crate::gpu::{Gpu, Readback};
+use crate::gpu::{dispatch_size, Gpu, Readback};
 
 /// A probe every this many frames of the view.
 pub const PROBE_EVERY: u32 = 8;
@@ -156,5 +159,20 @@ impl Gate {
         self.filter_pays = true;
         self.occlusion_pays = true;
         self.since_probe = PROBE_EVERY;
+    }
+}
+
+impl Hroc {
+    /// A frame of frustum culling alone, where the view's gate found that
+    /// occlusion culls little ([`Gate`]): every object whose box meets the
+    /// frustum (`frustum`, the gate's pass), packed in object order into
+    /// U's list, drawn as one list. V stays as the last HROC frame left it,
+    /// for the next probe.
+    pub(super) fn frustum_frame(&self, f: &mut Frame, frustum: &Step) {
+        f.stage(Stage::FrustumCull);
+        let (x, y) = dispatch_size(self.n, 256);
+        self.compute(f, "hroc frustum", &[(frustum, Launch::Grid(x, y))], Some(&self.u_job), None);
+        f.stage(Stage::Draw);
+        f.draw(Phase::Visible, &DrawList { max_count: self.n, ..self.u_list.clone() }, None);
     }
 }

@@ -327,23 +327,6 @@ impl Hroc {
         enc.counted_copy(&self.collect_init, 0, &self.collect_launch, 0, Some(16));
     }
 
-    /// A frame of frustum culling alone, where the view's gate found that
-    /// occlusion culls little ([`gate`]): every object whose box meets the
-    /// frustum, packed in object order into U's list, drawn as one list.
-    /// V stays as the last HROC frame left it, for the next probe.
-    fn frustum_frame(&mut self, f: &mut Frame) -> Result<()> {
-        f.stage(Stage::FrustumCull);
-        let frustum = self.frustum.as_ref().expect("a gate has the frustum pass");
-        let (x, y) = dispatch_size(self.n, 256);
-        self.compute(f, "hroc frustum", &[(frustum, Launch::Grid(x, y))], Some(&self.u_job), None);
-        self.u_list.max_count = self.n;
-        f.stage(Stage::Draw);
-        f.draw(Phase::Visible, &self.u_list, None);
-        // The next HROC frame packs V anew.
-        self.v_packed = None;
-        Ok(())
-    }
-
     /// Where step 4's lists mark D: nowhere with occluder filtering and ID
     /// marks (OF reads the ID target itself, and D serves only the merge
     /// OF replaces; |D| is then not kept).
@@ -405,8 +388,11 @@ impl CullMethod for Hroc {
             }
             None => Plan::whole(self.variant.of),
         };
-        if !self.plan.occlusion {
-            return self.frustum_frame(f);
+        if let (false, Some(frustum)) = (self.plan.occlusion, &self.frustum) {
+            self.frustum_frame(f, frustum);
+            // The next HROC frame packs V anew.
+            self.v_packed = None;
+            return Ok(());
         }
         if let (true, Some(g)) = (self.plan.probe, &self.gate) {
             g.begin_probe(f.encoder());

@@ -1,0 +1,48 @@
+//! HROC's frame sized to what it saves in each view (`cull/hroc/gate.rs`),
+//! on lavapipe: a camera and a light's cascade over the same city, each
+//! checked against its own unculled picture.
+
+use hroc_bench::bench::Session;
+use hroc_bench::bvh::Split;
+use hroc_bench::gpu::Headless;
+
+/// The gate (`cull/hroc/gate.rs`): in the far cascade of a light over the
+/// city, where occlusion culls a few per cent of the frustum's objects and
+/// nearly every object drawn owns a pixel, `hroc` culls by the frustum
+/// alone between its probes (one frame in eight, and the frames before the
+/// first probe's counts arrive); the camera culls every frame by
+/// occlusion and filters in more frames than the light. Every frame of
+/// both draws every object the unculled view shows.
+#[test]
+fn hroc_sizes_its_frame_to_what_it_saves_in_each_view() {
+    let scene = hroc_bench::scene::load("radial-city", Some(5000), 0).unwrap();
+    let gpu = Headless::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)");
+    let mut s = Session::new(&gpu, scene, None, 40, (320, 180), Split::Sah).unwrap();
+    s.set_shadow_cascades(3).unwrap();
+    let far = 2;
+    let (mut camera, mut light) = (s.create(hroc::Method::HROC).unwrap(), s.create_cascade(hroc::Method::HROC, far).unwrap());
+    let stat = |v: &mut hroc::View, s: &Session, which| v.stats(&s.culler).unwrap().iter().any(|x| x.0 == which && x.1 > 0.0) as u32;
+    use hroc::stats::Stat::{Filtered, Occlusion};
+    let (mut camera_filtered, mut light_filtered, mut camera_occlusion, mut light_occlusion) = (0, 0, 0, 0);
+    for k in 0..s.cameras.len() {
+        let (_, truth) = s.truth(k).unwrap();
+        let r = s.run_frame(&mut camera, k).unwrap();
+        let chk = s.check(&r, &truth).unwrap();
+        assert_eq!((chk.false_negatives, chk.missing_pixels), (0, 0), "camera frame {k}");
+        camera_filtered += stat(&mut camera, &s, Filtered);
+        camera_occlusion += stat(&mut camera, &s, Occlusion);
+        let cascade = s.cascades(k)[far as usize];
+        let time = s.times[k];
+        let (_, truth) = s.cascade_truth(far, &cascade, time).unwrap();
+        let r = s.run_cascade(&mut light, far, &cascade, time).unwrap();
+        let chk = s.check_cascade(far, &r, &truth).unwrap();
+        assert_eq!((chk.false_negatives, chk.missing_pixels), (0, 0), "cascade frame {k}");
+        light_filtered += stat(&mut light, &s, Filtered);
+        light_occlusion += stat(&mut light, &s, Occlusion);
+    }
+    let frames = s.cameras.len() as u32;
+    let probes = frames.div_ceil(hroc::testing::cull::hroc::gate::PROBE_EVERY);
+    assert_eq!(camera_occlusion, frames, "the camera culled {camera_occlusion} of {frames} frames by occlusion");
+    assert!(light_occlusion <= probes + 4, "the light's view culled {light_occlusion} of {frames} frames by occlusion");
+    assert!(camera_filtered > light_filtered, "camera filtered {camera_filtered}, light {light_filtered} of {frames}");
+}
