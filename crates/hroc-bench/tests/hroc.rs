@@ -436,10 +436,10 @@ fn work_counters_count_submits_waits_and_bytes() {
             // without a wait too (`cull/hroc/gate.rs`).
             let read = get(hroc::stats::Stat::BytesRead) as u32;
             if waits > 0.0 {
-                assert!(read >= 4 * waits as u32 && (read - 4 * waits as u32) % 16 == 0, "{m} frame {k}: {read} bytes");
+                assert!(read >= 4 * waits as u32 && (read - 4 * waits as u32).is_multiple_of(16), "{m} frame {k}: {read} bytes");
             }
             if m == "hroc" {
-                assert!((0..=read / 16).any(|t| (read - 16 * t) % 12 == 0), "{m} frame {k}: {read} bytes, not whole frames of three counts and whole tallies");
+                assert!((0..=read / 16).any(|t| (read - 16 * t).is_multiple_of(12)), "{m} frame {k}: {read} bytes, not whole frames of three counts and whole tallies");
             }
             bytes += get(hroc::stats::Stat::BytesRead);
         }
