@@ -207,7 +207,7 @@ pub fn prepare(
 
 /// The options of a view of `texture`: HROC's test on single pixels below
 /// 640 × 360, where the reduction to blocks costs more than the rays it
-/// saves (BENCHMARKS.md, "Bevy").
+/// saves (docs/history/bevy.md).
 fn options(texture: &wgpu::Texture) -> hroc::MethodOptions {
     let small = texture.width() * texture.height() < 640 * 360;
     hroc::MethodOptions { hroc_test_scale: if small { 1 } else { hroc::MethodOptions::default().hroc_test_scale }, ..Default::default() }

@@ -74,7 +74,8 @@ fn scene((mode, msaa): (Mode, Msaa), mut commands: Commands, target: &Target, mu
     let mut camera =
         commands.spawn((Camera3d::default(), RenderTarget::Image(target.0.clone().into()), msaa, Tonemapping::None, DebandDither::Disabled, DepthPrepass, Transform::default()));
     if let Mode::Hroc(method) = mode {
-        camera.insert((OcclusionCulling, HrocCulling::new(method)));
+        // Cascades culled by hroc too (the default leaves them to Bevy's frustum culling).
+        camera.insert((OcclusionCulling, HrocCulling { method, cascades: true }));
     }
     commands.spawn((DirectionalLight { shadow_maps_enabled: true, ..default() }, Transform::from_xyz(3.0, 12.0, 8.0).looking_at(Vec3::new(0.0, 0.0, -8.0), Vec3::Y)));
     let cube = meshes.add(Cuboid::new(1.0, 1.0, 1.0));
