@@ -37,7 +37,10 @@ impl std::str::FromStr for MethodList {
         }
         let mut out = Vec::new();
         for m in spec.split(',').map(str::trim).filter(|m| !m.is_empty()) {
-            let m: Method = m.parse()?;
+            let m: Method = m.parse().map_err(|e| match e {
+                hroc::Error::Arg(msg) => crate::Error::Options(format!("{msg}; or all, alone, for every method")),
+                e => e.into(),
+            })?;
             if !out.contains(&m) {
                 out.push(m);
             }

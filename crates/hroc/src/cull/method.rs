@@ -251,7 +251,7 @@ impl FromStr for Method {
         }
         Method::ALL.into_iter().find(|m| m.name() == s).ok_or_else(|| {
             let names: Vec<_> = Method::ALL.iter().map(|m| m.name()).collect();
-            Error::Arg(format!("unknown method '{s}': expected one of {}, hroc-sf+of or all", names.join(", ")))
+            Error::Arg(format!("unknown method '{s}': expected one of {} (or hroc-sf+of, hroc's full name)", names.join(", ")))
         })
     }
 }

@@ -138,6 +138,8 @@ mod tests {
         assert_eq!("hroc-sf+of".parse::<Method>().unwrap(), Method::HROC);
         let e = "hroc-xyz".parse::<Method>().unwrap_err().to_string();
         assert!(e.contains("unknown method 'hroc-xyz'") && e.contains("chc++"), "{e}");
+        // `all` is a list's word (the bench's `--methods all`), not a method's.
+        assert!(!e.contains(" all") && "all".parse::<Method>().is_err(), "{e}");
     }
 
     #[test]
