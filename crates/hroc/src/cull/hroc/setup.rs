@@ -112,9 +112,11 @@ impl Hroc {
             )
         };
         let (filter, probe) = (filter_step(false), (gate.is_some() && variant.of && filter_gated).then(|| filter_step(true)));
-        let (measure, frustum) = match gate {
-            Some(_) => (Some(step(Layout::HrocYield, "hroc_yield.wgsl", "measure", &[])), Some(step(Layout::HrocYield, "hroc_yield.wgsl", "frustum", &[]))),
-            None => (None, None),
+        // What occlusion culls is counted, and frustum frames run, only where
+        // a share of it is asked for (not in `auto`'s HROC).
+        let (measure, frustum) = match gate.is_some() && cx.options.hroc_frustum_below > 0.0 {
+            true => (Some(step(Layout::HrocYield, "hroc_yield.wgsl", "measure", &[])), Some(step(Layout::HrocYield, "hroc_yield.wgsl", "frustum", &[]))),
+            false => (None, None),
         };
 
         let test_layout = Layout::HrocTest.create_for(gpu, samples);
