@@ -10,8 +10,14 @@
 // cleared targets): drawing only brings depth nearer and never writes ID
 // 0. The frame's last read (FINAL) checks every sample's ID: in range,
 // naming an object an occluding list drew this frame, and not in front of
-// that object's box along the pixel's ray. After a group with the host's
-// marks, `late_marks` looks for marks no passing fragment made.
+// that object's box along the pixel's ray. A view without IDs checks every
+// drawn sample against the boxes of all the objects the frame drew
+// instead (`box_entries`): not in front of where its ray enters the
+// nearest, and names the drawn box nearest the sample (`suspect`). After a
+// group with the host's marks, `late_marks` looks for marks no passing
+// fragment made. Before the frame's first draw (BEGIN, where the host
+// clears before the culler's frame), the targets must hold their cleared
+// values.
 //
 // What each check found is counted per kind, with its first example, in
 // `results`, which the view reads back a frame or two later.
@@ -26,7 +32,9 @@ const DEPTH_WITHOUT_ID: u32 = 5u;
 const MISSING_MARK: u32 = 6u;
 const HIDDEN_MARK: u32 = 7u;
 const INDEX_FOR_ID: u32 = 8u;
-const KINDS: u32 = 9u;
+const NOT_CLEARED: u32 = 9u;
+const BEFORE_BOXES: u32 = 10u;
+const KINDS: u32 = 11u;
 // Groups of draws a frame tells apart (later ones share the last).
 const GROUPS: u32 = 32u;
 // No object, pixel or group.
@@ -38,6 +46,8 @@ const FIRST: u32 = 1u;
 const CHECK_IDS: u32 = 2u;
 const HOST_MARKS: u32 = 4u;
 const FINAL: u32 = 8u;
+// Before the frame's first draw: the targets hold their cleared values.
+const BEGIN: u32 = 16u;
 
 // src/validation.rs CheckUniform.
 struct Check {
@@ -69,6 +79,10 @@ struct Results {
     changed: array<u32, GROUPS>,
     // Objects a group drew and marked.
     marked: array<atomic<u32>, GROUPS>,
+    // BEFORE_BOXES: SUSPECT_NONE less the distance (f32 bits) from its
+    // sample to the nearest box drawn, the greatest (`suspect`).
+    suspect: atomic<u32>,
+    _pad: array<u32, 3>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -81,9 +95,12 @@ const GROUP: u32 = 0x3fu;
 @group(0) @binding(3) var<storage, read_write> stamps: array<u32>;
 // Per object: tag << 8 | group, when the group marked it.
 @group(0) @binding(4) var<storage, read_write> marked: array<u32>;
-// Per pixel read (`check_pixels`): the farthest sample's standard depth,
-// and sample 0's ID.
-@group(0) @binding(5) var<storage, read_write> shadow: array<vec2<u32>>;
+// Per pixel read (`check_pixels`), two words: the farthest sample's
+// standard depth (f32 bits), and sample 0's ID; in a view without IDs,
+// the second is the frame's nearest entry into a drawn box along the
+// pixel's ray (`box_entries`: ENTRY_NONE less the standard depth's bits,
+// 0 for none), reset by the frame's last read.
+@group(0) @binding(5) var<storage, read_write> shadow: array<atomic<u32>>;
 @group(0) @binding(6) var<storage, read> bounds: array<ObjectBounds>;
 @group(0) @binding(7) var<storage, read> oriented: array<OrientedBounds>;
 @group(0) @binding(8) var depth: HostDepth;
@@ -298,6 +315,12 @@ fn check_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
     let size = textureDimensions(depth);
     let p = gid.xy * check.stride + check.offset;
     let cols = (size.x + check.stride - 1u) / check.stride;
+    if (check.mode & BEGIN) != 0u {
+        if all(p < size) {
+            check_cleared(vec2<i32>(p));
+        }
+        return;
+    }
     if all(p < size) && check_pixel(vec2<i32>(p), gid.y * cols + gid.x) {
         // Every writer stores the same 1.
         results.changed[min(check.group, GROUPS - 1u)] = 1u;
@@ -308,30 +331,193 @@ fn check_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
 // since the last read. Each sample is loaded once.
 fn check_pixel(p: vec2<i32>, i: u32) -> bool {
     let with_ids = (check.mode & CHECK_IDS) != 0u;
+    let last = (check.mode & FINAL) != 0u;
     let px = u32(p.x) | (u32(p.y) << 16u);
+    // Without IDs, at the frame's end: no drawn sample before the nearest
+    // drawn box (`box_entries`).
+    var entry = 3.0e38;
+    if last && !with_ids {
+        let e = atomicExchange(&shadow[2u * i + 1u], 0u);
+        entry = select(bitcast<f32>(ENTRY_NONE - e), 3.0e38, e == 0u);
+    }
     var far = 0.0;
     var id0 = 0u;
     for (var s = 0; s < i32(HOST_SAMPLES); s++) {
         let d = textureLoad(depth, p, s).r;
-        far = max(far, std_depth(frame, d));
+        let z = std_depth(frame, d);
+        far = max(far, z);
         if with_ids {
             let id = host_id(ids, p, s);
             if s == 0 {
                 id0 = id;
             }
             check_sample(id, d, p, px);
+        } else if last && z < 1.0 && z > FRAGMENT_SLACK && z < entry {
+            found(BEFORE_BOXES, NONE, px, bitcast<u32>(z));
         }
     }
     // The cleared targets: far depth, ID 0.
-    let old = select(shadow[i], vec2<u32>(bitcast<u32>(1.0), 0u), (check.mode & FIRST) != 0u);
+    let first = (check.mode & FIRST) != 0u;
+    let old = vec2<u32>(select(atomicLoad(&shadow[2u * i]), bitcast<u32>(1.0), first), select(atomicLoad(&shadow[2u * i + 1u]), 0u, first || !with_ids));
     if far > bitcast<f32>(old.x) {
         found(DEPTH_FARTHER, NONE, px, check.group);
     }
     if old.y != 0u && id0 == 0u && with_ids {
         found(IDS_CLEARED, old.y - 1u, px, check.group);
     }
-    shadow[i] = vec2<u32>(bitcast<u32>(far), id0);
+    atomicStore(&shadow[2u * i], bitcast<u32>(far));
+    if with_ids {
+        atomicStore(&shadow[2u * i + 1u], id0);
+    }
     return bitcast<u32>(far) != old.x || id0 != old.y;
+}
+
+// Before the frame's first draw, where the host has cleared its targets
+// (the clearing rule): every sample of pixel `p` holds far depth, and ID
+// 0 where the view checks IDs.
+fn check_cleared(p: vec2<i32>) {
+    let px = u32(p.x) | (u32(p.y) << 16u);
+    for (var s = 0; s < i32(HOST_SAMPLES); s++) {
+        let stale_id = (check.mode & CHECK_IDS) != 0u && host_id(ids, p, s) != 0u;
+        if std_depth(frame, textureLoad(depth, p, s).r) < 1.0 || stale_id {
+            found(NOT_CLEARED, NONE, px, NONE);
+            return;
+        }
+    }
+}
+
+// `shadow`'s box entries and `results.suspect` are stored as these less
+// f32 bits (standard depths and distances are never negative, so their
+// bits order as they do), so that 0 means none and the nearest is the
+// greatest (`atomicMax`).
+const ENTRY_NONE: u32 = 0x7fffffffu;
+const SUSPECT_NONE: u32 = 0x7fffffffu;
+
+// True when object `o` was drawn by an occluding list this frame.
+fn drawn_now(o: u32) -> bool {
+    return (stamps[o] >> 8u) == check.tag;
+}
+
+// Without IDs, before the frame's last read: every object an occluding
+// list drew this frame enters, at each pixel read that its box can cover,
+// the depth from which geometry inside the box can have drawn there
+// (`reaches_box`'s bound), kept where it is the nearest so far. A drawn
+// sample in front of every such entry was drawn by no geometry inside its
+// box. Threads stride over the objects (a CPU rasterizer pays per thread);
+// an object covers at most every pixel read.
+@compute @workgroup_size(64)
+fn box_entries(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let size = vec2<i32>(textureDimensions(depth));
+    let s = i32(check.stride);
+    let off = vec2<i32>(check.offset);
+    let cols = (size.x + s - 1) / s;
+    for (var o = gid.x; o < arrayLength(&stamps); o += nwg.x * 64u) {
+        if !drawn_now(o) {
+            continue;
+        }
+        let r = box_rect(bounds[o], size);
+        if r.x > r.z {
+            continue;
+        }
+        // The pixels read within the rectangle: p = g * s + off.
+        let g0 = max((r.xy - off + vec2<i32>(s - 1)) / s, vec2<i32>(0));
+        let g1 = min((r.zw - off) / s, (size - 1 - off) / s);
+        for (var gy = g0.y; gy <= g1.y; gy++) {
+            for (var gx = g0.x; gx <= g1.x; gx++) {
+                let span = box_depths(o, vec2<i32>(gx, gy) * s + off);
+                if span.x == MISSED {
+                    continue;
+                }
+                let enter = max(min(span.x, span.y) - FRAGMENT_SLACK - span.z, 0.0);
+                atomicMax(&shadow[2u * u32(gy * cols + gx) + 1u], ENTRY_NONE - bitcast<u32>(enter));
+            }
+        }
+    }
+}
+
+// The pixels object box `b` can cover (x0, y0, x1, y1, a pixel more on
+// each side), the whole view where it reaches the near plane, and an
+// empty rectangle (x0 > x1) off the view.
+fn box_rect(b: ObjectBounds, size: vec2<i32>) -> vec4<i32> {
+    var lo = vec2<f32>(3.0e38);
+    var hi = vec2<f32>(-3.0e38);
+    for (var c = 0u; c < 8u; c++) {
+        let p = select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
+        let clip = frame.view_proj * vec4<f32>(p, 1.0);
+        if clip.w <= 1e-6 || std_depth(frame, clip.z / clip.w) <= DEPTH_SLACK {
+            return vec4<i32>(0, 0, size - 1);
+        }
+        lo = min(lo, clip.xy / clip.w);
+        hi = max(hi, clip.xy / clip.w);
+    }
+    if lo.x > 1.0 || lo.y > 1.0 || hi.x < -1.0 || hi.y < -1.0 {
+        return vec4<i32>(1, 0, 0, 0);
+    }
+    let first = max(vec2<i32>(floor(vec2<f32>(lo.x + 1.0, 1.0 - hi.y) * 0.5 * frame.viewport.xy)) - 1, vec2<i32>(0));
+    let last = min(vec2<i32>(floor(vec2<f32>(hi.x + 1.0, 1.0 - lo.y) * 0.5 * frame.viewport.xy)) + 1, size - 1);
+    return vec4<i32>(first, last);
+}
+
+// The world point of the first BEFORE_BOXES sample: on its pixel's ray,
+// at its depth (found by bisection, for perspective and orthographic
+// views alike).
+fn suspect_point() -> vec3<f32> {
+    let px = results.findings[BEFORE_BOXES].pixel;
+    let z = bitcast<f32>(results.findings[BEFORE_BOXES].group);
+    let c = vec2<f32>(f32(px & 0xffffu), f32(px >> 16u)) + 0.5;
+    let ndc = vec2<f32>(c.x * 2.0 * frame.viewport.z - 1.0, 1.0 - c.y * 2.0 * frame.viewport.w);
+    let origin = ray_origin(frame, ndc);
+    let dir = (frame.ray_dirs * vec4<f32>(ndc, 1.0, 0.0)).xyz;
+    var lo = 1.0;
+    var hi = 2.0;
+    for (var k = 0; k < 64 && depth_at(origin, dir, hi).x < z; k++) {
+        hi *= 2.0;
+    }
+    for (var k = 0; k < 32; k++) {
+        let mid = 0.5 * (lo + hi);
+        if depth_at(origin, dir, mid).x < z {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    return origin + hi * dir;
+}
+
+// How far object `o`'s box lies from point `p` (0 inside).
+fn box_distance(o: u32, p: vec3<f32>) -> f32 {
+    let b = bounds[o];
+    return length(p - clamp(p, b.min, b.max));
+}
+
+// After a BEFORE_BOXES finding, the drawn box nearest its sample: its
+// distance (`suspect`), then the object (`suspect_object`), which the
+// finding names as the likeliest to have drawn it.
+@compute @workgroup_size(64)
+fn suspect(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    if atomicLoad(&results.findings[BEFORE_BOXES].count) == 0u {
+        return;
+    }
+    let p = suspect_point();
+    for (var o = gid.x; o < arrayLength(&stamps); o += nwg.x * 64u) {
+        if drawn_now(o) {
+            atomicMax(&results.suspect, SUSPECT_NONE - bitcast<u32>(box_distance(o, p)));
+        }
+    }
+}
+
+@compute @workgroup_size(64)
+fn suspect_object(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
+    let best = atomicLoad(&results.suspect);
+    if atomicLoad(&results.findings[BEFORE_BOXES].count) == 0u || best == 0u {
+        return;
+    }
+    let p = suspect_point();
+    for (var o = gid.x; o < arrayLength(&stamps); o += nwg.x * 64u) {
+        if drawn_now(o) && SUSPECT_NONE - bitcast<u32>(box_distance(o, p)) == best {
+            results.findings[BEFORE_BOXES].object = o;
+        }
+    }
 }
 
 // One sample's ID `id` and depth `d` at pixel `p`: marked when the group

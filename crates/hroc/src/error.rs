@@ -62,13 +62,50 @@ pub enum Error {
     Gpu(String),
     /// Validation ([`crate::CullerDesc::validation`]) found that the
     /// host's draws broke the host contract in an earlier frame: the
-    /// message names the view, the frame, the object, phase and pixel,
-    /// the mistake and its fix.
+    /// view, the frame, the object, phase and pixel, the mistake and its
+    /// fix ([`crate::stats::Finding`]). The frame whose cull returns it
+    /// was recorded in full, as without validation.
     #[error("validation: {0}")]
-    Validation(String),
+    Validation(Finding),
     /// A bad parameter (a method name, an option).
     #[error("invalid argument: {0}")]
     Arg(String),
+}
+
+/// What validation found in one frame of a view
+/// ([`Error::Validation`]): the first mistake,
+/// which is the cause, and what else the frame's checks found, which may
+/// follow from it (a target never cleared also leaves IDs of objects not
+/// drawn; a shader that never marks also fails the check of forced
+/// early-Z). It prints as one line.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Finding {
+    /// The view, as the culler names it (method, size, layer and mip).
+    pub view: String,
+    /// The frame: the view's count of frames culled before it.
+    pub frame: u64,
+    /// The object of the first mistake where one is known: the object the
+    /// ID target names, or, in a view without IDs, the drawn object whose
+    /// box lies nearest the sample drawn in front of every box (the
+    /// likeliest to have drawn it).
+    pub object: Option<u32>,
+    /// The pixel of the first mistake, where it has one.
+    pub pixel: Option<(u32, u32)>,
+    /// The first mistake, where it was found, and its fix.
+    pub cause: String,
+    /// What else the frame's checks found, each with its fix: findings
+    /// that may follow from the cause.
+    pub follow_on: Vec<String>,
+}
+
+impl std::fmt::Display for Finding {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}, frame {}: {}", self.view, self.frame, self.cause)?;
+        if !self.follow_on.is_empty() {
+            write!(f, " (and what may follow from it: {})", self.follow_on.join("; "))?;
+        }
+        Ok(())
+    }
 }
 
 /// `Result` with [`Error`].

@@ -1,7 +1,9 @@
 //! Validation ([`crate::CullerDesc::validation`]): every host mistake that
 //! would make a view cull what it must draw, found on the GPU without
-//! waiting, and reported by [`crate::View::cull`] a frame or two later,
-//! naming the object, view, phase and frame, and the fix.
+//! waiting, and reported a frame or two later as a [`Finding`] (by
+//! [`crate::View::cull`] once it has recorded its frame, or by
+//! [`crate::View::validation`]), naming the object, view, phase and
+//! frame, and the fix.
 //!
 //! A frame's draws come in groups: consecutive lists of one phase, which
 //! the host marks into one buffer or not at all. `validate.wgsl` stamps
@@ -16,9 +18,15 @@
 //! last read checks every sample's ID: in range, naming an object an
 //! occluding list drew, and not in front of that object's box along the
 //! pixel's ray (boxes too small, wrong transforms, depth bias toward the
-//! viewer). What it finds is counted, with a first example, and read back
-//! through a staging ring like the draw tally's. All that is due at one
-//! point of the frame is one compute pass.
+//! viewer). A view without IDs checks, at the frame's end, every drawn
+//! sample against the boxes of all the objects the frame drew: not in
+//! front of where its ray enters the nearest (depth bias toward a light
+//! in a shadow cascade, boxes too small, stale transforms), and names the
+//! drawn box nearest the sample as the likeliest culprit. Where the host
+//! clears before the frame ([`crate::View::cull`]), the frame's first pass
+//! checks that it did. What it finds is counted, with a first example, and
+//! read back through a staging ring like the draw tally's. All that is due
+//! at one point of the frame is one compute pass.
 //!
 //! The checks are exact, so they raise no alarm on a host that keeps the
 //! contract: each compares what drawing can do with what was drawn,
@@ -29,7 +37,7 @@ use crate::gpu::shape::{EncoderShape, PassShape};
 use std::collections::HashMap;
 
 use crate::contract::{DrawList, Phase, Targets};
-use crate::error::Error;
+use crate::error::{Error, Finding};
 use crate::gpu::{Gpu, Readback, Uploads};
 use crate::reflect::{pipeline_layout, Layout};
 
@@ -37,17 +45,19 @@ use crate::reflect::{pipeline_layout, Layout};
 const GROUPS: usize = 32;
 
 /// Kinds of finding, in `validate.wgsl`'s order.
-const KINDS: usize = 9;
+const KINDS: usize = 11;
 
 /// `Check::mode` bits (`validate.wgsl`).
 const FIRST: u32 = 1;
 const CHECK_IDS: u32 = 2;
 const HOST_MARKS: u32 = 4;
 const FINAL: u32 = 8;
+const BEGIN: u32 = 16;
 
 /// Bytes of `Results`: a count, object, pixel and group per kind, then
-/// per group whether it changed a pixel, and the objects it marked.
-const RESULT_BYTES: u64 = (KINDS * 16 + GROUPS * 8) as u64;
+/// per group whether it changed a pixel, and the objects it marked, then
+/// the suspect's distance (and padding).
+const RESULT_BYTES: u64 = (KINDS * 16 + GROUPS * 8 + 16) as u64;
 
 /// Most pixels a pass over the host's targets reads: beyond, it reads
 /// one in `s` × `s` (the least power of two that fits), a different one
@@ -90,7 +100,7 @@ pub struct CheckUniform {
     pub tag: u32,
     /// The group checked or marked.
     pub group: u32,
-    /// `FIRST`, `CHECK_IDS`, `HOST_MARKS`, `FINAL` bits.
+    /// `FIRST`, `CHECK_IDS`, `HOST_MARKS`, `FINAL`, `BEGIN` bits.
     pub mode: u32,
     /// Unused.
     pub _pad: u32,
@@ -114,6 +124,10 @@ pub(crate) struct Validator {
 #[derive(Clone)]
 struct Passes {
     pixels: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
+    /// Without IDs: the drawn boxes' entries, then the suspect (two
+    /// steps), in the pixels' layout.
+    box_entries: wgpu::ComputePipeline,
+    suspect: [wgpu::ComputePipeline; 2],
     stamp: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
     marks: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
     late: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
@@ -130,8 +144,12 @@ impl Validator {
             let bgl = layout.create_for(gpu, samples);
             (gpu.compute_pipeline(&module, entry, Some(&pipeline_layout(gpu, layout.label(), &bgl)), &[]), bgl)
         };
+        let pixels = make(Layout::Validate, "check_pixels");
+        let same = |entry: &str| gpu.compute_pipeline(&module, entry, Some(&pipeline_layout(gpu, Layout::Validate.label(), &pixels.1)), &[]);
         let p = Passes {
-            pixels: make(Layout::Validate, "check_pixels"),
+            box_entries: same("box_entries"),
+            suspect: [same("suspect"), same("suspect_object")],
+            pixels,
             stamp: make(Layout::ValidateStamp, "stamp"),
             marks: make(Layout::ValidateMarks, "marks_of_group"),
             late: make(Layout::ValidateLate, "late_marks"),
@@ -184,6 +202,9 @@ pub(crate) struct Validation {
     group: Option<(usize, Phase, Option<wgpu::Buffer>)>,
     /// Lists handed to the host so far in the frame.
     lists: u32,
+    /// The frame is stepwise ([`crate::View::steps`]): the engine draws
+    /// its lists in two passes.
+    stepwise: bool,
     /// Lists drawn and not yet stamped: each with its `Stamping` (group,
     /// number, marked by the host).
     pending: Vec<(DrawList, [u32; 4])>,
@@ -211,6 +232,7 @@ impl Validation {
         let check = gpu.buffer("hroc validation check", std::mem::size_of::<CheckUniform>() as u64, U::UNIFORM | U::COPY_DST);
         let results = gpu.buffer("hroc validation results", RESULT_BYTES, U::STORAGE | U::COPY_DST | U::COPY_SRC);
         let s = stride(t.size);
+        // Created zeroed: no box entry yet.
         let shadow = gpu.buffer("hroc validation shadow", (t.size.0.div_ceil(s) * t.size.1.div_ceil(s)).max(1) as u64 * 8, U::STORAGE);
         let (stamps, marked) = (per_object("hroc validation stamps"), per_object("hroc validation marked"));
         let (order, owned) = (per_object("hroc validation order"), per_object("hroc validation owned"));
@@ -258,16 +280,17 @@ impl Validation {
             tag: Tag { frame: 0, groups: [None; GROUPS] },
             group: None,
             lists: 0,
+            stepwise: false,
             pending: Vec::new(),
             ring: Vec::new(),
         }
     }
 
-    /// Starts frame `number` of the view: takes the findings of earlier
-    /// frames that arrived (an error names the first frame that had any),
-    /// and zeroes this frame's.
-    pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, number: u64) -> Result<(), Error> {
-        let arrived = self.harvest(gpu);
+    /// Starts frame `number` of the view, after its uniform's upload:
+    /// zeroes this frame's findings; with `cleared`, the host has cleared
+    /// its targets before this point (the clearing rule of
+    /// [`crate::View::cull`]), which a first read checks.
+    pub(crate) fn begin(&mut self, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, number: u64, cleared: bool) {
         enc.counted_clear(&self.results, 0, None);
         let (tag, s) = ((number % 0xff_ffff) as u32 + 1, self.uniform.stride);
         // Each frame another pixel of each square, all in s² frames.
@@ -276,8 +299,22 @@ impl Validation {
         self.tag = Tag { frame: number, groups: [None; GROUPS] };
         self.group = None;
         self.lists = 0;
+        self.stepwise = !cleared;
         self.pending.clear();
-        arrived
+        if cleared {
+            self.uniform.mode = BEGIN | if self.ids { CHECK_IDS } else { 0 };
+            uploads.write(enc, &self.check, 0, bytemuck::bytes_of(&self.uniform));
+            let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation cleared"), timestamp_writes: None });
+            self.dispatch_pixels(&mut pass);
+        }
+    }
+
+    /// The pass over the pixels read, in the uniform's mode.
+    fn dispatch_pixels(&self, pass: &mut wgpu::ComputePass<'_>) {
+        let s = self.uniform.stride;
+        pass.set_pipeline(&self.passes.pixels.0);
+        pass.set_bind_group(0, &self.pixels_bind, &[]);
+        pass.counted_dispatch(self.size.0.div_ceil(s).div_ceil(8), self.size.1.div_ceil(s).div_ceil(8), 1);
     }
 
     /// Before the host draws a list of `phase` (marking into `marks`, the
@@ -287,6 +324,11 @@ impl Validation {
         if !phase.occludes() {
             return;
         }
+        // An engine draws a stepwise frame's early lists in one pass.
+        let phase = match phase {
+            Phase::Always | Phase::Visible if self.stepwise => Phase::Occluders,
+            p => p,
+        };
         // Unmarked lists join the group of their phase; lists marking into
         // another buffer start one.
         let index = match &self.group {
@@ -415,10 +457,20 @@ impl Validation {
             pass.counted_dispatch(groups(self.slots), 1, 1);
         }
         let Some(mode) = pixels else { return };
-        let s = self.uniform.stride;
-        pass.set_pipeline(&self.passes.pixels.0);
-        pass.set_bind_group(0, &self.pixels_bind, &[]);
-        pass.counted_dispatch(self.size.0.div_ceil(s).div_ceil(8), self.size.1.div_ceil(s).div_ceil(8), 1);
+        // Without IDs, the frame's last read compares with the drawn boxes.
+        let boxes = mode & (FINAL | CHECK_IDS) == FINAL;
+        if boxes {
+            pass.set_pipeline(&self.passes.box_entries);
+            pass.set_bind_group(0, &self.pixels_bind, &[]);
+            pass.counted_dispatch(groups(self.slots), 1, 1);
+        }
+        self.dispatch_pixels(&mut pass);
+        if boxes {
+            for step in &self.passes.suspect {
+                pass.set_pipeline(step);
+                pass.counted_dispatch(groups(self.slots), 1, 1);
+            }
+        }
         // The group's marked objects that own no sample now.
         if mode & (HOST_MARKS | CHECK_IDS) == HOST_MARKS | CHECK_IDS {
             pass.set_pipeline(&self.passes.late.0);
@@ -429,26 +481,26 @@ impl Validation {
 
     /// The findings that arrived ([`Validation::harvest`]).
     pub(crate) fn arrived(&mut self, gpu: &Gpu) -> Result<(), Error> {
-        self.harvest(gpu)
+        match self.harvest(gpu) {
+            Some(f) => Err(Error::Validation(f)),
+            None => Ok(()),
+        }
     }
 
     /// Takes the findings that arrived, polling the device without
-    /// waiting: an error for the earliest frame that had any.
-    fn harvest(&mut self, gpu: &Gpu) -> Result<(), Error> {
+    /// waiting: those of the earliest frame that had any.
+    pub(crate) fn harvest(&mut self, gpu: &Gpu) -> Option<Finding> {
         let _ = gpu.device.poll(wgpu::PollType::Poll);
-        let mut first: Option<(u64, String)> = None;
+        let mut first: Option<Finding> = None;
         for (buf, slot) in self.ring.iter_mut() {
             let name = &self.name;
             if let Some(Some(found)) = slot.take(buf, |tag, bytes| describe(name, tag, bytes)) {
-                if first.as_ref().is_none_or(|(f, _)| found.0 < *f) {
+                if first.as_ref().is_none_or(|f| found.frame < f.frame) {
                     first = Some(found);
                 }
             }
         }
-        match first {
-            Some((_, message)) => Err(Error::Validation(message)),
-            None => Ok(()),
-        }
+        first
     }
 }
 
@@ -463,32 +515,44 @@ const FINDINGS: [&str; KINDS] = [
     "an object owns a sample after a phase the host marks, and was not marked: the fragment shaders of the phase must be declared @early_depth_test(force) and call hroc_mark(instance_index) (hroc::device::marks_wgsl), with Draw::marks bound at the group the pipeline's layout has it (Draw::record)",
     "an object was marked although its box lay behind the depth already drawn at every pixel it covers: a fragment that failed the depth test ran the fragment shader, so it is not declared @early_depth_test(force). Declare it on every fragment entry point that calls hroc_mark",
     "the ID values look like the object index itself: write the index + 1 (instance_index + 1), since 0 means nothing was drawn",
+    "the targets were not cleared before the frame: depth nearer than far (or an ID other than 0) was there before the culler's first draw. Clear the depth target to its far value (1 standard, 0 reversed) and the ID target to 0 once per frame, before View::cull (a pass of its own, or LoadOp::Clear in a pass recorded before the call)",
+    "depth was drawn in front of every box drawn this frame along the pixel's ray: some object's box does not bound what it draws (a box too small, a stale or wrong transform, a vertex shader that moves geometry past its box: wind, skinning, morphing), or a pass biases depth toward the viewer or light. Give boxes that hold every vertex of the frame drawn (Culler::set_bounds before the frame), flag deforming objects ObjectFlags::NEVER_CULL, and bias depth only away from the viewer or light (wgpu::DepthBiasState's constant and slope_scale >= 0 with standard depth, <= 0 with reversed)",
 ];
 
-/// The findings of one frame, as one message (`None`: it had none).
-fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<(u64, String)> {
+/// The findings of one frame (`None`: it had none): the first, in an
+/// order where a cause comes before what it brings (a target never
+/// cleared, IDs written as the index), and the rest as follow-on.
+fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<Finding> {
     let word = |i: usize| bytemuck::pod_read_unaligned::<u32>(&bytes[i * 4..i * 4 + 4]);
     let phase = |g: u32| match tag.groups.get(g as usize).copied().flatten() {
         Some(group) => format!(", in the {:?} phase", group.phase),
         None => String::new(),
     };
     let mut lines = Vec::new();
-    // The index diagnosis explains the other ID findings: it comes first.
-    for kind in [8, 0, 1, 2, 3, 5, 4, 6, 7] {
+    let (mut object, mut pixel) = (None, None);
+    for kind in [9, 8, 0, 1, 2, 3, 5, 4, 10, 6, 7] {
         let count = word(kind * 4);
         if count == 0 {
             continue;
         }
-        let (object, pixel, group) = (word(kind * 4 + 1), word(kind * 4 + 2), word(kind * 4 + 3));
-        let mut what = match kind {
-            2 => vec![format!("ID {object}")],
-            _ if object != u32::MAX => vec![format!("object {object}")],
+        let (o, px, group) = (word(kind * 4 + 1), word(kind * 4 + 2), word(kind * 4 + 3));
+        let o = (o != u32::MAX).then_some(o);
+        let px = (px != u32::MAX).then_some((px & 0xffff, px >> 16));
+        let mut what = match (kind, o) {
+            (2, Some(id)) => vec![format!("ID {id}")],
+            (10, Some(o)) => vec![format!("object {o} (the drawn box nearest the sample)")],
+            (_, Some(o)) => vec![format!("object {o}")],
             _ => Vec::new(),
         };
-        if pixel != u32::MAX {
-            what.push(format!("at pixel ({}, {})", pixel & 0xffff, pixel >> 16));
+        if let Some((x, y)) = px {
+            what.push(format!("at pixel ({x}, {y})"));
         }
-        lines.push(format!("{}{} ({count} found): {}", what.join(" "), phase(group), FINDINGS[kind]));
+        // BEFORE_BOXES keeps the sample's depth where others keep a group.
+        let phase = if kind == 10 { String::new() } else { phase(group) };
+        if lines.is_empty() {
+            (object, pixel) = (if kind == 2 { None } else { o }, px);
+        }
+        lines.push(format!("{}{phase} ({count} found): {}", what.join(" "), FINDINGS[kind]).trim_start().to_string());
     }
     let changed = KINDS * 4;
     let marked = changed + GROUPS;
@@ -500,5 +564,7 @@ fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<(u64, String)> {
             }
         }
     }
-    (!lines.is_empty()).then(|| (tag.frame, format!("{view}, frame {}: {}", tag.frame, lines.join("; "))))
+    let mut lines = lines.into_iter();
+    let cause = lines.next()?;
+    Some(Finding { view: view.to_string(), frame: tag.frame, object, pixel, cause, follow_on: lines.collect() })
 }

@@ -1,11 +1,14 @@
 //! Validation (`CullerDesc::validation`), on lavapipe: each host mistake
 //! that makes a view cull what it must draw, made by a host of a few
-//! lines drawing the street, gives an error naming it and its fix within 3
-//! frames with validation on, and changes nothing with it off; the same
+//! lines drawing the street (with an ID target, or depth only, as shadow
+//! maps are drawn), gives an error naming it and its fix within 3 frames
+//! with validation on, and changes nothing with it off; the frame that
+//! reports a finding draws what it draws without validation; the same
 //! host without mistakes raises none.
 
 use common::street::{boxes, cube, look, Depth, SIZE};
 use glam::{Mat4, Vec3};
+use hroc::device::{Capabilities, Marks};
 use hroc::{Aabb, Culler, CullerDesc, DepthRange, Draw, Error, FrameInput, Method, ObjectDesc, ObjectFlags, View, ViewDesc, ViewTargets};
 use wgpu::util::DeviceExt;
 
@@ -31,7 +34,30 @@ enum Mistake {
     NoMarksGroup,
     /// Object 20's box 10 % smaller than what it draws, as it moves.
     SmallBoxMoving,
+    /// Depth only: constant depth bias toward the light (−300000: about a
+    /// metre here) in an orthographic cascade.
+    BiasConstantNoIds,
+    /// Depth only: slope-scaled depth bias toward the light (−4).
+    BiasSlopeNoIds,
+    /// Depth only: the wall's box 15 % smaller than the wall.
+    SmallBoxNoIds,
+    /// The targets are never cleared.
+    NeverCleared,
+    /// No mistake: depth only, in the orthographic cascade.
+    CascadeNoIds,
+    /// No mistake: depth only, along the street.
+    StreetNoIds,
 }
+
+impl Mistake {
+    /// The host draws depth only (no ID target), as shadow passes do.
+    fn depth_only(self) -> bool {
+        matches!(self, Mistake::BiasConstantNoIds | Mistake::BiasSlopeNoIds | Mistake::SmallBoxNoIds | Mistake::CascadeNoIds | Mistake::StreetNoIds)
+    }
+}
+
+/// The wall: object 0.
+const WALL: usize = 0;
 
 /// The moving object of [`Mistake::SmallBoxMoving`].
 const MOVER: usize = 20;
@@ -58,7 +84,11 @@ impl Host {
             let base = corners.len() as u32;
             corners.extend(v);
             indices.extend(idx.map(|k| k + base));
-            objects.push(ObjectDesc { bounds: *b, index_count: 36, first_index: 36 * i as u32, base_vertex: 0, flags: ObjectFlags::NONE, oriented: None });
+            let bounds = match (mistake, i) {
+                (Mistake::SmallBoxNoIds, WALL) => Aabb::new(b.min + 0.075 * (b.max - b.min), b.max - 0.075 * (b.max - b.min)),
+                _ => *b,
+            };
+            objects.push(ObjectDesc { bounds, index_count: 36, first_index: 36 * i as u32, base_vertex: 0, flags: ObjectFlags::NONE, oriented: None });
         }
         let init = |label: &str, contents: &[u8], usage| device.create_buffer_init(&wgpu::util::BufferInitDescriptor { label: Some(label), contents, usage });
         let (pipeline, camera_layout) = pipeline(device, mistake);
@@ -77,14 +107,19 @@ impl Host {
             vertices: init("vertices", bytemuck::cast_slice(&corners), wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST),
             indices: init("indices", bytemuck::cast_slice(&indices), wgpu::BufferUsages::INDEX),
             corners,
-            depth: common::texture(device, wgpu::TextureFormat::Depth32Float, (SIZE, SIZE, 1), 1, 1, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING),
+            depth: common::texture(device, wgpu::TextureFormat::Depth32Float, (SIZE, SIZE, 1), 1, 1, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC),
             ids: common::texture(device, wgpu::TextureFormat::R32Uint, (SIZE, SIZE, 1), 1, 1, U::RENDER_ATTACHMENT | U::TEXTURE_BINDING),
         };
         (host, objects)
     }
 
     fn targets(&self) -> ViewTargets<'_> {
-        ViewTargets::new(&self.depth, DepthRange::Standard).with_ids(&self.ids)
+        let depth = ViewTargets::new(&self.depth, DepthRange::Standard);
+        if self.mistake.depth_only() {
+            depth
+        } else {
+            depth.with_ids(&self.ids)
+        }
     }
 
     fn pass<'e>(&self, enc: &'e mut wgpu::CommandEncoder, clear: bool) -> wgpu::RenderPass<'e> {
@@ -92,9 +127,10 @@ impl Host {
         fn ops<T>(clear: bool, c: T) -> wgpu::Operations<T> {
             wgpu::Operations { load: if clear { wgpu::LoadOp::Clear(c) } else { wgpu::LoadOp::Load }, store: wgpu::StoreOp::Store }
         }
+        let ids = Some(wgpu::RenderPassColorAttachment { view: &ids, depth_slice: None, resolve_target: None, ops: ops(clear, wgpu::Color::TRANSPARENT) });
         enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("host"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment { view: &ids, depth_slice: None, resolve_target: None, ops: ops(clear, wgpu::Color::TRANSPARENT) })],
+            color_attachments: if self.mistake.depth_only() { &[] } else { std::slice::from_ref(&ids) },
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment { view: &depth, depth_ops: Some(ops(clear, 1.0)), stencil_ops: None }),
             timestamp_writes: None,
             occlusion_query_set: None,
@@ -122,7 +158,9 @@ impl Host {
             usage: wgpu::BufferUsages::COPY_SRC,
         });
         enc.copy_buffer_to_buffer(&camera, 0, &self.camera, 0, 64);
-        drop(self.pass(&mut enc, true));
+        if self.mistake != Mistake::NeverCleared {
+            drop(self.pass(&mut enc, true));
+        }
         let result = view.cull(culler, &mut enc, &FrameInput { view: desc, cut: false, time: k as f32 }, &mut |enc: &mut wgpu::CommandEncoder, draw: &Draw| {
             let mut pass = self.pass(enc, self.mistake == Mistake::ClearInDraw);
             pass.set_bind_group(0, &self.camera_bind, &[]);
@@ -134,6 +172,28 @@ impl Host {
         device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
         result
     }
+
+    /// The depth target, read back.
+    fn read_depth(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Vec<f32> {
+        let row = SIZE * 4;
+        let buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: None,
+            size: (row * SIZE) as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut enc = device.create_command_encoder(&Default::default());
+        enc.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo { texture: &self.depth, mip_level: 0, origin: wgpu::Origin3d::ZERO, aspect: wgpu::TextureAspect::DepthOnly },
+            wgpu::TexelCopyBufferInfo { buffer: &buf, layout: wgpu::TexelCopyBufferLayout { offset: 0, bytes_per_row: Some(row.max(256)), rows_per_image: None } },
+            wgpu::Extent3d { width: SIZE, height: SIZE, depth_or_array_layers: 1 },
+        );
+        queue.submit([enc.finish()]);
+        buf.slice(..).map_async(wgpu::MapMode::Read, |_| ());
+        device.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+        let depth = buf.slice(..).get_mapped_range().unwrap().chunks_exact(4).map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])).collect();
+        depth
+    }
 }
 
 /// The host's pipeline with `mistake`: positions at location 0,
@@ -141,7 +201,7 @@ impl Host {
 /// target written.
 fn pipeline(device: &wgpu::Device, mistake: Mistake) -> (wgpu::RenderPipeline, wgpu::BindGroupLayout) {
     let shader = common::Shader {
-        ids: Some(if mistake == Mistake::IndexForId { "in.object" } else { "in.object + 1u" }),
+        ids: (!mistake.depth_only()).then_some(if mistake == Mistake::IndexForId { "in.object" } else { "in.object + 1u" }),
         early_z: !matches!(mistake, Mistake::NoMark | Mistake::MarkWithoutEarlyZ | Mistake::NoMarksGroup),
         mark: !matches!(mistake, Mistake::NoMark | Mistake::NoMarksGroup),
         marks_group: mistake != Mistake::NoMarksGroup,
@@ -149,6 +209,8 @@ fn pipeline(device: &wgpu::Device, mistake: Mistake) -> (wgpu::RenderPipeline, w
     };
     let bias = match mistake {
         Mistake::BiasTowardViewer => wgpu::DepthBiasState { constant: -2000, slope_scale: -4.0, clamp: 0.0 },
+        Mistake::BiasConstantNoIds => wgpu::DepthBiasState { constant: -300_000, slope_scale: 0.0, clamp: 0.0 },
+        Mistake::BiasSlopeNoIds => wgpu::DepthBiasState { constant: 0, slope_scale: -4.0, clamp: 0.0 },
         _ => Default::default(),
     };
     common::host_pipeline_with(device, &shader, &Depth { bias, ..Depth::default() })
@@ -158,7 +220,7 @@ fn pipeline(device: &wgpu::Device, mistake: Mistake) -> (wgpu::RenderPipeline, w
 /// directional light's orthographic cascade looking down the street.
 fn path(mistake: Mistake, k: usize) -> ViewDesc {
     match mistake {
-        Mistake::BiasTowardViewer => {
+        Mistake::BiasTowardViewer | Mistake::BiasConstantNoIds | Mistake::BiasSlopeNoIds | Mistake::CascadeNoIds => {
             let light = Vec3::new(0.3 + 0.02 * k as f32, 0.6, 1.0).normalize();
             let target = Vec3::new(0.0, 0.0, -8.0);
             ViewDesc { view: Mat4::look_at_rh(target + 30.0 * light, target, Vec3::Y), proj: Mat4::orthographic_rh(-16.0, 16.0, -16.0, 16.0, 1.0, 60.0), unclipped_depth: false }
@@ -167,35 +229,106 @@ fn path(mistake: Mistake, k: usize) -> ViewDesc {
     }
 }
 
-/// The first 6 frames of `method` culling for a host making `mistake`:
-/// each cull's result.
-fn run(mistake: Mistake, method: Method, validation: bool) -> Vec<hroc::Result<()>> {
+/// A frame's result, and the host's depth after it (f32 per pixel).
+type Frame = (hroc::Result<()>, Vec<f32>);
+
+/// The first 6 frames of `method` culling for a host making `mistake`
+/// on a culler of `caps`: each cull's result, and the depth it left.
+fn run_on(caps: Capabilities, mistake: Mistake, method: Method, validation: bool) -> Vec<Frame> {
     let (device, queue) = common::device(hroc::device::FULL_FEATURES);
     let (host, objects) = Host::new(&device, mistake);
-    let mut culler = Culler::new(&device, &queue, &CullerDesc { validation, ..CullerDesc::new(&objects) }).unwrap();
+    let mut culler = Culler::new(&device, &queue, &CullerDesc { validation, capabilities: Some(caps), ..CullerDesc::new(&objects) }).unwrap();
     let mut view = culler.view(method, &host.targets()).unwrap();
-    (0..6).map(|k| host.frame(&device, &queue, &mut culler, &mut view, path(mistake, k), k)).collect()
+    (0..6).map(|k| (host.frame(&device, &queue, &mut culler, &mut view, path(mistake, k), k), host.read_depth(&device, &queue))).collect()
+}
+
+/// [`run_on`] on the full tier: each cull's result.
+fn run(mistake: Mistake, method: Method, validation: bool) -> Vec<hroc::Result<()>> {
+    run_on(Capabilities::FULL, mistake, method, validation).into_iter().map(|(r, _)| r).collect()
 }
 
 /// With validation, an error within 3 frames whose message has `words`;
 /// without, every frame culls as before.
 fn caught(mistake: Mistake, method: Method, words: &[&str]) {
-    let on = run(mistake, method, true);
-    let first = on.iter().position(|r| r.is_err());
-    assert!(first.is_some_and(|k| k < 3), "{mistake:?} ({method}): no error within 3 frames: {on:?}");
-    let message = on[first.unwrap()].as_ref().unwrap_err().to_string();
+    caught_on(Capabilities::FULL, mistake, method, words);
+}
+
+/// [`caught`] on a culler of `caps`; returns the first finding, if the
+/// error was one (a refused pipeline is not). Every frame, findings or
+/// not, leaves the depth it leaves without validation.
+fn caught_on(caps: Capabilities, mistake: Mistake, method: Method, words: &[&str]) -> Option<hroc::stats::Finding> {
+    let on = run_on(caps, mistake, method, true);
+    let first = on.iter().position(|(r, _)| r.is_err());
+    assert!(first.is_some_and(|k| k < 3), "{mistake:?} ({method}): no error within 3 frames: {:?}", on.iter().map(|(r, _)| r).collect::<Vec<_>>());
+    let error = on[first.unwrap()].0.as_ref().unwrap_err();
+    let message = error.to_string();
     for w in words {
         assert!(message.contains(w), "{mistake:?} ({method}): the error does not say {w:?}: {message}");
     }
-    let off = run(mistake, method, false);
-    assert!(off.iter().all(|r| r.is_ok()), "{mistake:?} ({method}) without validation: {off:?}");
+    let off = run_on(caps, mistake, method, false);
+    assert!(off.iter().all(|(r, _)| r.is_ok()), "{mistake:?} ({method}) without validation: {:?}", off.iter().map(|(r, _)| r).collect::<Vec<_>>());
+    // A finding costs no frame (a refused pipeline draws nothing).
+    for (k, ((r, a), (_, b))) in on.iter().zip(&off).enumerate() {
+        assert!(a == b || matches!(r, Err(Error::InvalidPipeline(_))), "{mistake:?} ({method}): frame {k} drew other depth with validation on");
+    }
+    match error {
+        Error::Validation(finding) => Some(finding.clone()),
+        _ => None,
+    }
 }
+
+/// The tiers a depth-only view is tested on: full, and portable with
+/// box marks (its ID marks need an ID target).
+const DEPTH_ONLY_TIERS: [Capabilities; 2] = [Capabilities::FULL, Capabilities { marks: Marks::Boxes, ..Capabilities::PORTABLE }];
+
+/// The methods of views without an ID target.
+const DEPTH_ONLY_METHODS: [Method; 2] = [Method::Hroc(hroc::options::Variant::SF), Method::Hzb];
 
 #[test]
 fn a_host_that_keeps_the_contract_raises_no_alarm() {
     for method in [Method::HROC, Method::Hroc(hroc::options::Variant::NA), Method::Hzb, Method::Roc, Method::Noc, Method::Auto] {
         let results = run(Mistake::None, method, true);
         assert!(results.iter().all(|r| r.is_ok()), "{method}: {results:?}");
+    }
+}
+
+#[test]
+fn a_depth_only_host_that_keeps_the_contract_raises_no_alarm() {
+    for caps in DEPTH_ONLY_TIERS {
+        for (method, clean) in DEPTH_ONLY_METHODS.into_iter().flat_map(|m| [(m, Mistake::CascadeNoIds), (m, Mistake::StreetNoIds)]) {
+            let results: Vec<_> = run_on(caps, clean, method, true).into_iter().map(|(r, _)| r).collect();
+            assert!(results.iter().all(|r| r.is_ok()), "{clean:?} ({method}, {caps:?}): {results:?}");
+        }
+    }
+}
+
+#[test]
+fn depth_bias_toward_the_light_without_ids_is_caught() {
+    for caps in DEPTH_ONLY_TIERS {
+        for method in DEPTH_ONLY_METHODS {
+            for mistake in [Mistake::BiasConstantNoIds, Mistake::BiasSlopeNoIds] {
+                caught_on(caps, mistake, method, &["in front of every box", "bias depth only away from the viewer or light", "DepthBiasState"]);
+            }
+        }
+    }
+}
+
+#[test]
+fn a_box_too_small_in_a_depth_only_view_is_caught() {
+    for caps in DEPTH_ONLY_TIERS {
+        for method in DEPTH_ONLY_METHODS {
+            let finding = caught_on(caps, Mistake::SmallBoxNoIds, method, &["in front of every box", "Culler::set_bounds"]).expect("a finding");
+            assert_eq!(finding.object, Some(WALL as u32), "{method}: the suspect is the wall, whose box is small: {finding}");
+        }
+    }
+}
+
+#[test]
+fn targets_never_cleared_are_named_as_the_cause() {
+    for method in [Method::HROC, Method::Hzb] {
+        let finding = caught_on(Capabilities::FULL, Mistake::NeverCleared, method, &["not cleared", "before View::cull"]).expect("a finding");
+        eprintln!("{finding}");
+        assert!(finding.cause.contains("not cleared"), "{method}: the cause is the missing clear: {finding}");
     }
 }
 

@@ -177,14 +177,17 @@ impl View {
                 g.depth, self.targets.depth
             )));
         }
-        // Validation checks the host's draws, which a stepwise frame does not see.
-        let validation = self.validation.as_mut().filter(|_| steps.is_none());
-        if let Some(v) = validation {
-            v.begin(&culler.gpu, encoder, self.frames)?;
-        }
+        // Findings of earlier frames come back after this one is recorded;
+        // a stepwise frame's, through View::validation.
+        let stepwise = steps.is_some();
+        let arrived = self.validation.as_mut().filter(|_| !stepwise).and_then(|v| v.harvest(&culler.gpu));
         culler.flush_oriented();
         let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32);
         self.uploads.write(encoder, &self.frame, 0, bytemuck::bytes_of(&uniform));
+        // An engine clears its targets in its early pass, after this point.
+        if let Some(v) = self.validation.as_mut() {
+            v.begin(encoder, &mut self.uploads, self.frames, !stepwise);
+        }
         if let Some(v) = self.visibility.as_mut() {
             v.begin(encoder, &mut self.uploads, self.frames);
         }
@@ -238,7 +241,7 @@ impl View {
             tree: (&culler.bvh, culler.generation),
             culled_by: self.method,
             period_ms: period_ms(&mut self.last_start),
-            validation: self.validation.as_mut().filter(|_| steps.is_none()),
+            validation: self.validation.as_mut(),
             pipelines: &culler.pipelines,
             visibility: self.visibility.as_mut(),
             steps,
@@ -268,6 +271,10 @@ impl View {
             let (enc, q) = f.counted();
             let list = s.finish(enc, &q);
             f.hand(Phase::NonOccluders, &list, None, false);
+        }
+        if f.validation.is_some() {
+            // A stepwise frame's last read comes after the engine's late pass.
+            f.take_cut();
         }
         if let Some(v) = f.validation.as_deref_mut() {
             v.end(f.gpu, f.encoder, f.uploads);
@@ -301,9 +308,10 @@ impl View {
             self.tail = Some(Submission::mark(f.encoder));
         }
         self.frames += 1;
-        match culler.pipelines.take_refusal() {
-            Some(reason) => Err(Error::InvalidPipeline(reason)),
-            None => Ok(()),
+        match (culler.pipelines.take_refusal(), arrived) {
+            (Some(reason), _) => Err(Error::InvalidPipeline(reason)),
+            (None, Some(finding)) => Err(Error::Validation(finding)),
+            (None, None) => Ok(()),
         }
     }
 
