@@ -2,9 +2,9 @@
 //! `hroc`: each frame culled in a session that validates and in one that
 //! does not, side by side in one run ([`hroc_bench::bench::validation_cost`]).
 //!
-//! `cargo run --release -p hroc-bench --example validation_cost -- [scene] [objects] [frames]`
-//! (defaults: radial-city, its own count, 60 frames at 640 × 360: the
-//! default scene of `hroc bench`).
+//! `cargo run --release -p hroc-bench --example validation_cost -- [scene] [objects] [frames] [cascades]`
+//! (defaults: radial-city, its own count, 60 frames at 640 × 360, no
+//! shadow cascades: the default scene of `hroc bench`).
 
 use hroc::Method;
 use hroc_bench::bench::validation_cost;
@@ -15,10 +15,11 @@ fn main() {
     let key = args.get(1).map_or("radial-city", String::as_str);
     let objects = args.get(2).map(|n| n.parse().expect("a count of objects"));
     let frames = args.get(3).map_or(60, |n| n.parse().expect("a count of frames"));
+    let cascades = args.get(4).map_or(0, |n| n.parse().expect("a count of cascades"));
     let gpu = Headless::new().expect("a Vulkan device (scripts/ensure-vulkan.sh)");
     let scene = hroc_bench::scene::load(key, objects, 0).expect("a scene");
-    let costs = validation_cost(&gpu, &scene, frames, &[Method::Hzb, Method::HROC]).unwrap_or_else(|e| panic!("{e}"));
-    println!("{key}, {} objects, {frames} frames at 640x360, {}", scene.objects.len(), gpu.adapter_name());
+    let costs = validation_cost(&gpu, &scene, frames, &[Method::Hzb, Method::HROC], cascades).unwrap_or_else(|e| panic!("{e}"));
+    println!("{key}, {} objects, {frames} frames at 640x360, {cascades} shadow cascades, {}", scene.objects.len(), gpu.adapter_name());
     println!("| method | ms/frame, validation off | on | on / off |");
     println!("|---|--:|--:|--:|");
     for c in costs {

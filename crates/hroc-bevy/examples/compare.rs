@@ -17,7 +17,9 @@
 //! mode; else by occlusion wherever the camera is: Bevy's
 //! `OcclusionCulling` on the light, the plugin's `HrocCulling::cascades`),
 //! `REPEATS=n` (every mode run n times in turn, ms the median),
-//! `TIMES_ONLY=1` (no ID and reference runs: drawn and ms only).
+//! `TIMES_ONLY=1` (no ID and reference runs: drawn and ms only),
+//! `VALIDATE=1` (the plugin's modes validate Bevy's passes,
+//! `HrocValidation`, and their findings are listed after the table).
 
 use std::path::Path;
 
@@ -34,7 +36,7 @@ use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::texture::GpuImage;
 use bevy::render::{RenderApp, RenderDebugFlags};
 use hroc::Method;
-use hroc_bevy::{HrocCulling, HrocPlugin};
+use hroc_bevy::{HrocCulling, HrocFindings, HrocPlugin, HrocValidation};
 use hroc_scene::camera::{Camera as PathCamera, CameraPath};
 
 #[path = "common/drawn.rs"]
@@ -77,6 +79,8 @@ struct Setup {
     /// by occlusion (Bevy's `OcclusionCulling` on the light, the plugin's
     /// `HrocCulling::cascades`); else by the frustum.
     cascades: bool,
+    /// The plugin validates Bevy's passes.
+    validate: bool,
 }
 
 /// One mode's frames: images, objects drawn, ms.
@@ -85,13 +89,15 @@ struct Run {
     images: Vec<Vec<u32>>,
     drawn: Vec<u64>,
     ms: Vec<f64>,
+    /// What the plugin's validation found (with `VALIDATE=1`).
+    findings: Vec<String>,
 }
 
 fn app(setup: &Setup, dir: &Path, size: (u32, u32)) -> App {
     let mut app = App::new();
     app.add_plugins(headless::plugins(RenderDebugFlags::ALLOW_COPIES_FROM_INDIRECT_PARAMETERS, Some(dir.to_string_lossy().into_owned())));
     if let Mode::Plugin(_) = setup.mode {
-        app.add_plugins(HrocPlugin);
+        app.add_plugins(HrocPlugin).insert_resource(HrocValidation(setup.validate));
     }
     app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 1024 });
     let mut image = Image::new_target_texture(size.0, size.1, TextureFormat::Rgba8Unorm, None);
@@ -195,12 +201,21 @@ struct Config<'a> {
     size: (u32, u32),
     shadows: bool,
     cascades: bool,
+    validate: bool,
 }
 
 fn run(mode: Mode, c: &Config) -> Run {
     let (glb, cameras, size) = (c.glb, c.cameras, c.size);
     let msaa = if mode == Mode::Ids { Msaa::Off } else { c.msaa };
-    let setup = Setup { mode, scene: glb.file_name().unwrap().to_string_lossy().into_owned(), target: Handle::default(), msaa, shadows: c.shadows, cascades: c.cascades };
+    let setup = Setup {
+        mode,
+        scene: glb.file_name().unwrap().to_string_lossy().into_owned(),
+        target: Handle::default(),
+        msaa,
+        shadows: c.shadows,
+        cascades: c.cascades,
+        validate: c.validate,
+    };
     let mut app = app(&setup, glb.parent().unwrap(), size);
     // Until the scene is spawned, steady, and the plugin culls.
     let mut last = (0, 0);
@@ -216,7 +231,7 @@ fn run(mode: Mode, c: &Config) -> Run {
         }
     }
     let target = app.world().resource::<Setup>().target.clone();
-    let mut out = Run { images: Vec::new(), drawn: Vec::new(), ms: Vec::new() };
+    let mut out = Run { images: Vec::new(), drawn: Vec::new(), ms: Vec::new(), findings: Vec::new() };
     for c in cameras {
         set_camera(&mut app, c);
         let start = std::time::Instant::now();
@@ -229,6 +244,12 @@ fn run(mode: Mode, c: &Config) -> Run {
         let texture = render.resource::<RenderAssets<GpuImage>>().get(&target).expect("the target on the GPU").texture.clone();
         out.images.push(hroc_readback::read_texture(&device, &queue, &texture, wgpu::TextureAspect::All).unwrap());
         out.drawn.push(drawn(render));
+    }
+    if c.validate {
+        // The last frames' findings, once the GPU is done.
+        app.update();
+        let render = app.sub_app_mut(RenderApp).world_mut();
+        out.findings = render.query::<&HrocFindings>().iter(render).flat_map(|f| f.0.iter().map(|f| f.finding.to_string())).collect();
     }
     out
 }
@@ -253,7 +274,8 @@ fn main() {
     let repeats: usize = std::env::var("REPEATS").ok().and_then(|s| s.parse().ok()).unwrap_or(1).max(1);
     let times_only = std::env::var("TIMES_ONLY").is_ok_and(|v| v != "0");
     let cameras = path.frames(frames, path.near.unwrap_or(0.1), path.far.unwrap_or(2000.0));
-    let config = Config { glb: &glb, cameras: &cameras, msaa, size, shadows: env_on("SHADOWS"), cascades: env_on("CASCADES") };
+    let validate = std::env::var("VALIDATE").is_ok_and(|v| v != "0");
+    let config = Config { glb: &glb, cameras: &cameras, msaa, size, shadows: env_on("SHADOWS"), cascades: env_on("CASCADES"), validate };
     let all = [Mode::NoCulling, Mode::Frustum, Mode::Bevy, Mode::Plugin(Method::HROC), Mode::Plugin(Method::Hzb), Mode::Plugin(Method::Auto)];
     let wanted = std::env::var("MODES").unwrap_or_default();
     let modes: Vec<Mode> = all.into_iter().filter(|m| wanted.is_empty() || wanted.split(',').any(|w| m.name().ends_with(w))).collect();
@@ -310,5 +332,14 @@ fn main() {
             hidden += *objects as f64 - visible as f64;
         }
         println!("| {} | {drawn:.0} | {:.3} | {ms} | {false_negatives} | {missing} |", mode.name(), culled / hidden.max(1.0));
+    }
+    if validate {
+        for (mode, runs) in modes.iter().zip(&runs).filter(|(m, _)| matches!(m, Mode::Plugin(_))) {
+            let found: Vec<&String> = runs.iter().flat_map(|r| &r.findings).collect();
+            println!("\n{}: validation on, {} findings in {} runs", mode.name(), found.len(), runs.len());
+            for f in found {
+                println!("- {f}");
+            }
+        }
     }
 }

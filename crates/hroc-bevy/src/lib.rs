@@ -21,6 +21,15 @@
 //! points. Bevy's preprocessing shader is Bevy's, taken at run time, with
 //! its Hi-Z test replaced by a read of hroc's visibility.
 //!
+//! [`HrocValidation`] (on in debug builds) checks Bevy's passes against
+//! the host contract (`hroc::CullerDesc::validation`): each finding is
+//! logged once through Bevy's log, naming the camera or light, the mesh
+//! entity and the fix, and kept in [`HrocFindings`] on the view's render
+//! entity. A mesh whose vertex shader moves it past its `Aabb` (wind,
+//! vertex animation, a custom material's displacement) is such a
+//! finding: hroc culls by the box, so it could cull that mesh while in
+//! view.
+//!
 //! Pinned to Bevy 0.20.1: it replaces two of Bevy's render systems
 //! (`early_gpu_preprocess`, `late_gpu_preprocess`) by its own, which
 //! dispatch Bevy's work items with Bevy's bind groups, and builds Bevy's
@@ -41,7 +50,7 @@ use bevy_render::extract_component::{ExtractComponent, ExtractComponentPlugin};
 use bevy_render::sync_component::SyncComponent;
 use bevy_render::{ExtractSchedule, Render, RenderApp, RenderSystems};
 use hroc::Method;
-pub use views::HrocFrameStats;
+pub use views::{HrocFinding, HrocFindings, HrocFrameStats};
 
 /// Culls a camera with hroc: put it on a `Camera3d` that has Bevy's
 /// `DepthPrepass` and `OcclusionCulling`.
@@ -89,7 +98,7 @@ impl HrocCulling {
 }
 
 impl SyncComponent<RenderApp> for HrocCulling {
-    type Target = (HrocCulling, views::HrocView, views::HrocFrameStats);
+    type Target = (HrocCulling, views::HrocView, views::HrocFrameStats, views::HrocFindings);
 }
 
 impl ExtractComponent<RenderApp> for HrocCulling {
@@ -99,6 +108,21 @@ impl ExtractComponent<RenderApp> for HrocCulling {
 
     fn extract_component(culling: &HrocCulling) -> Option<HrocCulling> {
         Some(*culling)
+    }
+}
+
+/// Validation of Bevy's passes by hroc (`hroc::CullerDesc::validation`),
+/// on by default in debug builds, off in release: insert
+/// `HrocValidation(true)` or `HrocValidation(false)` into the app before
+/// its first frame with meshes (the culler is made then, with or without
+/// it). It costs a few compute passes per view and frame, each reading at
+/// most 1,024 pixels. Findings are logged once each ([`HrocFindings`]).
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq, bevy_render::extract_resource::ExtractResource)]
+pub struct HrocValidation(pub bool);
+
+impl Default for HrocValidation {
+    fn default() -> Self {
+        HrocValidation(cfg!(debug_assertions))
     }
 }
 
@@ -147,6 +171,7 @@ impl Plugin for HrocPlugin {
         app.add_plugins(ExtractComponentPlugin::<HrocCulling>::default());
         app.init_resource::<shader::HrocShaders>().add_systems(Update, (shader::make_shaders, cull_cascades));
         app.add_plugins(bevy_render::extract_resource::ExtractResourcePlugin::<shader::HrocShaders>::default());
+        app.init_resource::<HrocValidation>().add_plugins(bevy_render::extract_resource::ExtractResourcePlugin::<HrocValidation>::default());
         let Some(render_app) = app.get_sub_app_mut(RenderApp) else { return };
         render_app
             .init_resource::<objects::ExtractedInstances>()

@@ -75,6 +75,13 @@ pub struct HrocObjects {
     pub failed: Option<String>,
 }
 
+impl HrocObjects {
+    /// The entity whose object has slot `slot`.
+    pub fn entity_of(&self, slot: u32) -> Option<Entity> {
+        self.slots.iter().find(|(_, &(s, ..))| s == slot).map(|(e, _)| e.id())
+    }
+}
+
 /// Slots reserved beyond the instances at creation (the culler doubles
 /// them when instances outgrow them, and its views start over).
 fn capacity_for(n: usize) -> u32 {
@@ -90,13 +97,21 @@ fn desc(b: Box3, deformed: bool) -> ObjectDesc {
 
 /// Render world, after Bevy prepared its mesh instances: objects added,
 /// removed and moved, and the input-index map uploaded.
-pub fn sync(mut objects: ResMut<HrocObjects>, mut extracted: ResMut<ExtractedInstances>, instances: Res<RenderMeshInstances>, device: Res<RenderDevice>, queue: Res<RenderQueue>) {
+pub fn sync(
+    mut objects: ResMut<HrocObjects>,
+    mut extracted: ResMut<ExtractedInstances>,
+    instances: Res<RenderMeshInstances>,
+    device: Res<RenderDevice>,
+    queue: Res<RenderQueue>,
+    validation: Option<Res<crate::HrocValidation>>,
+) {
     let objects = &mut *objects;
     let changes = std::mem::take(&mut *extracted);
     // Until the culler exists, the changes are every instance: kept for
     // the next try if it cannot be made.
     let first = objects.culler.is_none().then(|| ExtractedInstances { changed: changes.changed.clone(), removed: Vec::new() });
-    if let Err(e) = sync_objects(objects, changes, &device, &queue) {
+    let validation = validation.map_or(crate::HrocValidation::default(), |v| *v).0;
+    if let Err(e) = sync_objects(objects, changes, &device, &queue, validation) {
         if let Some(first) = first.filter(|_| objects.culler.is_none()) {
             *extracted = first;
         }
@@ -137,7 +152,7 @@ pub fn sync(mut objects: ResMut<HrocObjects>, mut extracted: ResMut<ExtractedIns
     }
 }
 
-fn sync_objects(objects: &mut HrocObjects, changes: ExtractedInstances, device: &RenderDevice, queue: &RenderQueue) -> hroc::Result<()> {
+fn sync_objects(objects: &mut HrocObjects, changes: ExtractedInstances, device: &RenderDevice, queue: &RenderQueue, validation: bool) -> hroc::Result<()> {
     let ExtractedInstances { changed, removed } = changes;
     if objects.culler.is_none() {
         // The first frame: every instance.
@@ -145,7 +160,7 @@ fn sync_objects(objects: &mut HrocObjects, changes: ExtractedInstances, device: 
         let descs: Vec<ObjectDesc> = entities.iter().map(|&(_, b, d)| desc(b, d)).collect();
         let device = device.wgpu_device();
         let capabilities = Some(Capabilities { marks: Marks::Boxes, ..Capabilities::of(device) });
-        let culler = Culler::new(device, queue, &CullerDesc { capabilities, capacity: capacity_for(descs.len()), ..CullerDesc::new(&descs) })?;
+        let culler = Culler::new(device, queue, &CullerDesc { capabilities, capacity: capacity_for(descs.len()), validation, ..CullerDesc::new(&descs) })?;
         objects.slots = entities.iter().enumerate().map(|(i, &(e, b, d))| (e, (i as u32, b, d))).collect();
         objects.culler = Some(culler);
         return Ok(());

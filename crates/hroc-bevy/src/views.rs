@@ -22,6 +22,8 @@ use crate::HrocCulling;
 #[derive(Component)]
 pub struct HrocView {
     view: Mutex<hroc::View>,
+    /// Findings of validation logged so far: each kind once per mesh.
+    logged: Vec<HrocFinding>,
     /// The depth texture, layer and method the view was made for.
     key: Key,
     /// This frame's command buffers, taken by the `Core3d` systems.
@@ -37,6 +39,23 @@ pub struct HrocView {
 /// frame), on the camera's render entity.
 #[derive(Component, Clone, Copy, Debug)]
 pub struct HrocFrameStats(pub hroc::stats::FrameStats);
+
+/// A finding of hroc's validation ([`crate::HrocValidation`]) in a view:
+/// what Bevy's passes did against the host contract, and the mesh entity
+/// it names (the one hroc's check found, or the likeliest: the drawn box
+/// nearest the sample, in views without IDs).
+#[derive(Clone, Debug, PartialEq)]
+pub struct HrocFinding {
+    /// The mesh entity (main world), where the finding names an object.
+    pub mesh: Option<Entity>,
+    /// hroc's finding: the view, frame, pixel, the mistake and its fix.
+    pub finding: hroc::stats::Finding,
+}
+
+/// The findings of validation logged for a camera or light (on its render
+/// entity), each kind once per mesh, oldest first.
+#[derive(Component, Clone, Debug, Default)]
+pub struct HrocFindings(pub Vec<HrocFinding>);
 
 /// A frame's steps, each taken once.
 #[derive(Default)]
@@ -77,14 +96,8 @@ fn view_desc(view: &ExtractedView, unclipped: bool) -> ViewDesc {
 
 impl HrocView {
     /// Records this frame's steps, and group 1 where the buffers changed.
-    fn record(
-        &mut self,
-        culler: &hroc::Culler,
-        input: &FrameInput,
-        slots: &wgpu::Buffer,
-        layout: Option<&crate::preprocess::HrocLayout>,
-        device: &wgpu::Device,
-    ) -> Option<HrocFrameStats> {
+    fn record(&mut self, frame: &Frame, input: &FrameInput, who: &str) -> (Option<HrocFrameStats>, bool) {
+        let (culler, slots, layout, device) = (frame.culler, frame.slots, frame.layout, frame.device);
         let view = self.view.get_mut().unwrap_or_else(|p| p.into_inner());
         let stats = view.frame_stats(culler).map(HrocFrameStats);
         let visibility = view.visibility(culler).clone();
@@ -97,8 +110,19 @@ impl HrocView {
                 StepBuffers::default()
             }
         };
+        // Earlier frames' findings, logged once per kind and mesh.
+        let mut found = false;
+        if let Err(hroc::Error::Validation(finding)) = view.validation(culler) {
+            let mesh = finding.object.and_then(|o| frame.objects.entity_of(o));
+            if !self.logged.iter().any(|f| f.mesh == mesh && f.finding.mistake == finding.mistake) {
+                let named = mesh.map_or(String::new(), |e| format!(" mesh entity {e}:"));
+                bevy_log::warn!("hroc-bevy: {who}:{named} {finding}");
+                self.logged.push(HrocFinding { mesh, finding });
+                found = true;
+            }
+        }
         *self.steps.get_mut().unwrap_or_else(|p| p.into_inner()) = steps;
-        let Some(layout) = layout else { return stats };
+        let Some(layout) = layout else { return (stats, found) };
         let bound = (visibility.clone(), slots.clone());
         if self.bound.as_ref() != Some(&bound) {
             self.bind_group = Some(device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -108,7 +132,7 @@ impl HrocView {
             }));
             self.bound = Some(bound);
         }
-        stats
+        (stats, found)
     }
 }
 
@@ -119,6 +143,7 @@ type Key = (wgpu::Texture, u32, Method);
 /// What every culled view's frame needs.
 struct Frame<'a> {
     culler: &'a hroc::Culler,
+    objects: &'a HrocObjects,
     slots: &'a wgpu::Buffer,
     layout: Option<&'a crate::preprocess::HrocLayout>,
     device: &'a wgpu::Device,
@@ -126,10 +151,17 @@ struct Frame<'a> {
 }
 
 impl Frame<'_> {
-    /// Culls the view of `entity` (`existing`, or a new one) into layer
-    /// `layer` of `texture` with `method`, as `extracted` sees (a cascade:
-    /// `unclipped`).
-    fn cull(&self, commands: &mut Commands, entity: Entity, existing: Option<Mut<HrocView>>, (texture, layer, method): Key, (extracted, unclipped): (&ExtractedView, bool)) {
+    /// Culls the view of `entity` (`existing`, or a new one; `who` in
+    /// the log) into layer `layer` of `texture` with `method`, as
+    /// `extracted` sees (a cascade: `unclipped`).
+    fn cull(
+        &self,
+        commands: &mut Commands,
+        (entity, who): (Entity, &str),
+        existing: Option<Mut<HrocView>>,
+        (texture, layer, method): Key,
+        (extracted, unclipped): (&ExtractedView, bool),
+    ) {
         let targets = ViewTargets::new(&texture, DepthRange::Reversed).at(layer, 0);
         let input = FrameInput { view: view_desc(extracted, unclipped), cut: false, time: self.seconds };
         let key = (texture.clone(), layer, method);
@@ -143,14 +175,18 @@ impl Frame<'_> {
                     }
                     v.key = key;
                 }
-                if let Some(stats) = v.record(self.culler, &input, self.slots, self.layout, self.device) {
+                let (stats, found) = v.record(self, &input, who);
+                if let Some(stats) = stats {
                     commands.entity(entity).insert(stats);
+                }
+                if found {
+                    commands.entity(entity).insert(HrocFindings(v.logged.clone()));
                 }
             }
             _ => match self.culler.view_with(method, &targets, &options(&texture)) {
                 Ok(view) => {
-                    let mut v = HrocView { view: Mutex::new(view), key, steps: Mutex::default(), bind_group: None, bound: None };
-                    v.record(self.culler, &input, self.slots, self.layout, self.device);
+                    let mut v = HrocView { view: Mutex::new(view), logged: Vec::new(), key, steps: Mutex::default(), bind_group: None, bound: None };
+                    v.record(self, &input, who);
                     commands.entity(entity).insert(v);
                 }
                 Err(e) => bevy_log::error!("hroc-bevy: {e}"),
@@ -160,8 +196,16 @@ impl Frame<'_> {
 }
 
 /// What `prepare` reads of a culling camera.
-type CameraItem<'a> =
-    (Entity, &'a HrocCulling, &'a ExtractedView, &'a ViewDepthStencilTexture, Option<&'a ViewLightEntities>, Option<&'a ViewShadowBindings>, Option<&'a mut HrocView>);
+type CameraItem<'a> = (
+    Entity,
+    Option<&'a bevy_render::sync_world::MainEntity>,
+    &'a HrocCulling,
+    &'a ExtractedView,
+    &'a ViewDepthStencilTexture,
+    Option<&'a ViewLightEntities>,
+    Option<&'a ViewShadowBindings>,
+    Option<&'a mut HrocView>,
+);
 /// What `prepare` reads of a cascade.
 type CascadeItem<'a> = (&'a ExtractedView, Option<&'a mut HrocView>);
 
@@ -182,11 +226,12 @@ pub fn prepare(
     time: Option<Res<bevy_time::Time>>,
 ) {
     let (Some(culler), Some(slots)) = (objects.culler.as_ref(), objects.slot_buffer.as_ref()) else { return };
-    let frame = Frame { culler, slots, layout: layout.as_deref(), device: device.wgpu_device(), seconds: time.map_or(0.0, |t| t.elapsed_secs()) };
-    for (entity, culling, extracted, depth, lights, shadows, existing) in &mut cameras {
+    let frame = Frame { culler, objects: &objects, slots, layout: layout.as_deref(), device: device.wgpu_device(), seconds: time.map_or(0.0, |t| t.elapsed_secs()) };
+    for (entity, main, culling, extracted, depth, lights, shadows, existing) in &mut cameras {
         let method = method_without_ids(culling.method);
         let texture: &wgpu::Texture = depth.texture();
-        frame.cull(&mut commands, entity, existing, (texture.clone(), 0, method), (extracted, false));
+        let camera = format!("camera {}", main.map_or(entity, |m| m.id()));
+        frame.cull(&mut commands, (entity, &camera), existing, (texture.clone(), 0, method), (extracted, false));
         let (Some(lights), Some(shadows)) = (lights, shadows) else { continue };
         // The camera's directional cascades, in the order Bevy gave them
         // the layers of its shadow map.
@@ -200,7 +245,8 @@ pub fn prepare(
             // Without OcclusionCulling on its light, Bevy has no late shadow pass for it.
             let Ok((cascade, existing)) = cascades.get_mut(light) else { continue };
             let texture: &wgpu::Texture = &shadows.directional_light_depth_texture;
-            frame.cull(&mut commands, light, existing, (texture.clone(), this, method), (cascade, true));
+            let who = format!("{camera}, directional light cascade {this} (render entity {light})");
+            frame.cull(&mut commands, (light, &who), existing, (texture.clone(), this, method), (cascade, true));
         }
     }
 }

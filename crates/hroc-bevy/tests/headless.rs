@@ -7,7 +7,8 @@
 //! the image of drawing everything (no frustum or occlusion culling),
 //! pixel for pixel, and
 //! every cascade's depth is the depth of drawing everything, bit for bit,
-//! for `hroc`, `hzb` and `auto`; and the plugin culls.
+//! for `hroc`, `hzb` and `auto`; the plugin culls; and its validation
+//! (`HrocValidation`, on here) raises nothing.
 
 use bevy::camera::visibility::NoFrustumCulling;
 use bevy::camera::RenderTarget;
@@ -20,7 +21,7 @@ use bevy::render::render_resource::{TextureFormat, TextureUsages};
 use bevy::render::renderer::{RenderDevice, RenderQueue};
 use bevy::render::texture::GpuImage;
 use bevy::render::RenderApp;
-use hroc_bevy::{HrocCulling, HrocFrameStats, HrocPlugin};
+use hroc_bevy::{HrocCulling, HrocFindings, HrocFrameStats, HrocPlugin, HrocValidation};
 
 mod common {
     pub mod headless;
@@ -43,7 +44,7 @@ fn app(mode: Mode, msaa: Msaa) -> App {
     let mut app = App::new();
     app.add_plugins(common::headless::plugins(Default::default(), None));
     if let Mode::Hroc(_) = mode {
-        app.add_plugins(HrocPlugin);
+        app.add_plugins(HrocPlugin).insert_resource(HrocValidation(true));
     }
     app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 256 });
     let mut image = Image::new_target_texture(SIZE.0, SIZE.1, TextureFormat::Rgba8Unorm, None);
@@ -168,7 +169,8 @@ fn frames(mode: Mode, msaa: Msaa, path: &[Transform]) -> Vec<Frame> {
     }
     assert!(mode == Mode::Everything || HrocPlugin::ready(&app), "the plugin is not ready after 60 frames");
     let target = app.world().resource::<Target>().0.clone();
-    path.iter()
+    let frames: Vec<Frame> = path
+        .iter()
         .enumerate()
         .map(|(k, &t)| {
             set_camera(&mut app, t);
@@ -184,7 +186,13 @@ fn frames(mode: Mode, msaa: Msaa, path: &[Transform]) -> Vec<Frame> {
             let drawn = render.query_filtered::<&HrocFrameStats, Without<bevy::pbr::LightEntity>>().iter(render).next().map(|s| s.0.objects);
             (image, cascades, drawn)
         })
-        .collect()
+        .collect();
+    // The last frames' findings, once the GPU is done.
+    app.update();
+    let render = app.sub_app_mut(RenderApp).world_mut();
+    let found: Vec<_> = render.query::<&HrocFindings>().iter(render).flat_map(|f| f.0.clone()).collect();
+    assert!(found.is_empty(), "{mode:?} {msaa:?}: validation found {found:?}");
+    frames
 }
 
 /// The scene's changes before frame `k`: a cube behind the wall moves in

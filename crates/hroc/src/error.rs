@@ -93,6 +93,9 @@ pub struct Finding {
     pub pixel: Option<(u32, u32)>,
     /// The first mistake, where it was found, and its fix.
     pub cause: String,
+    /// The first mistake and its fix, as the same text for every finding
+    /// of its kind (for a host that reports each kind once).
+    pub mistake: &'static str,
     /// What else the frame's checks found, each with its fix: findings
     /// that may follow from the cause.
     pub follow_on: Vec<String>,

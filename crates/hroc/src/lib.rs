@@ -215,7 +215,8 @@
 //! - **Validation.** [`CullerDesc::validation`] (on in debug builds)
 //!   checks on the GPU that the host's draws keep this contract, and turns
 //!   each mistake that would cull a visible object into an
-//!   [`Error::Validation`] of a later [`View::cull`] (README.md's
+//!   [`Error::Validation`] of a later [`View::cull`], returned after that
+//!   frame is recorded in full, so a finding costs no frame (README.md's
 //!   "Validation" tables what it sees, and why ties at equal depth are no
 //!   miss). Lists read for marks are in object order, which the check of
 //!   hidden marks relies on.

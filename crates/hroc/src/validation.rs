@@ -529,7 +529,7 @@ fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<Finding> {
         None => String::new(),
     };
     let mut lines = Vec::new();
-    let (mut object, mut pixel) = (None, None);
+    let (mut object, mut pixel, mut mistake) = (None, None, "");
     for kind in [9, 8, 0, 1, 2, 3, 5, 4, 10, 6, 7] {
         let count = word(kind * 4);
         if count == 0 {
@@ -550,7 +550,7 @@ fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<Finding> {
         // BEFORE_BOXES keeps the sample's depth where others keep a group.
         let phase = if kind == 10 { String::new() } else { phase(group) };
         if lines.is_empty() {
-            (object, pixel) = (if kind == 2 { None } else { o }, px);
+            (object, pixel, mistake) = (if kind == 2 { None } else { o }, px, FINDINGS[kind]);
         }
         lines.push(format!("{}{phase} ({count} found): {}", what.join(" "), FINDINGS[kind]).trim_start().to_string());
     }
@@ -566,5 +566,9 @@ fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<Finding> {
     }
     let mut lines = lines.into_iter();
     let cause = lines.next()?;
-    Some(Finding { view: view.to_string(), frame: tag.frame, object, pixel, cause, follow_on: lines.collect() })
+    if mistake.is_empty() {
+        // A phase that marked nothing is the first finding.
+        mistake = FINDINGS[6];
+    }
+    Some(Finding { view: view.to_string(), frame: tag.frame, object, pixel, cause, mistake, follow_on: lines.collect() })
 }

@@ -109,3 +109,40 @@ fn what_cannot_run_stepwise_is_refused() {
     let mut view = early_z.view(Method::Hzb, &host.targets()).unwrap();
     assert!(engine.frame(&device, &queue, &host, &early_z, &mut view, desc, true).is_ok());
 }
+
+/// Stepwise frames validated (`View::validation`), on both tiers, in
+/// views without IDs: the engine's passes raise nothing; an engine whose
+/// vertex shader lifts a cube 0.6 above its box is reported within 3
+/// frames, naming the cube.
+#[test]
+fn stepwise_frames_are_validated() {
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
+    let (host, objects) = street(&device);
+    // The cube at x = -4, z = 0, 3 high, before the wall.
+    let cube = 21;
+    for caps in [Capabilities { marks: Marks::Boxes, ..Capabilities::FULL }, Capabilities { marks: Marks::Boxes, ..Capabilities::PORTABLE }] {
+        let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(caps), validation: true, ..CullerDesc::new(&objects) }).unwrap();
+        for method in [Method::Hzb, Method::Hroc(Variant::SF)] {
+            for lifted in [None, Some((cube, 0.6))] {
+                let engine = Engine::lifting(&device, &host, lifted);
+                let mut view = culler.view(method, &host.targets()).unwrap();
+                let results: Vec<hroc::Result<()>> = path()[..4]
+                    .iter()
+                    .map(|&(desc, cut)| {
+                        engine.frame(&device, &queue, &host, &culler, &mut view, desc, cut).unwrap();
+                        view.validation(&culler)
+                    })
+                    .collect();
+                let label = format!("{method} ({caps:?}), lifted {lifted:?}");
+                match lifted {
+                    None => assert!(results.iter().all(|r| r.is_ok()), "{label}: {results:?}"),
+                    Some(_) => {
+                        let first = results.iter().position(|r| r.is_err()).filter(|&k| k < 3).unwrap_or_else(|| panic!("{label}: nothing within 3 frames: {results:?}"));
+                        let Err(Error::Validation(finding)) = &results[first] else { panic!("{label}: {results:?}") };
+                        assert!(finding.cause.contains("in front of every box") && finding.object == Some(cube), "{label}: {finding}");
+                    }
+                }
+            }
+        }
+    }
+}

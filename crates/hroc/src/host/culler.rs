@@ -48,15 +48,19 @@ pub struct CullerDesc<'a> {
     /// device has is an error.
     pub capabilities: Option<Capabilities>,
     /// Check on the GPU, without waiting, that the host's draws keep the
-    /// host contract, and fail [`View::cull`] a frame or two after one
-    /// that did not ([`Error::Validation`], naming the view, frame,
-    /// object, phase and pixel, the mistake and its fix): targets cleared
-    /// or drawn by other passes inside the frame; fragments in front of
-    /// their object's box (boxes too small, wrong transforms, depth bias
-    /// toward the viewer); IDs out of range, naming undrawn objects, or
-    /// missing where depth was drawn; and, with early-Z marks, objects
-    /// drawn visibly but not marked, or marked while hidden (no forced
-    /// early-Z). ID checks need a view whose method reads the ID target.
+    /// host contract, and report a frame or two after one that did not
+    /// ([`Error::Validation`] from [`View::cull`] once it has recorded its
+    /// frame in full, or from [`View::validation`]; a
+    /// [`crate::stats::Finding`] names the view, frame, object, phase and
+    /// pixel, the mistake and its fix): targets not cleared before the
+    /// frame, or cleared or drawn by other passes inside it; fragments in
+    /// front of their object's box, or in a view without IDs in front of
+    /// every box drawn (boxes too small, wrong transforms, depth bias
+    /// toward the viewer or light); IDs out of range, naming undrawn
+    /// objects, or missing where depth was drawn; and, with early-Z marks,
+    /// objects drawn visibly but not marked, or marked while hidden (no
+    /// forced early-Z). ID checks need a view whose method reads the ID
+    /// target. Stepwise frames ([`View::steps`]) are checked as well.
     /// On by default in debug builds, off in release. Costs a few compute
     /// passes per frame, each reading at most 1,024 pixels of the host's
     /// depth and IDs (a different share each frame: a mistake that

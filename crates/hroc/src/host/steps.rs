@@ -73,8 +73,11 @@ impl View {
     /// refill of V's holes, which would need one. The engine's shaders
     /// cannot mark: methods that read marks need a culler with
     /// [`device::Marks::Boxes`], or [`device::Marks::Ids`] and an ID
-    /// target. Validation ([`CullerDesc::validation`]) checks the draws
-    /// handed to a host, and is off in stepwise frames.
+    /// target. Validation ([`CullerDesc::validation`]) checks the
+    /// engine's passes against what [`View::visibility`] let them draw
+    /// (their depth after each pass; without IDs, every drawn sample
+    /// against the boxes of the objects stamped visible); its findings
+    /// come from [`View::validation`], never from this call.
     ///
     /// Errors as [`View::cull`] does, and when the method cannot run
     /// stepwise; the view's next frame then starts over as after a cut.

@@ -120,6 +120,12 @@ impl View {
     /// take, [`Error::SubmitOrder`]). The view stays usable (after a
     /// failure part-way, its next frame starts over as after a cut), and
     /// `encoder` stays balanced and submittable.
+    ///
+    /// With validation ([`CullerDesc::validation`]), an earlier frame's
+    /// findings come back as [`Error::Validation`] after this frame is
+    /// recorded in full, exactly as without validation: its lists were
+    /// handed and drawn, and the host submits `encoder` as usual (a host
+    /// that logs the finding and goes on loses no frame).
     pub fn cull(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost) -> Result<()> {
         self.record(culler, encoder, input, host, None, None)
     }
@@ -327,9 +333,11 @@ impl View {
 
     /// The findings of validation ([`CullerDesc::validation`]) that
     /// arrived since the last [`View::cull`], without waiting: an
-    /// [`Error::Validation`] for the earliest frame that had any. A host
-    /// that stops culling calls it once the GPU is done, for the last
-    /// frames' findings. `Ok` without validation.
+    /// [`Error::Validation`] for the earliest frame that had any. An
+    /// engine culling with [`View::steps`] calls it each frame (its
+    /// frames' findings come only from here); a host that stops culling
+    /// calls it once the GPU is done, for the last frames' findings. `Ok`
+    /// without validation.
     pub fn validation(&mut self, culler: &Culler) -> Result<()> {
         match self.validation.as_mut() {
             Some(v) => v.arrived(&culler.gpu),

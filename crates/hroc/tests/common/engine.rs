@@ -17,14 +17,23 @@ pub struct Engine {
 
 impl Engine {
     pub fn new(device: &wgpu::Device, host: &Host) -> Engine {
+        Engine::lifting(device, host, None)
+    }
+
+    /// The engine with a vertex shader that lifts object `lifted.0` by
+    /// `lifted.1` past its box (wind, a custom material's displacement).
+    pub fn lifting(device: &wgpu::Device, host: &Host, lifted: Option<(u32, f32)>) -> Engine {
         let at = host.at;
         let value = if at.ids_format() == wgpu::TextureFormat::Rg16Uint { "vec4<u32>(id & 0xffffu, id >> 16u, 0u, 0u)" } else { "vec4<u32>(id, 0u, 0u, 0u)" };
         let source = format!(
             "@group(0) @binding(0) var<uniform> view_proj: mat4x4<f32>;\n{}\n\
              override LATE: bool = false;\n\
+             override LIFTED: u32 = 0xffffffffu;\n\
+             override LIFT: f32 = 0.0;\n\
              struct Out {{ @builtin(position) clip: vec4<f32>, @location(0) @interpolate(flat) object: u32 }}\n\
              @vertex fn vs(@location(0) p: vec3<f32>, @builtin(instance_index) i: u32) -> Out {{\n\
-                 if select(hroc_early(i), hroc_late(i), LATE) {{ return Out(view_proj * vec4<f32>(p, 1.0), i); }}\n\
+                 let q = select(p, p + vec3<f32>(0.0, LIFT, 0.0), i == LIFTED);\n\
+                 if select(hroc_early(i), hroc_late(i), LATE) {{ return Out(view_proj * vec4<f32>(q, 1.0), i); }}\n\
                  return Out(vec4<f32>(0.0, 0.0, -2.0, 1.0), i);\n\
              }}\n\
              @fragment fn fs(in: Out) -> @location(0) vec4<u32> {{ let id = in.object + 1u; return {value}; }}\n",
@@ -32,7 +41,8 @@ impl Engine {
         );
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some("engine"), source: wgpu::ShaderSource::Wgsl(source.into()) });
         let pipeline = |late: bool| {
-            let constants = [("LATE", late as u32 as f64)];
+            let (object, lift) = lifted.unwrap_or((u32::MAX, 0.0));
+            let constants = [("LATE", late as u32 as f64), ("LIFTED", object as f64), ("LIFT", lift as f64)];
             let options = wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() };
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(if late { "engine late pass" } else { "engine early pass" }),
