@@ -117,8 +117,16 @@ impl ExtractComponent<RenderApp> for HrocCulling {
 /// its first frame with meshes (the culler is made then, with or without
 /// it). It costs a few compute passes per view and frame, each reading at
 /// most 1,024 pixels. Findings are logged once each ([`HrocFindings`]).
-#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq, bevy_render::extract_resource::ExtractResource)]
+#[derive(Resource, Clone, Copy, Debug, PartialEq, Eq)]
 pub struct HrocValidation(pub bool);
+
+impl bevy_render::extract_resource::ExtractResource<RenderApp> for HrocValidation {
+    type Source = HrocValidation;
+
+    fn extract_resource(source: &HrocValidation) -> Self {
+        *source
+    }
+}
 
 impl Default for HrocValidation {
     fn default() -> Self {

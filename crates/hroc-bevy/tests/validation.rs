@@ -154,8 +154,8 @@ fn findings(app: &mut App, frames: usize) -> Vec<Vec<hroc_bevy::HrocFinding>> {
 #[test]
 fn a_mesh_lifted_past_its_aabb_by_its_vertex_shader_is_reported() {
     let mut app = app(true);
-    let lifted = app.world().resource::<LiftedCube>().0;
     let found = findings(&mut app, 4);
+    let lifted = app.world().resource::<LiftedCube>().0;
     let first = found.iter().position(|f| !f.is_empty());
     assert!(first.is_some_and(|k| k < 3), "nothing reported within 3 frames: {found:?}");
     let f = &found[first.unwrap()][0];
