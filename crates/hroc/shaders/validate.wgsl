@@ -56,7 +56,8 @@ struct Check {
     // The group checked or marked.
     group: u32,
     mode: u32,
-    _pad: u32,
+    // Bits of an object index in `results.suspect` (`suspect`).
+    object_bits: u32,
     // The pixels the frame reads: one in stride × stride, from offset.
     offset: vec2<u32>,
     stride: u32,
@@ -79,8 +80,9 @@ struct Results {
     changed: array<u32, GROUPS>,
     // Objects a group drew and marked.
     marked: array<atomic<u32>, GROUPS>,
-    // BEFORE_BOXES: SUSPECT_NONE less the distance (f32 bits) from its
-    // sample to the nearest box drawn, the greatest (`suspect`).
+    // BEFORE_BOXES: the drawn box nearest its sample, as the complement
+    // of the distance's f32 bits (their top 32 - object_bits) over the
+    // object's index (`suspect`): the greatest is the nearest.
     suspect: atomic<u32>,
     _pad: array<u32, 3>,
 }
@@ -386,12 +388,10 @@ fn check_cleared(p: vec2<i32>) {
     }
 }
 
-// `shadow`'s box entries and `results.suspect` are stored as these less
-// f32 bits (standard depths and distances are never negative, so their
-// bits order as they do), so that 0 means none and the nearest is the
-// greatest (`atomicMax`).
+// `shadow`'s box entries are stored as this less the f32 bits of a
+// standard depth (never negative, so its bits order as it does), so that
+// 0 means none and the nearest is the greatest (`atomicMax`).
 const ENTRY_NONE: u32 = 0x7fffffffu;
-const SUSPECT_NONE: u32 = 0x7fffffffu;
 
 // True when object `o` was drawn by an occluding list this frame.
 fn drawn_now(o: u32) -> bool {
@@ -424,15 +424,33 @@ fn box_entries(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workg
         let g1 = min((r.zw - off) / s, (size - 1 - off) / s);
         for (var gy = g0.y; gy <= g1.y; gy++) {
             for (var gx = g0.x; gx <= g1.x; gx++) {
-                let span = box_depths(o, vec2<i32>(gx, gy) * s + off);
+                let p = vec2<i32>(gx, gy) * s + off;
+                let slot = 2u * u32(gy * cols + gx) + 1u;
+                // Only where some sample is drawn and no box yet enters
+                // before the nearest (a CPU rasterizer pays per ray).
+                let nearest = nearest_host_depth(p);
+                let e = atomicLoad(&shadow[slot]);
+                if nearest >= 1.0 || (e != 0u && bitcast<f32>(ENTRY_NONE - e) <= nearest) {
+                    continue;
+                }
+                let span = box_depths(o, p);
                 if span.x == MISSED {
                     continue;
                 }
                 let enter = max(min(span.x, span.y) - FRAGMENT_SLACK - span.z, 0.0);
-                atomicMax(&shadow[2u * u32(gy * cols + gx) + 1u], ENTRY_NONE - bitcast<u32>(enter));
+                atomicMax(&shadow[slot], ENTRY_NONE - bitcast<u32>(enter));
             }
         }
     }
+}
+
+// The nearest of the host depth's samples at pixel `p`, in standard form.
+fn nearest_host_depth(p: vec2<i32>) -> f32 {
+    var near = 1.0;
+    for (var s = 0; s < i32(HOST_SAMPLES); s++) {
+        near = min(near, std_depth(frame, textureLoad(depth, p, s).r));
+    }
+    return near;
 }
 
 // The pixels object box `b` can cover (x0, y0, x1, y1, a pixel more on
@@ -490,32 +508,20 @@ fn box_distance(o: u32, p: vec3<f32>) -> f32 {
     return length(p - clamp(p, b.min, b.max));
 }
 
-// After a BEFORE_BOXES finding, the drawn box nearest its sample: its
-// distance (`suspect`), then the object (`suspect_object`), which the
-// finding names as the likeliest to have drawn it.
+// After a BEFORE_BOXES finding, the drawn box nearest its sample, which
+// the finding names as the likeliest to have drawn it: one key per
+// object, its distance over its index (`Results::suspect`).
 @compute @workgroup_size(64)
 fn suspect(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
     if atomicLoad(&results.findings[BEFORE_BOXES].count) == 0u {
         return;
     }
     let p = suspect_point();
+    let bits = check.object_bits;
     for (var o = gid.x; o < arrayLength(&stamps); o += nwg.x * 64u) {
         if drawn_now(o) {
-            atomicMax(&results.suspect, SUSPECT_NONE - bitcast<u32>(box_distance(o, p)));
-        }
-    }
-}
-
-@compute @workgroup_size(64)
-fn suspect_object(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) nwg: vec3<u32>) {
-    let best = atomicLoad(&results.suspect);
-    if atomicLoad(&results.findings[BEFORE_BOXES].count) == 0u || best == 0u {
-        return;
-    }
-    let p = suspect_point();
-    for (var o = gid.x; o < arrayLength(&stamps); o += nwg.x * 64u) {
-        if drawn_now(o) && SUSPECT_NONE - bitcast<u32>(box_distance(o, p)) == best {
-            results.findings[BEFORE_BOXES].object = o;
+            let key = ((bitcast<u32>(box_distance(o, p)) >> bits) << bits) | o;
+            atomicMax(&results.suspect, ~key);
         }
     }
 }

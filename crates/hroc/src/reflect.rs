@@ -189,7 +189,7 @@ impl Layout {
             Layout::HrocRoundsInit => &[("hroc_test.wgsl", ROUNDS), ("hroc_test.wgsl", &["rounds_init"])],
             Layout::HrocReduce => &[("hroc_test.wgsl", &["reduce_vs", "reduce_fs"])],
             Layout::Overflow => &[("overflow.wgsl", &[])],
-            Layout::Validate => &[("validate.wgsl", &["check_pixels", "box_entries", "suspect", "suspect_object"])],
+            Layout::Validate => &[("validate.wgsl", &["check_pixels", "box_entries", "suspect"])],
             Layout::ValidateStamp => &[("validate.wgsl", &["stamp"])],
             Layout::ValidateMarks => &[("validate.wgsl", &["marks_of_group"])],
             Layout::ValidateLate => &[("validate.wgsl", &["late_marks"])],

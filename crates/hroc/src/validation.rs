@@ -66,6 +66,11 @@ const RESULT_BYTES: u64 = (KINDS * 16 + GROUPS * 8 + 16) as u64;
 /// about 13 ms, most of a 15 ms frame).
 const PIXELS_READ: u32 = 1024;
 
+/// The check that the host cleared its targets before the frame runs
+/// one frame in this many (a pass of its own; a target left uncleared is
+/// so every frame).
+const CLEARED_EVERY: u64 = 8;
+
 /// Most objects a frame's check of hidden marks reads around (the
 /// pixels their boxes cover, up to 32 × 32 each): beyond, one in
 /// `slots / OBJECTS_READ`, a different one each frame.
@@ -102,8 +107,8 @@ pub struct CheckUniform {
     pub group: u32,
     /// `FIRST`, `CHECK_IDS`, `HOST_MARKS`, `FINAL`, `BEGIN` bits.
     pub mode: u32,
-    /// Unused.
-    pub _pad: u32,
+    /// Bits of an object index in the suspect's key.
+    pub object_bits: u32,
     /// Which pixel of each `stride` × `stride` square the frame reads.
     pub offset: [u32; 2],
     /// The pixels the frame reads: one in `stride` × `stride`, from `offset`.
@@ -124,10 +129,10 @@ pub(crate) struct Validator {
 #[derive(Clone)]
 struct Passes {
     pixels: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
-    /// Without IDs: the drawn boxes' entries, then the suspect (two
-    /// steps), in the pixels' layout.
+    /// Without IDs: the drawn boxes' entries, then the suspect, in the
+    /// pixels' layout.
     box_entries: wgpu::ComputePipeline,
-    suspect: [wgpu::ComputePipeline; 2],
+    suspect: wgpu::ComputePipeline,
     stamp: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
     marks: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
     late: (wgpu::ComputePipeline, wgpu::BindGroupLayout),
@@ -148,7 +153,7 @@ impl Validator {
         let same = |entry: &str| gpu.compute_pipeline(&module, entry, Some(&pipeline_layout(gpu, Layout::Validate.label(), &pixels.1)), &[]);
         let p = Passes {
             box_entries: same("box_entries"),
-            suspect: [same("suspect"), same("suspect_object")],
+            suspect: same("suspect"),
             pixels,
             stamp: make(Layout::ValidateStamp, "stamp"),
             marks: make(Layout::ValidateMarks, "marks_of_group"),
@@ -276,7 +281,12 @@ impl Validation {
             size: t.size,
             slots: d.slots,
             name: d.name,
-            uniform: CheckUniform { stride: s, object_stride: d.slots.div_ceil(OBJECTS_READ).max(1), ..Default::default() },
+            uniform: CheckUniform {
+                stride: s,
+                object_stride: d.slots.div_ceil(OBJECTS_READ).max(1),
+                object_bits: u32::BITS - (d.slots.max(2) - 1).leading_zeros(),
+                ..Default::default()
+            },
             tag: Tag { frame: 0, groups: [None; GROUPS] },
             group: None,
             lists: 0,
@@ -289,19 +299,20 @@ impl Validation {
     /// Starts frame `number` of the view, after its uniform's upload:
     /// zeroes this frame's findings; with `cleared`, the host has cleared
     /// its targets before this point (the clearing rule of
-    /// [`crate::View::cull`]), which a first read checks.
+    /// [`crate::View::cull`]), which a first read checks one frame in
+    /// [`CLEARED_EVERY`].
     pub(crate) fn begin(&mut self, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, number: u64, cleared: bool) {
         enc.counted_clear(&self.results, 0, None);
         let (tag, s) = ((number % 0xff_ffff) as u32 + 1, self.uniform.stride);
         // Each frame another pixel of each square, all in s² frames.
         let k = number.wrapping_mul(0x9e37_79b9) as u32 % (s * s);
-        self.uniform = CheckUniform { tag, stride: s, offset: [k % s, k / s], object_stride: self.uniform.object_stride, ..Default::default() };
+        self.uniform = CheckUniform { tag, stride: s, offset: [k % s, k / s], object_stride: self.uniform.object_stride, object_bits: self.uniform.object_bits, ..Default::default() };
         self.tag = Tag { frame: number, groups: [None; GROUPS] };
         self.group = None;
         self.lists = 0;
         self.stepwise = !cleared;
         self.pending.clear();
-        if cleared {
+        if cleared && number % CLEARED_EVERY == 0 {
             self.uniform.mode = BEGIN | if self.ids { CHECK_IDS } else { 0 };
             uploads.write(enc, &self.check, 0, bytemuck::bytes_of(&self.uniform));
             let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation cleared"), timestamp_writes: None });
@@ -466,10 +477,8 @@ impl Validation {
         }
         self.dispatch_pixels(&mut pass);
         if boxes {
-            for step in &self.passes.suspect {
-                pass.set_pipeline(step);
-                pass.counted_dispatch(groups(self.slots), 1, 1);
-            }
+            pass.set_pipeline(&self.passes.suspect);
+            pass.counted_dispatch(groups(self.slots), 1, 1);
         }
         // The group's marked objects that own no sample now.
         if mode & (HOST_MARKS | CHECK_IDS) == HOST_MARKS | CHECK_IDS {
@@ -493,8 +502,8 @@ impl Validation {
         let _ = gpu.device.poll(wgpu::PollType::Poll);
         let mut first: Option<Finding> = None;
         for (buf, slot) in self.ring.iter_mut() {
-            let name = &self.name;
-            if let Some(Some(found)) = slot.take(buf, |tag, bytes| describe(name, tag, bytes)) {
+            let (name, bits) = (&self.name, self.uniform.object_bits);
+            if let Some(Some(found)) = slot.take(buf, |tag, bytes| describe(name, bits, tag, bytes)) {
                 if first.as_ref().is_none_or(|f| found.frame < f.frame) {
                     first = Some(found);
                 }
@@ -521,9 +530,14 @@ const FINDINGS: [&str; KINDS] = [
 
 /// The findings of one frame (`None`: it had none): the first, in an
 /// order where a cause comes before what it brings (a target never
-/// cleared, IDs written as the index), and the rest as follow-on.
-fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<Finding> {
+/// cleared, IDs written as the index), and the rest as follow-on. The
+/// suspect's key holds an object index in its low `object_bits`.
+fn describe(view: &str, object_bits: u32, tag: Tag, bytes: &[u8]) -> Option<Finding> {
     let word = |i: usize| bytemuck::pod_read_unaligned::<u32>(&bytes[i * 4..i * 4 + 4]);
+    let suspect = match word(KINDS * 4 + 2 * GROUPS) {
+        0 => u32::MAX,
+        w => !w & (((1u64 << object_bits) - 1) as u32),
+    };
     let phase = |g: u32| match tag.groups.get(g as usize).copied().flatten() {
         Some(group) => format!(", in the {:?} phase", group.phase),
         None => String::new(),
@@ -535,7 +549,7 @@ fn describe(view: &str, tag: Tag, bytes: &[u8]) -> Option<Finding> {
         if count == 0 {
             continue;
         }
-        let (o, px, group) = (word(kind * 4 + 1), word(kind * 4 + 2), word(kind * 4 + 3));
+        let (o, px, group) = (if kind == 10 { suspect } else { word(kind * 4 + 1) }, word(kind * 4 + 2), word(kind * 4 + 3));
         let o = (o != u32::MAX).then_some(o);
         let px = (px != u32::MAX).then_some((px & 0xffff, px >> 16));
         let mut what = match (kind, o) {
