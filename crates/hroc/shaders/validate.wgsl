@@ -48,6 +48,9 @@ const HOST_MARKS: u32 = 4u;
 const FINAL: u32 = 8u;
 // Before the frame's first draw: the targets hold their cleared values.
 const BEGIN: u32 = 16u;
+// Without IDs, the frame's last read compares with the drawn boxes
+// (`box_entries`).
+const BOXES: u32 = 32u;
 
 // src/validation.rs CheckUniform.
 struct Check {
@@ -338,7 +341,8 @@ fn check_pixel(p: vec2<i32>, i: u32) -> bool {
     // Without IDs, at the frame's end: no drawn sample before the nearest
     // drawn box (`box_entries`).
     var entry = 3.0e38;
-    if last && !with_ids {
+    let boxes = (check.mode & BOXES) != 0u;
+    if boxes {
         let e = atomicExchange(&shadow[2u * i + 1u], 0u);
         entry = select(bitcast<f32>(ENTRY_NONE - e), 3.0e38, e == 0u);
     }
@@ -354,7 +358,7 @@ fn check_pixel(p: vec2<i32>, i: u32) -> bool {
                 id0 = id;
             }
             check_sample(id, d, p, px);
-        } else if last && z < 1.0 && z > FRAGMENT_SLACK && z < entry {
+        } else if boxes && z < 1.0 && z > FRAGMENT_SLACK && z < entry {
             found(BEFORE_BOXES, NONE, px, bitcast<u32>(z));
         }
     }

@@ -53,6 +53,7 @@ const CHECK_IDS: u32 = 2;
 const HOST_MARKS: u32 = 4;
 const FINAL: u32 = 8;
 const BEGIN: u32 = 16;
+const BOXES: u32 = 32;
 
 /// Bytes of `Results`: a count, object, pixel and group per kind, then
 /// per group whether it changed a pixel, and the objects it marked, then
@@ -70,6 +71,11 @@ const PIXELS_READ: u32 = 1024;
 /// one frame in this many (a pass of its own; a target left uncleared is
 /// so every frame).
 const CLEARED_EVERY: u64 = 8;
+
+/// Without IDs, the check of drawn samples against the drawn boxes runs
+/// one frame in this many (it costs hzb about 13 % of a frame on the
+/// default scene on lavapipe where it runs; BENCHMARKS.md, "Validation").
+const BOXES_EVERY: u64 = 2;
 
 /// Most objects a frame's check of hidden marks reads around (the
 /// pixels their boxes cover, up to 32 × 32 each): beyond, one in
@@ -416,6 +422,8 @@ impl Validation {
     fn flush(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, marks: Option<&wgpu::Buffer>, pixels: Option<u32>) {
         let g = self.group.as_ref().map_or(0, |(g, ..)| *g);
         self.uniform.group = g as u32;
+        // Without IDs, the frame's last read compares with the drawn boxes.
+        let pixels = pixels.map(|m| if m & (FINAL | CHECK_IDS) == FINAL && self.tag.frame % BOXES_EVERY == 0 { m | BOXES } else { m });
         self.uniform.mode = pixels.unwrap_or(0);
         uploads.write(enc, &self.check, 0, bytemuck::bytes_of(&self.uniform));
         if self.stamp_binds.len() > BINDS {
@@ -468,8 +476,7 @@ impl Validation {
             pass.counted_dispatch(groups(self.slots), 1, 1);
         }
         let Some(mode) = pixels else { return };
-        // Without IDs, the frame's last read compares with the drawn boxes.
-        let boxes = mode & (FINAL | CHECK_IDS) == FINAL;
+        let boxes = mode & BOXES != 0;
         if boxes {
             pass.set_pipeline(&self.passes.box_entries);
             pass.set_bind_group(0, &self.pixels_bind, &[]);
