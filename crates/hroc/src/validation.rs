@@ -312,13 +312,14 @@ impl Validation {
         let (tag, s) = ((number % 0xff_ffff) as u32 + 1, self.uniform.stride);
         // Each frame another pixel of each square, all in s² frames.
         let k = number.wrapping_mul(0x9e37_79b9) as u32 % (s * s);
-        self.uniform = CheckUniform { tag, stride: s, offset: [k % s, k / s], object_stride: self.uniform.object_stride, object_bits: self.uniform.object_bits, ..Default::default() };
+        self.uniform =
+            CheckUniform { tag, stride: s, offset: [k % s, k / s], object_stride: self.uniform.object_stride, object_bits: self.uniform.object_bits, ..Default::default() };
         self.tag = Tag { frame: number, groups: [None; GROUPS] };
         self.group = None;
         self.lists = 0;
         self.stepwise = !cleared;
         self.pending.clear();
-        if cleared && number % CLEARED_EVERY == 0 {
+        if cleared && number.is_multiple_of(CLEARED_EVERY) {
             self.uniform.mode = BEGIN | if self.ids { CHECK_IDS } else { 0 };
             uploads.write(enc, &self.check, 0, bytemuck::bytes_of(&self.uniform));
             let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation cleared"), timestamp_writes: None });
@@ -423,7 +424,7 @@ impl Validation {
         let g = self.group.as_ref().map_or(0, |(g, ..)| *g);
         self.uniform.group = g as u32;
         // Without IDs, the frame's last read compares with the drawn boxes.
-        let pixels = pixels.map(|m| if m & (FINAL | CHECK_IDS) == FINAL && self.tag.frame % BOXES_EVERY == 0 { m | BOXES } else { m });
+        let pixels = pixels.map(|m| if m & (FINAL | CHECK_IDS) == FINAL && self.tag.frame.is_multiple_of(BOXES_EVERY) { m | BOXES } else { m });
         self.uniform.mode = pixels.unwrap_or(0);
         uploads.write(enc, &self.check, 0, bytemuck::bytes_of(&self.uniform));
         if self.stamp_binds.len() > BINDS {
