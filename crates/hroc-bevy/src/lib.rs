@@ -128,6 +128,8 @@ impl bevy_render::extract_resource::ExtractResource<RenderApp> for HrocValidatio
     }
 }
 
+// On in debug builds: not the derived `false` (which release builds see).
+#[allow(clippy::derivable_impls)]
 impl Default for HrocValidation {
     fn default() -> Self {
         HrocValidation(cfg!(debug_assertions))
