@@ -24,46 +24,36 @@ mod common {
 const LIFT_PREPASS: Handle<Shader> = uuid_handle!("4f0b8a52-3c1e-4d7a-9a4e-6b2f1c8d0e71");
 const LIFT_MAIN: Handle<Shader> = uuid_handle!("4f0b8a52-3c1e-4d7a-9a4e-6b2f1c8d0e72");
 
-/// The prepass (depth and shadows): Bevy's vertex stage, lifted.
-const PREPASS: &str = r#"
-import bevy_pbr::prepass::io::{Vertex, VertexOutput, decompress_vertex};
-import bevy_pbr::render::{mesh_functions, view_transformations::position_world_to_clip};
+/// Bevy's vertex stage with the mesh lifted 0.6, on the vertex and
+/// output types of `io` (the prepass's, for depth and shadows, or the
+/// main pass's), setting also `outputs`.
+fn lifting_shader(io: &str, outputs: &str) -> String {
+    format!(
+        r#"
+import {io}::{{Vertex, VertexOutput, decompress_vertex}};
+import bevy_pbr::render::{{mesh_functions, view_transformations::position_world_to_clip}};
 
 @vertex
-fn vertex(vertex_in: Vertex) -> VertexOutput {
+fn vertex(vertex_in: Vertex) -> VertexOutput {{
     var out: VertexOutput;
     let v = decompress_vertex(vertex_in, vertex_in.instance_index);
     let world_from_local = mesh_functions::get_world_from_local(vertex_in.instance_index);
     out.world_position = mesh_functions::mesh_position_local_to_world(world_from_local, vec4<f32>(v.position, 1.0)) + vec4<f32>(0.0, 0.6, 0.0, 0.0);
     out.position = position_world_to_clip(out.world_position.xyz);
-    @if(UNCLIPPED_DEPTH_ORTHO_EMULATION) {
-        out.unclipped_depth = out.position.z;
-        out.position.z = min(out.position.z, 1.0);
-    }
+    {outputs}
     @if(VERTEX_UVS_A) out.uv = v.uv;
     @if(VERTEX_OUTPUT_INSTANCE_INDEX) out.instance_index = vertex_in.instance_index;
     return out;
+}}
+"#
+    )
 }
-"#;
 
-/// The main pass: Bevy's vertex stage, lifted.
-const MAIN: &str = r#"
-import bevy_pbr::render::forward_io::{Vertex, VertexOutput, decompress_vertex};
-import bevy_pbr::render::{mesh_functions, view_transformations::position_world_to_clip};
-
-@vertex
-fn vertex(vertex_in: Vertex) -> VertexOutput {
-    var out: VertexOutput;
-    let v = decompress_vertex(vertex_in, vertex_in.instance_index);
-    let world_from_local = mesh_functions::get_world_from_local(vertex_in.instance_index);
-    out.world_position = mesh_functions::mesh_position_local_to_world(world_from_local, vec4<f32>(v.position, 1.0)) + vec4<f32>(0.0, 0.6, 0.0, 0.0);
-    out.position = position_world_to_clip(out.world_position.xyz);
-    out.world_normal = mesh_functions::mesh_normal_local_to_world(v.normal, vertex_in.instance_index);
-    @if(VERTEX_UVS_A) out.uv = v.uv;
-    @if(VERTEX_OUTPUT_INSTANCE_INDEX) out.instance_index = vertex_in.instance_index;
-    return out;
-}
-"#;
+/// What the prepass (depth and shadows) sets beyond: depth clamped, not
+/// clipped, in orthographic shadow views.
+const PREPASS_OUTPUTS: &str = "@if(UNCLIPPED_DEPTH_ORTHO_EMULATION) { out.unclipped_depth = out.position.z; out.position.z = min(out.position.z, 1.0); }";
+/// What the main pass sets beyond: the normal.
+const MAIN_OUTPUTS: &str = "out.world_normal = mesh_functions::mesh_normal_local_to_world(v.normal, vertex_in.instance_index);";
 
 /// A material that lifts its mesh 0.6 above where its `Aabb` says.
 #[derive(Asset, AsBindGroup, Reflect, Debug, Clone, Default)]
@@ -95,8 +85,8 @@ fn app(lift: bool) -> App {
     app.insert_resource(HrocValidation(true));
     {
         let mut shaders = app.world_mut().resource_mut::<Assets<Shader>>();
-        let _ = shaders.insert(LIFT_PREPASS.id(), Shader::from_wesl(PREPASS, "embedded://hroc_bevy_test/lift_prepass.wesl"));
-        let _ = shaders.insert(LIFT_MAIN.id(), Shader::from_wesl(MAIN, "embedded://hroc_bevy_test/lift_main.wesl"));
+        let _ = shaders.insert(LIFT_PREPASS.id(), Shader::from_wesl(lifting_shader("bevy_pbr::prepass::io", PREPASS_OUTPUTS), "embedded://hroc_bevy_test/lift_prepass.wesl"));
+        let _ = shaders.insert(LIFT_MAIN.id(), Shader::from_wesl(lifting_shader("bevy_pbr::render::forward_io", MAIN_OUTPUTS), "embedded://hroc_bevy_test/lift_main.wesl"));
     }
     let mut image = Image::new_target_texture(160, 90, TextureFormat::Rgba8Unorm, None);
     image.texture_descriptor.usage |= bevy::render::render_resource::TextureUsages::COPY_SRC;

@@ -213,31 +213,51 @@ fn late_mark(a: u32) -> bool {
     return true;
 }
 
-// The pixels a box can cover (x0, y0, x1, y1, a pixel more on each side),
-// or an empty rectangle (x0 > x1) for a box that reaches the near plane,
-// lies off the view or covers over 32 × 32 pixels.
-fn box_pixels(b: ObjectBounds) -> vec4<i32> {
+// The NDC rectangle of box `b`'s corners (lo.xy, hi.xy), or lo.x =
+// REACHES_NEAR where the box reaches the near plane.
+const REACHES_NEAR: f32 = 3.4e38;
+fn box_ndc(b: ObjectBounds) -> vec4<f32> {
     var lo = vec2<f32>(3.0e38);
     var hi = vec2<f32>(-3.0e38);
     for (var c = 0u; c < 8u; c++) {
         let p = select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
         let clip = frame.view_proj * vec4<f32>(p, 1.0);
         if clip.w <= 1e-6 || std_depth(frame, clip.z / clip.w) <= DEPTH_SLACK {
-            return vec4<i32>(1, 0, 0, 0);
+            return vec4<f32>(REACHES_NEAR);
         }
         lo = min(lo, clip.xy / clip.w);
         hi = max(hi, clip.xy / clip.w);
     }
+    return vec4<f32>(lo, hi);
+}
+
+// The pixels of a view of `size` that the NDC rectangle `r` can cover
+// (x0, y0, x1, y1, a pixel more on each side), or an empty rectangle
+// (x0 > x1) off the view.
+fn ndc_pixels(r: vec4<f32>, size: vec2<i32>) -> vec4<i32> {
+    let lo = r.xy;
+    let hi = r.zw;
     if lo.x > 1.0 || lo.y > 1.0 || hi.x < -1.0 || hi.y < -1.0 {
         return vec4<i32>(1, 0, 0, 0);
     }
-    let size = vec2<i32>(frame.viewport.xy);
     let first = max(vec2<i32>(floor(vec2<f32>(lo.x + 1.0, 1.0 - hi.y) * 0.5 * frame.viewport.xy)) - 1, vec2<i32>(0));
     let last = min(vec2<i32>(floor(vec2<f32>(hi.x + 1.0, 1.0 - lo.y) * 0.5 * frame.viewport.xy)) + 1, size - 1);
-    if (last.x - first.x + 1) * (last.y - first.y + 1) > 1024 {
+    return vec4<i32>(first, last);
+}
+
+// The pixels a box can cover (`ndc_pixels`), or an empty rectangle for
+// a box that reaches the near plane, lies off the view or covers over
+// 32 × 32 pixels.
+fn box_pixels(b: ObjectBounds) -> vec4<i32> {
+    let r = box_ndc(b);
+    if r.x == REACHES_NEAR {
         return vec4<i32>(1, 0, 0, 0);
     }
-    return vec4<i32>(first, last);
+    let px = ndc_pixels(r, vec2<i32>(frame.viewport.xy));
+    if (px.z - px.x + 1) * (px.w - px.y + 1) > 1024 {
+        return vec4<i32>(1, 0, 0, 0);
+    }
+    return px;
 }
 
 // The standard depth at `t` along the ray `origin + t * dir`, and how far
@@ -457,27 +477,14 @@ fn nearest_host_depth(p: vec2<i32>) -> f32 {
     return near;
 }
 
-// The pixels object box `b` can cover (x0, y0, x1, y1, a pixel more on
-// each side), the whole view where it reaches the near plane, and an
-// empty rectangle (x0 > x1) off the view.
+// The pixels object box `b` can cover in a view of `size`
+// (`ndc_pixels`), the whole view where it reaches the near plane.
 fn box_rect(b: ObjectBounds, size: vec2<i32>) -> vec4<i32> {
-    var lo = vec2<f32>(3.0e38);
-    var hi = vec2<f32>(-3.0e38);
-    for (var c = 0u; c < 8u; c++) {
-        let p = select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
-        let clip = frame.view_proj * vec4<f32>(p, 1.0);
-        if clip.w <= 1e-6 || std_depth(frame, clip.z / clip.w) <= DEPTH_SLACK {
-            return vec4<i32>(0, 0, size - 1);
-        }
-        lo = min(lo, clip.xy / clip.w);
-        hi = max(hi, clip.xy / clip.w);
+    let r = box_ndc(b);
+    if r.x == REACHES_NEAR {
+        return vec4<i32>(0, 0, size - 1);
     }
-    if lo.x > 1.0 || lo.y > 1.0 || hi.x < -1.0 || hi.y < -1.0 {
-        return vec4<i32>(1, 0, 0, 0);
-    }
-    let first = max(vec2<i32>(floor(vec2<f32>(lo.x + 1.0, 1.0 - hi.y) * 0.5 * frame.viewport.xy)) - 1, vec2<i32>(0));
-    let last = min(vec2<i32>(floor(vec2<f32>(hi.x + 1.0, 1.0 - lo.y) * 0.5 * frame.viewport.xy)) + 1, size - 1);
-    return vec4<i32>(first, last);
+    return ndc_pixels(r, size);
 }
 
 // The world point of the first BEFORE_BOXES sample: on its pixel's ray,
