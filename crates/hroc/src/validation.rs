@@ -57,7 +57,7 @@ const BOXES: u32 = 32;
 
 /// Bytes of `Results`: a count, object, pixel and group per kind, then
 /// per group whether it changed a pixel, and the objects it marked, then
-/// the suspect's distance (and padding).
+/// the suspect's key (and padding).
 const RESULT_BYTES: u64 = (KINDS * 16 + GROUPS * 8 + 16) as u64;
 
 /// Most pixels a pass over the host's targets reads: beyond, it reads
@@ -111,7 +111,7 @@ pub struct CheckUniform {
     pub tag: u32,
     /// The group checked or marked.
     pub group: u32,
-    /// `FIRST`, `CHECK_IDS`, `HOST_MARKS`, `FINAL`, `BEGIN` bits.
+    /// `FIRST`, `CHECK_IDS`, `HOST_MARKS`, `FINAL`, `BEGIN`, `BOXES` bits.
     pub mode: u32,
     /// Bits of an object index in the suspect's key.
     pub object_bits: u32,
@@ -303,11 +303,11 @@ impl Validation {
     }
 
     /// Starts frame `number` of the view, after its uniform's upload:
-    /// zeroes this frame's findings; with `cleared`, the host has cleared
-    /// its targets before this point (the clearing rule of
-    /// [`crate::View::cull`]), which a first read checks one frame in
-    /// [`CLEARED_EVERY`].
-    pub(crate) fn begin(&mut self, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, number: u64, cleared: bool) {
+    /// zeroes this frame's findings. Unless the frame is `stepwise` (an
+    /// engine clears in its early pass), the host has cleared its targets
+    /// before this point (the clearing rule of [`crate::View::cull`]),
+    /// which a first read checks one frame in [`CLEARED_EVERY`].
+    pub(crate) fn begin(&mut self, enc: &mut wgpu::CommandEncoder, uploads: &mut Uploads, number: u64, stepwise: bool) {
         enc.counted_clear(&self.results, 0, None);
         let (tag, s) = ((number % 0xff_ffff) as u32 + 1, self.uniform.stride);
         // Each frame another pixel of each square, all in s² frames.
@@ -317,9 +317,9 @@ impl Validation {
         self.tag = Tag { frame: number, groups: [None; GROUPS] };
         self.group = None;
         self.lists = 0;
-        self.stepwise = !cleared;
+        self.stepwise = stepwise;
         self.pending.clear();
-        if cleared && number.is_multiple_of(CLEARED_EVERY) {
+        if !stepwise && number.is_multiple_of(CLEARED_EVERY) {
             self.uniform.mode = BEGIN | if self.ids { CHECK_IDS } else { 0 };
             uploads.write(enc, &self.check, 0, bytemuck::bytes_of(&self.uniform));
             let mut pass = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc validation cleared"), timestamp_writes: None });

@@ -192,7 +192,7 @@ impl View {
         self.uploads.write(encoder, &self.frame, 0, bytemuck::bytes_of(&uniform));
         // An engine clears its targets in its early pass, after this point.
         if let Some(v) = self.validation.as_mut() {
-            v.begin(encoder, &mut self.uploads, self.frames, !stepwise);
+            v.begin(encoder, &mut self.uploads, self.frames, stepwise);
         }
         if let Some(v) = self.visibility.as_mut() {
             v.begin(encoder, &mut self.uploads, self.frames);
