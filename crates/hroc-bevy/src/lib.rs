@@ -12,7 +12,9 @@
 //! says, Bevy's late prepass what its occlusion test found, and the main
 //! passes both. Its directional lights' cascades can be culled the same
 //! way, each against its own shadow map ([`HrocCulling::cascades`], off
-//! by default: on lavapipe it cost more than it saved). The
+//! by default: on lavapipe it cost more than it saved), and so can point
+//! and spot lights' shadows, each face against its own ([`HrocCulling`]
+//! on the light). The
 //! plugin takes each `Mesh3d` entity as one hroc object (its world box
 //! `Aabb` × `GlobalTransform`; skinned and morphed meshes are never
 //! culled), culls with marks from boxes
@@ -36,6 +38,7 @@
 //! Hi-Z pyramids (`early_downsample_depth`, `late_downsample_depth`) only
 //! for cameras hroc does not cull, which Bevy culls as it would.
 
+mod lights;
 mod objects;
 mod preprocess;
 mod shader;
@@ -54,6 +57,15 @@ pub use views::{HrocFinding, HrocFindings, HrocFrameStats};
 
 /// Culls a camera with hroc: put it on a `Camera3d` that has Bevy's
 /// `DepthPrepass` and `OcclusionCulling`.
+///
+/// On a `PointLight` or `SpotLight` that casts shadows, it culls the
+/// light's shadows by occlusion with `method` (`cascades` unused): each of
+/// a point light's six cube faces and a spot light's one view against its
+/// own layer of Bevy's shadow map, which Bevy 0.20 does not do. These
+/// views are shared by every camera and culled once per frame. A light
+/// that sees much from inside (a lamp in a room, a spot lighting a street
+/// of walls) is what pays; where occlusion hides little, HROC culls a
+/// view by its frustum between measurements (as cascades).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
 pub struct HrocCulling {
     /// The method. Bevy's cameras have no object-ID target: `hroc` runs
@@ -143,7 +155,7 @@ impl Default for HrocValidation {
 fn cull_cascades(
     mut commands: Commands,
     lights: Query<Entity, (With<bevy_light::DirectionalLight>, Without<bevy_render::occlusion_culling::OcclusionCulling>)>,
-    cameras: Query<&HrocCulling>,
+    cameras: Query<&HrocCulling, With<bevy_camera::Camera>>,
 ) {
     if !cameras.iter().any(|c| c.cascades) {
         return;
@@ -193,6 +205,7 @@ impl Plugin for HrocPlugin {
                 (
                     objects::sync.in_set(RenderSystems::PrepareResourcesFlush),
                     preprocess::queue_pipelines.in_set(RenderSystems::Prepare),
+                    lights::mark.in_set(RenderSystems::PrepareViews).after(bevy_pbr::prepare_lights),
                     views::prepare.in_set(RenderSystems::PrepareBindGroups),
                 ),
             );
@@ -216,16 +229,27 @@ impl Plugin for HrocPlugin {
             }
         }
         use bevy_core_pipeline::prepass::node::{early_prepass, late_prepass};
-        use bevy_pbr::{early_prepass_build_indirect_parameters, late_prepass_build_indirect_parameters, per_view_shadow_pass, unpack_bins, EARLY_SHADOW_PASS, LATE_SHADOW_PASS};
+        use bevy_pbr::{
+            early_prepass_build_indirect_parameters, late_prepass_build_indirect_parameters, per_view_shadow_pass, shared_shadow_pass, unpack_bins, EARLY_SHADOW_PASS,
+            LATE_SHADOW_PASS,
+        };
         render_app.add_systems(
             Core3d,
             (
                 steps::begin.after(unpack_bins).before(preprocess::early_preprocess),
                 preprocess::early_preprocess.after(unpack_bins).before(early_prepass_build_indirect_parameters),
                 // (Bevy's deferred prepass does not take occlusion culling.)
-                steps::occluders_drawn.after(early_prepass).after(per_view_shadow_pass::<EARLY_SHADOW_PASS>).before(preprocess::late_preprocess),
+                steps::occluders_drawn
+                    .after(early_prepass)
+                    .after(per_view_shadow_pass::<EARLY_SHADOW_PASS>)
+                    .after(shared_shadow_pass::<EARLY_SHADOW_PASS>)
+                    .before(preprocess::late_preprocess),
                 preprocess::late_preprocess.after(steps::occluders_drawn).before(late_prepass_build_indirect_parameters).before(late_prepass),
-                steps::occludees_drawn.after(late_prepass).after(per_view_shadow_pass::<LATE_SHADOW_PASS>).before(Core3dSystems::MainPass),
+                steps::occludees_drawn
+                    .after(late_prepass)
+                    .after(per_view_shadow_pass::<LATE_SHADOW_PASS>)
+                    .after(shared_shadow_pass::<LATE_SHADOW_PASS>)
+                    .before(Core3dSystems::MainPass),
                 early_downsample_depth.run_if(not_culled_by_hroc).after(early_prepass).before(late_prepass).before(preprocess::late_preprocess),
                 late_downsample_depth.run_if(not_culled_by_hroc).in_set(Core3dSystems::PostProcess),
             ),

@@ -34,11 +34,12 @@ pub struct HrocView {
     bound: Option<(wgpu::Buffer, wgpu::Buffer)>,
 }
 
-/// The newest frame statistics of a camera's hroc view that have come
-/// back (`hroc::View::frame_stats`: objects drawn, tagged with their
-/// frame), on the camera's render entity.
-#[derive(Component, Clone, Copy, Debug)]
-pub struct HrocFrameStats(pub hroc::stats::FrameStats);
+/// The newest frame statistics of a view hroc culls that have come back
+/// (`hroc::View::frame_stats`: objects drawn, tagged with their frame), on
+/// the render entity of its camera or light view; `None` until the first
+/// have come back.
+#[derive(Component, Clone, Copy, Debug, Default)]
+pub struct HrocFrameStats(pub Option<hroc::stats::FrameStats>);
 
 /// A finding of hroc's validation ([`crate::HrocValidation`]) in a view:
 /// what Bevy's passes did against the host contract, and the mesh entity
@@ -99,7 +100,7 @@ impl HrocView {
     fn record(&mut self, frame: &Frame, input: &FrameInput, who: &str) -> (Option<HrocFrameStats>, bool) {
         let (culler, slots, layout, device) = (frame.culler, frame.slots, frame.layout, frame.device);
         let view = self.view.get_mut().unwrap_or_else(|p| p.into_inner());
-        let stats = view.frame_stats(culler).map(HrocFrameStats);
+        let stats = view.frame_stats(culler).map(|s| HrocFrameStats(Some(s)));
         let visibility = view.visibility(culler).clone();
         let steps = match view.steps(culler, input) {
             Ok(Steps { begin, occluders_drawn, occludees_drawn }) => {
@@ -187,7 +188,9 @@ impl Frame<'_> {
                 Ok(view) => {
                     let mut v = HrocView { view: Mutex::new(view), logged: Vec::new(), key, steps: Mutex::default(), bind_group: None, bound: None };
                     v.record(self, &input, who);
-                    commands.entity(entity).insert(v);
+                    // With the view, the plugin's other components on its
+                    // entity: its statistics (none back yet), its findings.
+                    commands.entity(entity).insert((v, HrocFrameStats(None), HrocFindings::default()));
                 }
                 Err(e) => bevy_log::error!("hroc-bevy: {e}"),
             },
@@ -210,10 +213,11 @@ type CameraItem<'a> = (
 type CascadeItem<'a> = (&'a ExtractedView, Option<&'a mut HrocView>);
 
 /// Render world, once Bevy's depth textures, shadow maps and hroc's
-/// objects are ready: each culling camera's view, and the views of its
+/// objects are ready: each culling camera's view, the views of its
 /// directional cascades (those whose light has `OcclusionCulling`, which
-/// the plugin gives every directional light), made or resized, and their
-/// frames recorded.
+/// the plugin gives every directional light), and the views of point and
+/// spot lights with [`HrocCulling`] (`crate::lights`), made or resized,
+/// and their frames recorded.
 #[allow(clippy::too_many_arguments)]
 pub fn prepare(
     mut commands: Commands,
@@ -222,11 +226,17 @@ pub fn prepare(
     layout: Option<Res<crate::preprocess::HrocLayout>>,
     mut cameras: Query<CameraItem>,
     mut cascades: Query<CascadeItem, (With<OcclusionCulling>, Without<HrocCulling>)>,
-    kinds: Query<&LightEntity>,
+    light_views: crate::lights::Lights,
     time: Option<Res<bevy_time::Time>>,
 ) {
     let (Some(culler), Some(slots)) = (objects.culler.as_ref(), objects.slot_buffer.as_ref()) else { return };
     let frame = Frame { culler, objects: &objects, slots, layout: layout.as_deref(), device: device.wgpu_device(), seconds: time.map_or(0.0, |t| t.elapsed_secs()) };
+    // Point and spot lights with HrocCulling: shared by every camera, each
+    // view culled once, and first, as Bevy draws them (before its cameras).
+    for light in light_views.culled() {
+        let Ok((extracted, existing)) = cascades.get_mut(light.entity) else { continue };
+        frame.cull(&mut commands, (light.entity, &light.who), existing, (light.texture, light.layer, light.method), (extracted, false));
+    }
     for (entity, main, culling, extracted, depth, lights, shadows, existing) in &mut cameras {
         let method = method_without_ids(culling.method);
         let texture: &wgpu::Texture = depth.texture();
@@ -237,7 +247,7 @@ pub fn prepare(
         // the layers of its shadow map.
         let mut layer = 0;
         for &light in &lights.lights {
-            if !matches!(kinds.get(light), Ok(LightEntity::Directional { .. })) {
+            if !matches!(light_views.kind(light), Some(LightEntity::Directional { .. })) {
                 continue;
             }
             let this = layer;

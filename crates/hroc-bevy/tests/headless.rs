@@ -1,13 +1,16 @@
-//! Bevy on lavapipe, no window: a street of unlit cubes behind a wall,
-//! each cube its own colour, under a directional light's shadow cascades,
+//! Bevy on lavapipe, no window: a street of cubes behind a wall, each
+//! cube its own colour, under a directional light's shadow cascades, a
+//! point light among the cubes and a spot light, all casting shadows,
 //! drawn along a camera path (a walk, a cut, the eye inside a box) while a
 //! cube moves out from behind the wall, one is despawned and one spawned
 //! (the same in every run). Every
 //! frame of a camera culled by the plugin, single-sample and at MSAA 4, is
 //! the image of drawing everything (no frustum or occlusion culling),
 //! pixel for pixel, and
-//! every cascade's depth is the depth of drawing everything, bit for bit,
-//! for `hroc`, `hzb` and `auto`; the plugin culls; and its validation
+//! every shadow map's depth (cascades, the spot light's layer, the point
+//! light's six faces) is the depth of drawing everything, bit for bit,
+//! for `hroc`, `hzb` and `auto`; the plugin culls, the lights' views
+//! included; and its validation
 //! (`HrocValidation`, on here) raises nothing.
 
 use bevy::camera::visibility::NoFrustumCulling;
@@ -46,7 +49,7 @@ fn app(mode: Mode, msaa: Msaa) -> App {
     if let Mode::Hroc(_) = mode {
         app.add_plugins(HrocPlugin).insert_resource(HrocValidation(true));
     }
-    app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 256 });
+    app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 256 }).insert_resource(bevy::light::PointLightShadowMap { size: 128 });
     let mut image = Image::new_target_texture(SIZE.0, SIZE.1, TextureFormat::Rgba8Unorm, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
     let target = app.world_mut().resource_mut::<Assets<Image>>().add(image);
@@ -55,11 +58,16 @@ fn app(mode: Mode, msaa: Msaa) -> App {
         scene((mode, msaa), commands, &target, meshes, materials)
     });
     common::headless::start(&mut app);
+    // Bevy's GPU clustering sizes each frame's light lists from statistics
+    // read back from earlier frames, as timing allows: a light could light
+    // a frame differently in two runs. CPU clustering lights each frame
+    // from that frame alone.
+    app.world_mut().resource_mut::<bevy::light::cluster::GlobalClusterSettings>().gpu_clustering = None;
     app
 }
 
 /// The street's boxes: a wall, cubes before and behind it, a large box the
-/// camera enters.
+/// camera enters, the ground.
 fn boxes() -> Vec<(Vec3, Vec3)> {
     let mut b = vec![(Vec3::new(-10.0, 0.0, -6.5), Vec3::new(10.0, 4.0, -6.0))];
     for x in (-8i32..=8).step_by(2) {
@@ -68,6 +76,8 @@ fn boxes() -> Vec<(Vec3, Vec3)> {
         }
     }
     b.push((Vec3::new(-2.0, 0.0, 1.0), Vec3::new(2.0, 3.0, 4.0)));
+    // The ground, which the point light's lower face sees.
+    b.push((Vec3::new(-12.0, -0.2, -24.0), Vec3::new(12.0, 0.0, 6.0)));
     b
 }
 
@@ -78,12 +88,28 @@ fn scene((mode, msaa): (Mode, Msaa), mut commands: Commands, target: &Target, mu
         // Cascades culled by hroc too (the default leaves them to Bevy's frustum culling).
         camera.insert((OcclusionCulling, HrocCulling { method, cascades: true }));
     }
-    commands.spawn((DirectionalLight { shadow_maps_enabled: true, ..default() }, Transform::from_xyz(3.0, 12.0, 8.0).looking_at(Vec3::new(0.0, 0.0, -8.0), Vec3::Y)));
+    commands.spawn((
+        DirectionalLight { shadow_maps_enabled: true, illuminance: 2000.0, ..default() },
+        Transform::from_xyz(3.0, 12.0, 8.0).looking_at(Vec3::new(0.0, 0.0, -8.0), Vec3::Y),
+    ));
+    // A point light among the cubes (each face sees cubes hide cubes) and
+    // a spot light over the street.
+    let mut point = commands.spawn((PointLight { shadow_maps_enabled: true, intensity: 2.0e6, range: 30.0, ..default() }, Transform::from_xyz(0.0, 0.6, -10.5)));
+    if let Mode::Hroc(method) = mode {
+        point.insert(HrocCulling::new(method));
+    }
+    let mut spot = commands.spawn((
+        SpotLight { shadow_maps_enabled: true, intensity: 4.0e6, range: 40.0, outer_angle: 0.7, ..default() },
+        Transform::from_xyz(-6.0, 7.0, 3.0).looking_at(Vec3::new(0.0, 0.0, -9.0), Vec3::Y),
+    ));
+    if let Mode::Hroc(method) = mode {
+        spot.insert(HrocCulling::new(method));
+    }
     let cube = meshes.add(Cuboid::new(1.0, 1.0, 1.0));
     for (i, (lo, hi)) in boxes().into_iter().enumerate() {
         let k = i as u32 + 1;
         let colour = Color::LinearRgba(LinearRgba::new((k * 37 % 256) as f32 / 255.0, (k * 91 % 256) as f32 / 255.0, (k * 53 % 256) as f32 / 255.0, 1.0));
-        let material = materials.add(StandardMaterial { base_color: colour, unlit: true, ..default() });
+        let material = materials.add(StandardMaterial { base_color: colour, ..default() });
         let mut object = commands.spawn((Mesh3d(cube.clone()), MeshMaterial3d(material), Transform::from_translation((lo + hi) / 2.0).with_scale(hi - lo)));
         if mode == Mode::Everything {
             object.insert(NoFrustumCulling);
@@ -103,7 +129,7 @@ fn path() -> Vec<Transform> {
 
 /// Every layer of a depth array texture (bound, not copied: Bevy's shadow
 /// maps have no `COPY_SRC`).
-fn read_layers(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Vec<f32> {
+fn read_layers(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Texture) -> Vec<Vec<f32>> {
     let (w, h, layers) = (texture.width(), texture.height(), texture.depth_or_array_layers());
     let source = "@group(0) @binding(0) var t: texture_depth_2d_array;\n\
         @group(0) @binding(1) var<storage, read_write> out: array<f32>;\n\
@@ -145,11 +171,14 @@ fn read_layers(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Textu
         pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), layers);
     }
     queue.submit([enc.finish()]);
-    hroc_readback::read(device, queue, &out, 0, (w * h * layers) as u64).unwrap()
+    let texels: Vec<f32> = hroc_readback::read(device, queue, &out, 0, (w * h * layers) as u64).unwrap();
+    texels.chunks((w * h) as usize).map(<[f32]>::to_vec).collect()
 }
 
-/// A frame: the camera's image, the cascades' depth, what hroc drew.
-type Frame = (Vec<u32>, Vec<f32>, Option<u32>);
+/// A frame: the camera's image, the shadow maps' depth (the directional
+/// map's layers, cascades then the spot light's, then the point light's
+/// faces), what hroc drew in the camera.
+type Frame = (Vec<u32>, Vec<Vec<f32>>, Option<u32>);
 
 /// Each frame along `path`.
 fn frames(mode: Mode, msaa: Msaa, path: &[Transform]) -> Vec<Frame> {
@@ -181,10 +210,17 @@ fn frames(mode: Mode, msaa: Msaa, path: &[Transform]) -> Vec<Frame> {
             let device = render.resource::<RenderDevice>().wgpu_device().clone();
             let queue: wgpu::Queue = (**render.resource::<RenderQueue>()).clone();
             let image: Vec<u32> = hroc_readback::read_texture(&device, &queue, &texture, wgpu::TextureAspect::All).unwrap();
-            let shadows = render.query::<&bevy::pbr::ViewShadowBindings>().iter(render).next().expect("the camera's shadow maps").directional_light_depth_texture.clone();
-            let cascades = read_layers(&device, &queue, &shadows);
-            let drawn = render.query_filtered::<&HrocFrameStats, Without<bevy::pbr::LightEntity>>().iter(render).next().map(|s| s.0.objects);
-            (image, cascades, drawn)
+            let shadows = render.query::<&bevy::pbr::ViewShadowBindings>().iter(render).next().expect("the camera's shadow maps");
+            let (directional, point) = (shadows.directional_light_depth_texture.clone(), shadows.point_light_depth_texture.clone());
+            let mut depth = read_layers(&device, &queue, &directional);
+            depth.extend(read_layers(&device, &queue, &point));
+            let drawn = render.query_filtered::<&HrocFrameStats, Without<bevy::pbr::LightEntity>>().iter(render).next().and_then(|s| s.0.map(|f| f.objects));
+            if let Mode::Hroc(_) = mode {
+                // Every light view culled by hroc: 4 cascades, the spot's view, 6 faces.
+                let lights = render.query_filtered::<&HrocFrameStats, With<bevy::pbr::LightEntity>>().iter(render).filter(|s| s.0.is_some()).count();
+                assert!(k < 2 || lights == 11, "{mode:?} frame {k}: {lights} light views culled by hroc");
+            }
+            (image, depth, drawn)
         })
         .collect();
     // The last frames' findings, once the GPU is done.
@@ -233,14 +269,18 @@ fn same_frames_as_drawing_everything(msaa: Msaa) {
     let path = path();
     let truth = frames(Mode::Everything, msaa, &path);
     assert!(truth.iter().all(|(image, ..)| image.iter().any(|&p| p != truth[0].0[0])), "the street is in view");
-    assert!(truth.iter().all(|(_, depth, _)| depth.iter().any(|&d| d != 0.0)), "the cascades hold the street's depth");
+    let held = |depth: &[Vec<f32>]| depth.iter().map(|l| l.iter().any(|&d| d != 0.0)).collect::<Vec<_>>();
+    assert_eq!(truth[0].1.len(), 11, "4 cascades, the spot light, 6 faces");
+    assert!(truth.iter().all(|(_, depth, _)| held(depth).iter().all(|&h| h)), "every shadow map layer holds the street's depth: {:?}", held(&truth[0].1));
     for method in [hroc::Method::HROC, hroc::Method::Hzb, hroc::Method::Auto] {
         let culled = frames(Mode::Hroc(method), msaa, &path);
         for (k, ((image, depth, drawn), (expected, expected_depth, _))) in culled.iter().zip(&truth).enumerate() {
+            let layers: Vec<usize> = depth.iter().zip(expected_depth).map(|(l, e)| l.iter().zip(e).filter(|(a, b)| a.to_bits() != b.to_bits()).count()).collect();
             let differ = image.iter().zip(expected).filter(|(a, b)| a != b).count();
-            assert_eq!(differ, 0, "{method} {msaa:?} frame {k}: {differ} pixels differ from drawing everything (drawn {drawn:?})");
-            let differ = depth.iter().zip(expected_depth).filter(|(a, b)| a.to_bits() != b.to_bits()).count();
-            assert_eq!(differ, 0, "{method} {msaa:?} frame {k}: {differ} cascade texels differ from drawing everything");
+            let most = image.iter().zip(expected).map(|(a, b)| (0..4).map(|c| ((a >> (8 * c)) & 255).abs_diff((b >> (8 * c)) & 255)).max().unwrap()).max().unwrap();
+            let (lo, hi) = image.iter().zip(expected).enumerate().filter(|(_, (a, b))| a != b).fold((usize::MAX, 0), |(lo, hi), (i, _)| (lo.min(i), hi.max(i)));
+            assert_eq!(differ, 0, "{method} {msaa:?} frame {k}: {differ} pixels differ from drawing everything, by up to {most}, from {lo} to {hi} (drawn {drawn:?}; texels differing per shadow map layer {layers:?})");
+            assert!(layers.iter().all(|&d| d == 0), "{method} {msaa:?} frame {k}: shadow map texels differ from drawing everything, per layer: {layers:?}");
         }
         let drawn: Vec<u32> = culled.iter().filter_map(|f| f.2).collect();
         assert!(!drawn.is_empty() && drawn.iter().any(|&d| (d as usize) < boxes().len()), "{method} {msaa:?} culls: drawn {drawn:?} of {}", boxes().len());
