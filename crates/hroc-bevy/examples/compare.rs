@@ -16,6 +16,11 @@
 //! `CASCADES=0` (the light's cascades culled by the frustum in every
 //! mode; else by occlusion wherever the camera is: Bevy's
 //! `OcclusionCulling` on the light, the plugin's `HrocCulling::cascades`),
+//! `POINT_LIGHTS=n` (n point lights casting shadows along the camera
+//! path, 1.5 above its eye every `frames / n` frames: culled per cube face
+//! by the frustum in Bevy's modes, by the plugin's method in its modes,
+//! `HrocCulling` on the light; CPU clustering in every mode, as Bevy's GPU
+//! clustering lights a frame from statistics read back as timing allows),
 //! `REPEATS=n` (every mode run n times in turn, ms the median),
 //! `TIMES_ONLY=1` (no ID and reference runs: drawn and ms only),
 //! `VALIDATE=1` (the plugin's modes validate Bevy's passes,
@@ -81,6 +86,8 @@ struct Setup {
     cascades: bool,
     /// The plugin validates Bevy's passes.
     validate: bool,
+    /// Point lights casting shadows, where.
+    point_lights: Vec<Vec3>,
 }
 
 /// One mode's frames: images, objects drawn, ms.
@@ -99,7 +106,7 @@ fn app(setup: &Setup, dir: &Path, size: (u32, u32)) -> App {
     if let Mode::Plugin(_) = setup.mode {
         app.add_plugins(HrocPlugin).insert_resource(HrocValidation(setup.validate));
     }
-    app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 1024 });
+    app.insert_resource(bevy::light::DirectionalLightShadowMap { size: 1024 }).insert_resource(bevy::light::PointLightShadowMap { size: 256 });
     let mut image = Image::new_target_texture(size.0, size.1, TextureFormat::Rgba8Unorm, None);
     image.texture_descriptor.usage |= TextureUsages::COPY_SRC;
     let target = app.world_mut().resource_mut::<Assets<Image>>().add(image);
@@ -107,6 +114,9 @@ fn app(setup: &Setup, dir: &Path, size: (u32, u32)) -> App {
     app.add_systems(Startup, spawn);
     app.add_systems(Update, (spawn_scene, prepare_meshes).chain());
     headless::start(&mut app);
+    if !setup.point_lights.is_empty() {
+        app.world_mut().resource_mut::<bevy::light::cluster::GlobalClusterSettings>().gpu_clustering = None;
+    }
     app
 }
 
@@ -131,6 +141,12 @@ fn spawn(mut commands: Commands, setup: Res<Setup>, server: Res<AssetServer>) {
         // plugin's cascades are.
         if setup.mode == Mode::Bevy && setup.cascades {
             light.insert(OcclusionCulling);
+        }
+    }
+    for &at in setup.point_lights.iter().filter(|_| setup.mode != Mode::Ids) {
+        let mut light = commands.spawn((PointLight { shadow_maps_enabled: true, intensity: 4.0e6, range: 60.0, ..default() }, Transform::from_translation(at)));
+        if let Mode::Plugin(method) = setup.mode {
+            light.insert(HrocCulling::new(method));
         }
     }
     commands.insert_resource(SceneFile(server.load(setup.scene.clone())));
@@ -202,6 +218,7 @@ struct Config<'a> {
     shadows: bool,
     cascades: bool,
     validate: bool,
+    point_lights: &'a [Vec3],
 }
 
 fn run(mode: Mode, c: &Config) -> Run {
@@ -215,6 +232,7 @@ fn run(mode: Mode, c: &Config) -> Run {
         shadows: c.shadows,
         cascades: c.cascades,
         validate: c.validate,
+        point_lights: c.point_lights.to_vec(),
     };
     let mut app = app(&setup, glb.parent().unwrap(), size);
     // Until the scene is spawned, steady, and the plugin culls.
@@ -275,7 +293,14 @@ fn main() {
     let times_only = std::env::var("TIMES_ONLY").is_ok_and(|v| v != "0");
     let cameras = path.frames(frames, path.near.unwrap_or(0.1), path.far.unwrap_or(2000.0));
     let validate = std::env::var("VALIDATE").is_ok_and(|v| v != "0");
-    let config = Config { glb: &glb, cameras: &cameras, msaa, size, shadows: env_on("SHADOWS"), cascades: env_on("CASCADES"), validate };
+    let lights: usize = std::env::var("POINT_LIGHTS").ok().and_then(|s| s.parse().ok()).unwrap_or(0);
+    let point_lights: Vec<Vec3> = (0..lights)
+        .map(|i| {
+            let c = &cameras[i * frames / lights];
+            Vec3::from_array(c.eye.to_array()) + 1.5 * Vec3::from_array(c.up.to_array()).normalize()
+        })
+        .collect();
+    let config = Config { glb: &glb, cameras: &cameras, msaa, size, shadows: env_on("SHADOWS"), cascades: env_on("CASCADES"), validate, point_lights: &point_lights };
     let all = [Mode::NoCulling, Mode::Frustum, Mode::Bevy, Mode::Plugin(Method::HROC), Mode::Plugin(Method::Hzb), Mode::Plugin(Method::Auto)];
     let wanted = std::env::var("MODES").unwrap_or_default();
     let modes: Vec<Mode> = all.into_iter().filter(|m| wanted.is_empty() || wanted.split(',').any(|w| m.name().ends_with(w))).collect();
@@ -293,7 +318,7 @@ fn main() {
         (true, true) => "a directional light's 4 cascades culled by occlusion (Bevy's OcclusionCulling on the light, the plugin's cascades)",
         (true, false) => "a directional light's 4 cascades culled by the frustum",
     };
-    println!("{} ({frames} frames at {}x{}, MSAA {}, {cascades}; ms: median of {repeats})", glb.display(), size.0, size.1, msaa.samples());
+    println!("{} ({frames} frames at {}x{}, MSAA {}, {cascades}, {lights} point lights; ms: median of {repeats})", glb.display(), size.0, size.1, msaa.samples());
     println!("| mode | drawn/frame | C/R | ms/frame | false negatives | missing px |");
     println!("|---|--:|--:|--:|--:|--:|");
     let warm = 4.min(frames.saturating_sub(1));
