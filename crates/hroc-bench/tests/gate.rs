@@ -9,8 +9,10 @@ use hroc_bench::gpu::Headless;
 /// The gate (`cull/hroc/gate.rs`): in the far cascade of a light over the
 /// city, where occlusion culls a few per cent of the frustum's objects and
 /// nearly every object drawn owns a pixel, `hroc` culls by the frustum
-/// alone between its probes (one frame in eight, and the frames before the
-/// first probe's counts arrive); the camera culls every frame by
+/// alone between its probes (frame 0, then at a rate halving from one in
+/// eight after each probe that finds occlusion not paying: frames 16 and
+/// 48) and the frames before the first probe's counts arrive; the camera culls
+/// every frame by
 /// occlusion and filters in more frames than the light. Every frame of
 /// both draws every object the unculled view shows.
 #[test]
@@ -41,7 +43,15 @@ fn hroc_sizes_its_frame_to_what_it_saves_in_each_view() {
         light_occlusion += stat(&mut light, &s, Occlusion);
     }
     let frames = s.cameras.len() as u32;
-    let probes = frames.div_ceil(hroc::testing::cull::hroc::gate::PROBE_EVERY);
+    use hroc::testing::cull::hroc::gate::{PROBE_EVERY, PROBE_LEAST};
+    // Probes at frames 0, 2 × PROBE_EVERY, 6 × PROBE_EVERY, … (the interval
+    // doubling from PROBE_EVERY, up to PROBE_LEAST).
+    let (mut probes, mut at, mut interval) = (0, 0, PROBE_EVERY);
+    while at < frames {
+        probes += 1;
+        interval = (interval * 2).min(PROBE_LEAST);
+        at += interval;
+    }
     assert_eq!(camera_occlusion, frames, "the camera culled {camera_occlusion} of {frames} frames by occlusion");
     assert!(light_occlusion <= probes + 4, "the light's view culled {light_occlusion} of {frames} frames by occlusion");
     assert!(camera_filtered > light_filtered, "camera filtered {camera_filtered}, light {light_filtered} of {frames}");

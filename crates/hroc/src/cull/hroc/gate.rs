@@ -23,6 +23,13 @@
 //!   V is conservative. Only where D is marked (early-Z marks), which the
 //!   merge needs.
 //!
+//! - **Probes where they can change the plan.** A view whose probe found
+//!   occlusion not paying probes half as often after each such probe, down
+//!   to one frame in [`PROBE_LEAST`]: a light over roofs measures little
+//!   and often the same. A probe that finds occlusion paying brings back
+//!   one in [`PROBE_EVERY`]. Probes only size the frame, so either rate is
+//!   conservative.
+//!
 //! A camera cut runs the whole frame and probes at once: the last counts
 //! describe another view.
 
@@ -32,8 +39,11 @@ use crate::cull::{Frame, Stage};
 use crate::gpu::shape::EncoderShape;
 use crate::gpu::{dispatch_size, Gpu, Readback};
 
-/// A probe every this many frames of the view.
+/// A probe every this many frames of the view, where occlusion pays.
 pub const PROBE_EVERY: u32 = 8;
+
+/// At least a probe every this many frames of a view where it does not.
+pub const PROBE_LEAST: u32 = 32;
 
 /// Filtering pays when it keeps at most this share of O ∪ D.
 pub const FILTER_PAYS_BELOW: f64 = 0.9;
@@ -90,6 +100,9 @@ pub(super) struct Gate {
     occlusion_pays: bool,
     /// Frames since the last probe.
     since_probe: u32,
+    /// Frames from one probe to the next: [`PROBE_EVERY`], doubled after
+    /// each probe that found occlusion not paying, up to [`PROBE_LEAST`].
+    interval: u32,
     /// The last counts that arrived.
     pub(super) last: Option<[u32; 4]>,
 }
@@ -108,6 +121,7 @@ impl Gate {
             filter_pays: true,
             occlusion_pays: true,
             since_probe: PROBE_EVERY,
+            interval: PROBE_EVERY,
             last: None,
         }
     }
@@ -126,8 +140,9 @@ impl Gate {
                 self.filter_pays = merged == 0.0 || kept <= FILTER_PAYS_BELOW * merged;
             }
             self.occlusion_pays = inside == 0.0 || culled >= self.frustum_below * inside;
+            self.interval = if self.occlusion_pays { PROBE_EVERY } else { (self.interval * 2).min(PROBE_LEAST) };
         }
-        let probe = self.since_probe >= PROBE_EVERY && self.ring.iter().any(|(_, s)| s.is_free());
+        let probe = self.since_probe >= self.interval && self.ring.iter().any(|(_, s)| s.is_free());
         self.since_probe = if probe { 0 } else { self.since_probe + 1 };
         let next = match (self.of, self.filter) {
             (false, _) => Next::Merge,
@@ -159,6 +174,7 @@ impl Gate {
         self.filter_pays = true;
         self.occlusion_pays = true;
         self.since_probe = PROBE_EVERY;
+        self.interval = PROBE_EVERY;
     }
 }
 
