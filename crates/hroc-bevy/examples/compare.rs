@@ -18,8 +18,9 @@
 //! `OcclusionCulling` on the light, the plugin's `HrocCulling::cascades`),
 //! `POINT_LIGHTS=n` (n point lights casting shadows along the camera
 //! path, 1.5 above its eye every `frames / n` frames: culled per cube face
-//! by the frustum in Bevy's modes, by the plugin's method in its modes,
-//! `HrocCulling` on the light; CPU clustering in every mode, as Bevy's GPU
+//! by the frustum in Bevy's modes, by the plugin's method in its modes
+//! (`HrocCulling` on the light) unless `CASCADES=0`; CPU clustering in
+//! every mode, as Bevy's GPU
 //! clustering lights a frame from statistics read back as timing allows),
 //! `REPEATS=n` (every mode run n times in turn, ms the median),
 //! `TIMES_ONLY=1` (no ID and reference runs: drawn and ms only),
@@ -145,7 +146,7 @@ fn spawn(mut commands: Commands, setup: Res<Setup>, server: Res<AssetServer>) {
     }
     for &at in setup.point_lights.iter().filter(|_| setup.mode != Mode::Ids) {
         let mut light = commands.spawn((PointLight { shadow_maps_enabled: true, intensity: 4.0e6, range: 60.0, ..default() }, Transform::from_translation(at)));
-        if let Mode::Plugin(method) = setup.mode {
+        if let (Mode::Plugin(method), true) = (setup.mode, setup.cascades) {
             light.insert(HrocCulling::new(method));
         }
     }

@@ -10,7 +10,7 @@
 
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
-use bevy_pbr::{ExtractedPointLight, GlobalClusterableObjectMeta, LightEntity, ViewLightEntities, ViewShadowBindings};
+use bevy_pbr::{ExtractedPointLight, GlobalClusterableObjectMeta, LightEntity, ShadowView, ViewLightEntities, ViewShadowBindings};
 use bevy_render::occlusion_culling::OcclusionCulling;
 use bevy_render::view::ExtractedView;
 use hroc::Method;
@@ -27,20 +27,68 @@ fn point_or_spot(kind: &LightEntity) -> Option<Entity> {
     }
 }
 
+/// The layer of Bevy's shadow map a point or spot light's view draws
+/// into, as Bevy's `prepare_lights` chose it when it last made the view's
+/// `ShadowView` (which it makes again only when the light changes).
+#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ShadowLayer(pub u32);
+
+/// What finding a light view's layer takes.
+#[derive(SystemParam)]
+pub struct Layers<'w, 's> {
+    meta: Option<Res<'w, GlobalClusterableObjectMeta>>,
+    points: Query<'w, 's, &'static ExtractedPointLight>,
+    cameras: Query<'w, 's, &'static ViewLightEntities>,
+    kinds: Query<'w, 's, &'static LightEntity>,
+}
+
+impl Layers<'_, '_> {
+    /// The layer `prepare_lights` gives a view of `kind` this frame: a
+    /// point light's faces are layers `6 i` to `6 i + 5` of the point
+    /// lights' cube map array, `i` its index among Bevy's clustered lights
+    /// (point lights first); a spot light's layer of the directional
+    /// shadow map follows the most directional cascades any camera has.
+    fn of(&self, kind: &LightEntity) -> Option<u32> {
+        let index = *self.meta.as_ref()?.entity_to_index.get(&point_or_spot(kind)?)?;
+        let layer = match *kind {
+            LightEntity::Point { face_index, .. } => index * 6 + face_index,
+            _ => {
+                let point_lights = self.points.iter().filter(|l| l.spot_light_angles.is_none()).count();
+                let directional = |l: &&Entity| matches!(self.kinds.get(**l), Ok(LightEntity::Directional { .. }));
+                let cascades = self.cameras.iter().map(|lights| lights.lights.iter().filter(directional).count()).max().unwrap_or(0);
+                cascades + index.checked_sub(point_lights)?
+            }
+        };
+        u32::try_from(layer).ok()
+    }
+}
+
 /// Render world, once Bevy has made its lights' views: the views of point
-/// and spot lights with [`HrocCulling`] get Bevy's `OcclusionCulling`;
-/// those of lights that lost it lose it, and their hroc views.
-pub fn mark(mut commands: Commands, views: Query<(Entity, &LightEntity, Has<OcclusionCulling>)>, culled: Query<(), (With<HrocCulling>, Without<ExtractedView>)>) {
-    for (view, kind, marked) in &views {
+/// and spot lights with [`HrocCulling`] get Bevy's `OcclusionCulling`, and
+/// their [`ShadowLayer`] whenever Bevy (re)made their `ShadowView`; those
+/// of lights that lost it lose both, and their hroc views.
+pub fn mark(
+    mut commands: Commands,
+    views: Query<(Entity, &LightEntity, Ref<ShadowView>, Has<OcclusionCulling>, Has<ShadowLayer>)>,
+    culled: Query<(), (With<HrocCulling>, Without<ExtractedView>)>,
+    layers: Layers,
+) {
+    for (view, kind, shadow, marked, placed) in &views {
         let Some(light) = point_or_spot(kind) else { continue };
-        match (culled.contains(light), marked) {
-            (true, false) => {
-                commands.entity(view).insert(OcclusionCulling);
+        if !culled.contains(light) {
+            if marked {
+                commands.entity(view).remove::<(OcclusionCulling, ShadowLayer, HrocView)>();
             }
-            (false, true) => {
-                commands.entity(view).remove::<(OcclusionCulling, HrocView)>();
-            }
-            _ => {}
+            continue;
+        }
+        if !marked {
+            commands.entity(view).insert(OcclusionCulling);
+        }
+        if shadow.is_changed() || !placed {
+            match layers.of(kind) {
+                Some(layer) => commands.entity(view).insert(ShadowLayer(layer)),
+                None => commands.entity(view).remove::<ShadowLayer>(),
+            };
         }
     }
 }
@@ -61,44 +109,35 @@ pub struct LightView {
 /// What finding the point and spot lights' views takes.
 #[derive(SystemParam)]
 pub struct Lights<'w, 's> {
-    kinds: Query<'w, 's, (Entity, &'static LightEntity)>,
+    kinds: Query<'w, 's, (Entity, &'static LightEntity, Option<&'static ShadowLayer>)>,
     culling: Query<'w, 's, &'static HrocCulling, Without<ExtractedView>>,
-    meta: Option<Res<'w, GlobalClusterableObjectMeta>>,
-    points: Query<'w, 's, &'static ExtractedPointLight>,
-    cameras: Query<'w, 's, (&'static ViewShadowBindings, &'static ViewLightEntities)>,
+    bindings: Query<'w, 's, &'static ViewShadowBindings>,
 }
 
 impl Lights<'_, '_> {
     /// The kind of the light view `entity`.
     pub fn kind(&self, entity: Entity) -> Option<&LightEntity> {
-        self.kinds.get(entity).ok().map(|(_, k)| k)
+        self.kinds.get(entity).ok().map(|(_, k, _)| k)
     }
 
-    /// The views of point and spot lights with [`HrocCulling`], each with
-    /// the layer Bevy's `prepare_lights` gives it: a point light's faces
-    /// are layers `6 i` to `6 i + 5` of the point lights' cube map array,
-    /// `i` its index among Bevy's clustered lights (point lights first);
-    /// a spot light's layer of the directional shadow map follows the
-    /// most directional cascades any camera has. Both maps are shared by
-    /// every camera (any camera's `ViewShadowBindings` holds them).
+    /// The views of point and spot lights with [`HrocCulling`] and a
+    /// [`ShadowLayer`]. Both shadow maps are shared by every camera (any
+    /// camera's `ViewShadowBindings` holds them).
     pub fn culled(&self) -> Vec<LightView> {
-        let (Some(meta), Some((bindings, _))) = (self.meta.as_ref(), self.cameras.iter().next()) else { return Vec::new() };
-        let point_lights = self.points.iter().filter(|l| l.spot_light_angles.is_none()).count();
-        let cascades =
-            self.cameras.iter().map(|(_, lights)| lights.lights.iter().filter(|&&l| matches!(self.kind(l), Some(LightEntity::Directional { .. }))).count()).max().unwrap_or(0);
+        let Some(bindings) = self.bindings.iter().next() else { return Vec::new() };
         let mut views = Vec::new();
-        for (entity, kind) in &self.kinds {
-            let Some(light) = point_or_spot(kind) else { continue };
-            let (Ok(culling), Some(&index)) = (self.culling.get(light), meta.entity_to_index.get(&light)) else { continue };
-            let (texture, layer, who) = match *kind {
-                LightEntity::Point { face_index, .. } => (&bindings.point_light_depth_texture, index * 6 + face_index, format!("point light {light}, face {face_index}")),
-                _ => (&bindings.directional_light_depth_texture, cascades + index.saturating_sub(point_lights), format!("spot light {light}")),
+        for (entity, kind, layer) in &self.kinds {
+            let (Some(light), Some(&ShadowLayer(layer))) = (point_or_spot(kind), layer) else { continue };
+            let Ok(culling) = self.culling.get(light) else { continue };
+            let (texture, who) = match *kind {
+                LightEntity::Point { face_index, .. } => (&bindings.point_light_depth_texture, format!("point light {light}, face {face_index}")),
+                _ => (&bindings.directional_light_depth_texture, format!("spot light {light}")),
             };
             let texture: &wgpu::Texture = texture;
-            if layer as u32 >= texture.depth_or_array_layers() {
+            if layer >= texture.depth_or_array_layers() {
                 continue;
             }
-            views.push(LightView { entity, method: crate::views::method_without_ids(culling.method), texture: texture.clone(), layer: layer as u32, who });
+            views.push(LightView { entity, method: crate::views::method_without_ids(culling.method), texture: texture.clone(), layer, who });
         }
         views
     }

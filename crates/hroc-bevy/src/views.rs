@@ -169,7 +169,7 @@ impl Frame<'_> {
         match existing {
             Some(mut v) if v.key.2 == method => {
                 if v.key != key {
-                    // A new size or texture: the view carries over where it can.
+                    // A new size, texture or layer: the view carries over where it can.
                     if let Err(e) = v.view.get_mut().unwrap_or_else(|p| p.into_inner()).resize(self.culler, &targets) {
                         bevy_log::error!("hroc-bevy: {e}");
                         return;
