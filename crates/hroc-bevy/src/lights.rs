@@ -63,13 +63,16 @@ impl Layers<'_, '_> {
     }
 }
 
+/// What `mark` reads of a light's view.
+type LightViewItem<'a> = (Entity, &'a LightEntity, Ref<'a, ShadowView>, Has<OcclusionCulling>, Has<ShadowLayer>);
+
 /// Render world, once Bevy has made its lights' views: the views of point
 /// and spot lights with [`HrocCulling`] get Bevy's `OcclusionCulling`, and
 /// their [`ShadowLayer`] whenever Bevy (re)made their `ShadowView`; those
 /// of lights that lost it lose both, and their hroc views.
 pub fn mark(
     mut commands: Commands,
-    views: Query<(Entity, &LightEntity, Ref<ShadowView>, Has<OcclusionCulling>, Has<ShadowLayer>)>,
+    views: Query<LightViewItem>,
     culled: Query<(), (With<HrocCulling>, Without<ExtractedView>)>,
     layers: Layers,
 ) {
