@@ -188,7 +188,7 @@ impl HrocPlugin {
         let (Some(ours), Some(cache)) = (world.get_resource::<preprocess::HrocPipelines>(), world.get_resource::<bevy_render::render_resource::PipelineCache>()) else {
             return false;
         };
-        [ours.early, ours.late].iter().all(|id| id.is_some_and(|id| cache.get_compute_pipeline(id).is_some()))
+        ours.compiled(cache)
     }
 }
 

@@ -67,31 +67,38 @@ impl Layers<'_, '_> {
 type LightViewItem<'a> = (Entity, &'a LightEntity, Ref<'a, ShadowView>, Has<OcclusionCulling>, Has<ShadowLayer>);
 
 /// Render world, once Bevy has made its lights' views: the views of point
-/// and spot lights with [`HrocCulling`] get Bevy's `OcclusionCulling`, and
-/// their [`ShadowLayer`] whenever Bevy (re)made their `ShadowView`; those
-/// of lights that lost it lose both, and their hroc views.
+/// and spot lights with [`HrocCulling`] get their [`ShadowLayer`] whenever
+/// Bevy (re)makes their `ShadowView`, and, once the plugin's pipelines
+/// have compiled, Bevy's `OcclusionCulling`; those of lights that lost it
+/// (or whose layer is not known) lose both, and their hroc views. (Bevy
+/// builds no Hi-Z for these views: until hroc culls one, the plugin's
+/// preprocessing draws all of it early.)
 pub fn mark(
     mut commands: Commands,
     views: Query<LightViewItem>,
     culled: Query<(), (With<HrocCulling>, Without<ExtractedView>)>,
     layers: Layers,
+    pipelines: Res<crate::preprocess::HrocPipelines>,
+    cache: Res<bevy_render::render_resource::PipelineCache>,
 ) {
+    let compiled = pipelines.compiled(&cache);
     for (view, kind, shadow, marked, placed) in &views {
         let Some(light) = point_or_spot(kind) else { continue };
         if !culled.contains(light) {
-            if marked {
+            if marked || placed {
                 commands.entity(view).remove::<(OcclusionCulling, ShadowLayer, HrocView)>();
             }
             continue;
         }
-        if !marked {
-            commands.entity(view).insert(OcclusionCulling);
-        }
         if shadow.is_changed() || !placed {
-            match layers.of(kind) {
-                Some(layer) => commands.entity(view).insert(ShadowLayer(layer)),
-                None => commands.entity(view).remove::<ShadowLayer>(),
+            let Some(layer) = layers.of(kind) else {
+                commands.entity(view).remove::<(OcclusionCulling, ShadowLayer, HrocView)>();
+                continue;
             };
+            commands.entity(view).insert(ShadowLayer(layer));
+        }
+        if compiled && !marked {
+            commands.entity(view).insert(OcclusionCulling);
         }
     }
 }

@@ -23,6 +23,13 @@ use crate::views::HrocView;
 /// Work items per workgroup of Bevy's preprocessing shader.
 const WORKGROUP_SIZE: usize = 64;
 
+impl HrocPipelines {
+    /// Both patched pipelines compiled.
+    pub fn compiled(&self, cache: &PipelineCache) -> bool {
+        [self.early, self.late].iter().all(|id| id.is_some_and(|id| cache.get_compute_pipeline(id).is_some()))
+    }
+}
+
 /// Group 1 of the patched shaders: hroc's visibility, and the map from
 /// Bevy's input index to hroc's slot.
 #[derive(Resource)]
@@ -103,6 +110,11 @@ fn with_cascades(view: Entity, lights: Option<&ViewLightEntities>, light_query: 
     all
 }
 
+/// Whether `view` is a point or spot light's view.
+fn point_or_spot(light_query: &Query<&LightEntity>, view: Entity) -> bool {
+    matches!(light_query.get(view), Ok(LightEntity::Point { .. } | LightEntity::Spot { .. }))
+}
+
 type ViewItem<'a> = (&'a ExtractedView, Option<&'a PreprocessBindGroups>, Option<&'a ViewUniformOffset>, Has<NoIndirectDrawing>, Has<OcclusionCulling>, Option<&'a HrocView>);
 
 /// What both dispatches read: the views, Bevy's work items and
@@ -133,7 +145,10 @@ pub fn early_preprocess(current: ViewQuery<Option<&ViewLightEntities>, Without<S
             // A view hroc does not cull, or until the plugin's pipelines
             // compile, where Bevy's Hi-Z is still there: Bevy's test. A
             // culled camera's view before that: everything early.
-            _ if occlusion && hroc.is_some() && ours.early.is_some() && ours.everything_early.is_some() => (ours.early, ours.everything_early.as_ref()),
+            // (A point or spot light's view has no Hi-Z of Bevy's.)
+            _ if occlusion && (hroc.is_some() || point_or_spot(&light_query, view_entity)) && ours.early.is_some() && ours.everything_early.is_some() => {
+                (ours.early, ours.everything_early.as_ref())
+            }
             _ if occlusion => (bevy.early_gpu_occlusion_culling_preprocess.pipeline_id, None),
             _ => (bevy.gpu_frustum_culling_preprocess.pipeline_id, None),
         };
