@@ -59,8 +59,9 @@ pub struct MethodOptions {
     pub hroc_occluder_rounds: bool,
     /// `hroc`: in a view where occlusion culled less than this share of
     /// the objects in the frustum (a light's view of roofs), the frames
-    /// between two measurements (one in eight, read back without a stall)
-    /// cull by the frustum alone: one compute pass and one list, where
+    /// between two measurements (one in eight, read back without a stall;
+    /// in such a view half as often after each, down to one in 32) cull
+    /// by the frustum alone: one compute pass and one list, where
     /// HROC's frame would cost its passes to cull a few objects. 0 always
     /// culls by occlusion. Conservative either way. `auto` keeps its HROC
     /// candidate whole (it chooses the frustum itself).
