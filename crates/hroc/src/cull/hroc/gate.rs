@@ -120,7 +120,7 @@ impl Gate {
             frustum_below: frustum_below.max(0.0) as f64,
             filter_pays: true,
             occlusion_pays: true,
-            since_probe: PROBE_EVERY,
+            since_probe: PROBE_LEAST,
             interval: PROBE_EVERY,
             last: None,
         }
@@ -173,7 +173,9 @@ impl Gate {
     pub(super) fn reset(&mut self) {
         self.filter_pays = true;
         self.occlusion_pays = true;
-        self.since_probe = PROBE_EVERY;
+        // (Past any interval: counts of an earlier probe, arriving at this
+        // frame's plan, may lengthen it.)
+        self.since_probe = PROBE_LEAST;
         self.interval = PROBE_EVERY;
     }
 }
