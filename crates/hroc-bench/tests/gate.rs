@@ -10,8 +10,8 @@ use hroc_bench::gpu::Headless;
 /// city, where occlusion culls a few per cent of the frustum's objects and
 /// nearly every object drawn owns a pixel, `hroc` culls by the frustum
 /// alone between its probes (frame 0, then at a rate halving from one in
-/// eight after each probe that finds occlusion not paying: frames 16 and
-/// 48) and the frames before the first probe's counts arrive; the camera culls
+/// eight after each probe that finds occlusion not paying) and the frames
+/// before the first probe's counts arrive; the camera culls
 /// every frame by
 /// occlusion and filters in more frames than the light. Every frame of
 /// both draws every object the unculled view shows.
@@ -44,8 +44,9 @@ fn hroc_sizes_its_frame_to_what_it_saves_in_each_view() {
     }
     let frames = s.cameras.len() as u32;
     use hroc::testing::cull::hroc::gate::{PROBE_EVERY, PROBE_LEAST};
-    // Probes at frames 0, 2 × PROBE_EVERY, 6 × PROBE_EVERY, … (the interval
-    // doubling from PROBE_EVERY, up to PROBE_LEAST).
+    // At most a probe at frames 0, 2 × PROBE_EVERY, 6 × PROBE_EVERY, … (the
+    // interval doubling from PROBE_EVERY, up to PROBE_LEAST; counts
+    // arriving a frame or two late put each a little later).
     let (mut probes, mut at, mut interval) = (0, 0, PROBE_EVERY);
     while at < frames {
         probes += 1;

@@ -203,13 +203,14 @@ impl Plugin for HrocPlugin {
             .init_resource::<objects::ExtractedInstances>()
             .init_resource::<objects::HrocObjects>()
             .init_resource::<preprocess::HrocPipelines>()
+            .init_resource::<views::HrocFrame>()
             .add_systems(ExtractSchedule, objects::extract)
             .add_systems(
                 Render,
                 (
                     objects::sync.in_set(RenderSystems::PrepareResourcesFlush),
                     preprocess::queue_pipelines.in_set(RenderSystems::Prepare),
-                    lights::mark.in_set(RenderSystems::PrepareViews).after(bevy_pbr::prepare_lights),
+                    lights::mark.in_set(RenderSystems::PrepareViews),
                     views::prepare.in_set(RenderSystems::PrepareBindGroups),
                 ),
             );

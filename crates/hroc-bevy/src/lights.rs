@@ -11,68 +11,77 @@
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;
 use bevy_pbr::{ExtractedPointLight, GlobalClusterableObjectMeta, LightEntity, ShadowView, ViewLightEntities, ViewShadowBindings};
+use bevy_render::camera::ExtractedCamera;
 use bevy_render::occlusion_culling::OcclusionCulling;
-use bevy_render::view::ExtractedView;
+use bevy_render::view::{ExtractedView, NoIndirectDrawing};
 use hroc::Method;
 
-use crate::views::HrocView;
+use crate::views::{HrocFindings, HrocFrameStats, HrocView};
 use crate::HrocCulling;
 
 /// The light a point or spot light's view belongs to; `None` for a
 /// directional cascade.
-fn point_or_spot(kind: &LightEntity) -> Option<Entity> {
+pub(crate) fn point_or_spot(kind: &LightEntity) -> Option<Entity> {
     match kind {
         LightEntity::Point { light_entity, .. } | LightEntity::Spot { light_entity } => Some(*light_entity),
         LightEntity::Directional { .. } => None,
     }
 }
 
-/// The layer of Bevy's shadow map a point or spot light's view draws
-/// into, as Bevy's `prepare_lights` chose it when it last made the view's
+/// The shadow map and layer a point or spot light's view draws into, as
+/// Bevy's `prepare_lights` chose them when it last made the view's
 /// `ShadowView` (which it makes again only when the light changes).
-#[derive(Component, Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ShadowLayer(pub u32);
+#[derive(Component, Clone, Debug)]
+pub struct ShadowLayer {
+    pub texture: wgpu::Texture,
+    pub layer: u32,
+}
 
 /// What finding a light view's layer takes.
 #[derive(SystemParam)]
 pub struct Layers<'w, 's> {
     meta: Option<Res<'w, GlobalClusterableObjectMeta>>,
     points: Query<'w, 's, &'static ExtractedPointLight>,
-    cameras: Query<'w, 's, &'static ViewLightEntities>,
+    cameras: Query<'w, 's, (&'static ViewLightEntities, &'static ViewShadowBindings), With<ExtractedCamera>>,
     kinds: Query<'w, 's, &'static LightEntity>,
 }
 
 impl Layers<'_, '_> {
-    /// The layer `prepare_lights` gives a view of `kind` this frame: a
-    /// point light's faces are layers `6 i` to `6 i + 5` of the point
-    /// lights' cube map array, `i` its index among Bevy's clustered lights
-    /// (point lights first); a spot light's layer of the directional
-    /// shadow map follows the most directional cascades any camera has.
-    fn of(&self, kind: &LightEntity) -> Option<u32> {
+    /// The map and layer `prepare_lights` gives a view of `kind` this
+    /// frame: a point light's faces are layers `6 i` to `6 i + 5` of the
+    /// point lights' cube map array, `i` its index among Bevy's clustered
+    /// lights (point lights first); a spot light's layer of the
+    /// directional shadow map follows the most directional cascades any
+    /// camera has. Both maps are shared by every camera (any active
+    /// camera's `ViewShadowBindings` holds this frame's).
+    fn of(&self, kind: &LightEntity) -> Option<ShadowLayer> {
         let index = *self.meta.as_ref()?.entity_to_index.get(&point_or_spot(kind)?)?;
-        let layer = match *kind {
-            LightEntity::Point { face_index, .. } => index * 6 + face_index,
+        let (_, bindings) = self.cameras.iter().next()?;
+        let (texture, layer): (&wgpu::Texture, usize) = match *kind {
+            LightEntity::Point { face_index, .. } => (&bindings.point_light_depth_texture, index * 6 + face_index),
             _ => {
                 let point_lights = self.points.iter().filter(|l| l.spot_light_angles.is_none()).count();
                 let directional = |l: &&Entity| matches!(self.kinds.get(**l), Ok(LightEntity::Directional { .. }));
-                let cascades = self.cameras.iter().map(|lights| lights.lights.iter().filter(directional).count()).max().unwrap_or(0);
-                cascades + index.checked_sub(point_lights)?
+                let cascades = self.cameras.iter().map(|(lights, _)| lights.lights.iter().filter(directional).count()).max().unwrap_or(0);
+                (&bindings.directional_light_depth_texture, cascades + index.checked_sub(point_lights)?)
             }
         };
-        u32::try_from(layer).ok()
+        let layer = u32::try_from(layer).ok().filter(|&l| l < texture.depth_or_array_layers())?;
+        Some(ShadowLayer { texture: texture.clone(), layer })
     }
 }
 
 /// What `mark` reads of a light's view.
-type LightViewItem<'a> = (Entity, &'a LightEntity, Ref<'a, ShadowView>, Has<OcclusionCulling>, Has<ShadowLayer>);
+type LightViewItem<'a> = (Entity, &'a LightEntity, Ref<'a, ShadowView>, Has<OcclusionCulling>, Has<ShadowLayer>, Has<NoIndirectDrawing>);
 
 /// Render world, once Bevy has made its lights' views: the views of point
-/// and spot lights with [`HrocCulling`] get their [`ShadowLayer`] whenever
-/// Bevy (re)makes their `ShadowView`, and, once the plugin's pipelines
-/// have compiled, Bevy's `OcclusionCulling`; those of lights that lost it
-/// (or whose layer is not known) lose both, and their hroc views. (Bevy
-/// builds no Hi-Z for these views: until hroc culls one, the plugin's
-/// preprocessing draws all of it early.)
+/// and spot lights with [`HrocCulling`] (and indirect draws) get their
+/// [`ShadowLayer`] whenever Bevy (re)makes their `ShadowView`, and, once
+/// the plugin's pipelines have compiled, Bevy's `OcclusionCulling`; those
+/// of lights that lost it, or whose layer is not known, lose both and
+/// what hroc kept on them. (Bevy allocates such a view a Hi-Z and never
+/// builds it: until hroc's steps for a frame are recorded, the plugin's
+/// preprocessing draws the whole view early.)
 pub fn mark(
     mut commands: Commands,
     views: Query<LightViewItem>,
@@ -82,20 +91,23 @@ pub fn mark(
     cache: Res<bevy_render::render_resource::PipelineCache>,
 ) {
     let compiled = pipelines.compiled(&cache);
-    for (view, kind, shadow, marked, placed) in &views {
+    let forget = |commands: &mut Commands, view| {
+        commands.entity(view).remove::<(OcclusionCulling, ShadowLayer, HrocView, HrocFrameStats, HrocFindings)>();
+    };
+    for (view, kind, shadow, marked, placed, direct) in &views {
         let Some(light) = point_or_spot(kind) else { continue };
-        if !culled.contains(light) {
+        if !culled.contains(light) || direct {
             if marked || placed {
-                commands.entity(view).remove::<(OcclusionCulling, ShadowLayer, HrocView)>();
+                forget(&mut commands, view);
             }
             continue;
         }
         if shadow.is_changed() || !placed {
             let Some(layer) = layers.of(kind) else {
-                commands.entity(view).remove::<(OcclusionCulling, ShadowLayer, HrocView)>();
+                forget(&mut commands, view);
                 continue;
             };
-            commands.entity(view).insert(ShadowLayer(layer));
+            commands.entity(view).insert(layer);
         }
         if compiled && !marked {
             commands.entity(view).insert(OcclusionCulling);
@@ -121,7 +133,6 @@ pub struct LightView {
 pub struct Lights<'w, 's> {
     kinds: Query<'w, 's, (Entity, &'static LightEntity, Option<&'static ShadowLayer>)>,
     culling: Query<'w, 's, &'static HrocCulling, Without<ExtractedView>>,
-    bindings: Query<'w, 's, &'static ViewShadowBindings>,
 }
 
 impl Lights<'_, '_> {
@@ -131,23 +142,17 @@ impl Lights<'_, '_> {
     }
 
     /// The views of point and spot lights with [`HrocCulling`] and a
-    /// [`ShadowLayer`]. Both shadow maps are shared by every camera (any
-    /// camera's `ViewShadowBindings` holds them).
+    /// [`ShadowLayer`].
     pub fn culled(&self) -> Vec<LightView> {
-        let Some(bindings) = self.bindings.iter().next() else { return Vec::new() };
         let mut views = Vec::new();
-        for (entity, kind, layer) in &self.kinds {
-            let (Some(light), Some(&ShadowLayer(layer))) = (point_or_spot(kind), layer) else { continue };
+        for (entity, kind, placed) in &self.kinds {
+            let (Some(light), Some(ShadowLayer { texture, layer })) = (point_or_spot(kind), placed) else { continue };
             let Ok(culling) = self.culling.get(light) else { continue };
-            let (texture, who) = match *kind {
-                LightEntity::Point { face_index, .. } => (&bindings.point_light_depth_texture, format!("point light {light}, face {face_index}")),
-                _ => (&bindings.directional_light_depth_texture, format!("spot light {light}")),
+            let who = match *kind {
+                LightEntity::Point { face_index, .. } => format!("point light {light}, face {face_index}"),
+                _ => format!("spot light {light}"),
             };
-            let texture: &wgpu::Texture = texture;
-            if layer >= texture.depth_or_array_layers() {
-                continue;
-            }
-            views.push(LightView { entity, method: crate::views::method_without_ids(culling.method), texture: texture.clone(), layer, who });
+            views.push(LightView { entity, method: crate::views::method_without_ids(culling.method), texture: texture.clone(), layer: *layer, who });
         }
         views
     }

@@ -5,7 +5,9 @@
 //! visibility at group 1. Views hroc does not cull run Bevy's own
 //! pipelines as Bevy would. The late pass also runs for a camera's
 //! directional cascades culled by hroc, so their occludees reach Bevy's
-//! late shadow pass.
+//! late shadow pass, and for point and spot lights' views culled by hroc,
+//! in their own `Core3d` runs. A view whose steps were not recorded this
+//! frame draws everything early.
 
 use bevy_ecs::prelude::*;
 use bevy_pbr::{LightEntity, MeshInputUniform, MeshUniform, PhasePreprocessBindGroups, PreprocessBindGroups, PreprocessPipelines, SkipGpuPreprocess, ViewLightEntities};
@@ -112,7 +114,7 @@ fn with_cascades(view: Entity, lights: Option<&ViewLightEntities>, light_query: 
 
 /// Whether `view` is a point or spot light's view.
 fn point_or_spot(light_query: &Query<&LightEntity>, view: Entity) -> bool {
-    matches!(light_query.get(view), Ok(LightEntity::Point { .. } | LightEntity::Spot { .. }))
+    light_query.get(view).ok().and_then(crate::lights::point_or_spot).is_some()
 }
 
 type ViewItem<'a> = (&'a ExtractedView, Option<&'a PreprocessBindGroups>, Option<&'a ViewUniformOffset>, Has<NoIndirectDrawing>, Has<OcclusionCulling>, Option<&'a HrocView>);
@@ -127,18 +129,19 @@ pub struct Dispatch<'w, 's> {
     cache: Res<'w, PipelineCache>,
     bevy: Res<'w, PreprocessPipelines>,
     ours: Res<'w, HrocPipelines>,
+    frame: Res<'w, crate::views::HrocFrame>,
 }
 
 /// In place of Bevy's `early_gpu_preprocess`.
 pub fn early_preprocess(current: ViewQuery<Option<&ViewLightEntities>, Without<SkipGpuPreprocess>>, d: Dispatch, mut ctx: RenderContext) {
-    let Dispatch { views, light_query, buffers, cache, bevy, ours } = d;
+    let Dispatch { views, light_query, buffers, cache, bevy, ours, frame } = d;
     let entity = current.entity();
     let all = with_cascades(entity, current.into_inner(), &light_query);
     let encoder = ctx.command_encoder();
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("early mesh preprocessing (hroc)"), timestamp_writes: None });
     for view_entity in all {
         let Ok((view, Some(bind_groups), Some(offset), no_indirect, occlusion, hroc)) = views.get(view_entity) else { continue };
-        let hroc_group = hroc.and_then(|h| h.bind_group.as_ref()).filter(|_| occlusion && !no_indirect);
+        let hroc_group = hroc.filter(|h| h.recorded == frame.0).and_then(|h| h.bind_group.as_ref()).filter(|_| occlusion && !no_indirect);
         let (id, group1) = match (hroc_group, ours.early) {
             (Some(g), Some(id)) => (Some(id), Some(g)),
             _ if no_indirect => (bevy.direct_preprocess.pipeline_id, None),
@@ -204,7 +207,7 @@ pub fn late_preprocess(
     prepass: Query<(), With<bevy_core_pipeline::prepass::DepthPrepass>>,
     mut ctx: RenderContext,
 ) {
-    let Dispatch { views, light_query, buffers, cache, bevy, ours } = d;
+    let Dispatch { views, light_query, buffers, cache, bevy, ours, frame } = d;
     let camera = current.entity();
     let all = with_cascades(camera, current.into_inner(), &light_query);
     let encoder = ctx.command_encoder();
@@ -214,7 +217,7 @@ pub fn late_preprocess(
         if no_indirect || !occlusion {
             continue;
         }
-        let hroc_group = hroc.and_then(|h| h.bind_group.as_ref());
+        let hroc_group = hroc.filter(|h| h.recorded == frame.0).and_then(|h| h.bind_group.as_ref());
         let (id, group1) = match (hroc_group, ours.late) {
             (Some(g), Some(id)) => (Some(id), Some(g)),
             // A camera hroc does not cull: Bevy's late pass (a camera with a

@@ -1,8 +1,9 @@
 //! The `Core3d` systems that hand Bevy hroc's command buffers at the
 //! points of its frame where hroc's steps belong: before the early
 //! preprocessing, after the early passes (the camera's prepass and its
-//! cascades' early shadow passes), after the late ones. Bevy submits a
-//! camera's command buffers in the order of its systems.
+//! cascades' early shadow passes, or a point or spot light view's early
+//! shadow pass in its own `Core3d` run), after the late ones. Bevy submits
+//! a view's command buffers in the order of its systems.
 
 use bevy_ecs::prelude::*;
 use bevy_pbr::ViewLightEntities;

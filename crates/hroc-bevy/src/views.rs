@@ -32,7 +32,16 @@ pub struct HrocView {
     pub bind_group: Option<wgpu::BindGroup>,
     /// The buffers the bind group holds.
     bound: Option<(wgpu::Buffer, wgpu::Buffer)>,
+    /// The frame ([`HrocFrame`]) whose steps were last recorded: the
+    /// preprocessing reads hroc's visibility only in that frame.
+    pub recorded: u64,
 }
+
+/// The render world's frame number, counted by `prepare`: a view whose
+/// steps this frame did not record (skipped, or refused) is drawn early
+/// whole, never by an earlier frame's visibility.
+#[derive(Resource, Default, Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HrocFrame(pub u64);
 
 /// The newest frame statistics of a view hroc culls that have come back
 /// (`hroc::View::frame_stats`: objects drawn, tagged with their frame), on
@@ -104,6 +113,7 @@ impl HrocView {
         let visibility = view.visibility(culler).clone();
         let steps = match view.steps(culler, input) {
             Ok(Steps { begin, occluders_drawn, occludees_drawn }) => {
+                self.recorded = frame.number;
                 StepBuffers { begin: Some(begin), occluders_drawn: Some(occluders_drawn), occludees_drawn: Some(occludees_drawn) }
             }
             Err(e) => {
@@ -149,6 +159,8 @@ struct Frame<'a> {
     layout: Option<&'a crate::preprocess::HrocLayout>,
     device: &'a wgpu::Device,
     seconds: f32,
+    /// This frame's number.
+    number: u64,
 }
 
 impl Frame<'_> {
@@ -186,7 +198,7 @@ impl Frame<'_> {
             }
             _ => match self.culler.view_with(method, &targets, &options(&texture)) {
                 Ok(view) => {
-                    let mut v = HrocView { view: Mutex::new(view), logged: Vec::new(), key, steps: Mutex::default(), bind_group: None, bound: None };
+                    let mut v = HrocView { view: Mutex::new(view), logged: Vec::new(), key, steps: Mutex::default(), bind_group: None, bound: None, recorded: 0 };
                     v.record(self, &input, who);
                     // With the view, the plugin's other components on its
                     // entity: its statistics (none back yet), its findings.
@@ -227,10 +239,12 @@ pub fn prepare(
     mut cameras: Query<CameraItem>,
     mut cascades: Query<CascadeItem, (With<OcclusionCulling>, Without<HrocCulling>)>,
     light_views: crate::lights::Lights,
-    time: Option<Res<bevy_time::Time>>,
+    (time, mut number): (Option<Res<bevy_time::Time>>, ResMut<HrocFrame>),
 ) {
     let (Some(culler), Some(slots)) = (objects.culler.as_ref(), objects.slot_buffer.as_ref()) else { return };
-    let frame = Frame { culler, objects: &objects, slots, layout: layout.as_deref(), device: device.wgpu_device(), seconds: time.map_or(0.0, |t| t.elapsed_secs()) };
+    number.0 += 1;
+    let seconds = time.map_or(0.0, |t| t.elapsed_secs());
+    let frame = Frame { culler, objects: &objects, slots, layout: layout.as_deref(), device: device.wgpu_device(), seconds, number: number.0 };
     // Point and spot lights with HrocCulling: shared by every camera, each
     // view culled once, and first, as Bevy draws them (before its cameras).
     for light in light_views.culled() {

@@ -275,6 +275,7 @@ fn same_frames_as_drawing_everything(msaa: Msaa) {
     for method in [hroc::Method::HROC, hroc::Method::Hzb, hroc::Method::Auto] {
         let culled = frames(Mode::Hroc(method), msaa, &path);
         for (k, ((image, depth, drawn), (expected, expected_depth, _))) in culled.iter().zip(&truth).enumerate() {
+            assert_eq!(depth.len(), expected_depth.len(), "{method} {msaa:?} frame {k}: shadow map layers");
             let layers: Vec<usize> = depth.iter().zip(expected_depth).map(|(l, e)| l.iter().zip(e).filter(|(a, b)| a.to_bits() != b.to_bits()).count()).collect();
             let differ = image.iter().zip(expected).filter(|(a, b)| a != b).count();
             let most = image.iter().zip(expected).map(|(a, b)| (0..4).map(|c| ((a >> (8 * c)) & 255).abs_diff((b >> (8 * c)) & 255)).max().unwrap()).max().unwrap();
