@@ -98,7 +98,7 @@ pub(super) struct Gate {
     frustum_below: f64,
     filter_pays: bool,
     occlusion_pays: bool,
-    /// Frames since the last probe.
+    /// Frames since the last probe, this one counted.
     since_probe: u32,
     /// Frames from one probe to the next: [`PROBE_EVERY`], doubled after
     /// each probe that found occlusion not paying, up to [`PROBE_LEAST`].
@@ -143,7 +143,8 @@ impl Gate {
             self.interval = if self.occlusion_pays { PROBE_EVERY } else { (self.interval * 2).min(PROBE_LEAST) };
         }
         let probe = self.since_probe >= self.interval && self.ring.iter().any(|(_, s)| s.is_free());
-        self.since_probe = if probe { 0 } else { self.since_probe + 1 };
+        // (Counting this frame: the next probe `interval` frames after it.)
+        self.since_probe = if probe { 1 } else { self.since_probe + 1 };
         let next = match (self.of, self.filter) {
             (false, _) => Next::Merge,
             (true, false) => Next::Filter,
