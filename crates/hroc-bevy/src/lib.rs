@@ -87,12 +87,13 @@ pub struct HrocCulling {
     /// hides little, and culling its cascades by occlusion makes Bevy add a
     /// late shadow pass and preprocessing per cascade; measured on
     /// lavapipe at 320 × 180 with 4 cascades of a 1024² map (BENCHMARKS.md,
-    /// "Bevy"), the plugin's `hroc` took 0.99 × (radial-city 5,000) and
-    /// 1.08 × (`houses`) Bevy's frustum culling with cascades left to the
+    /// "Bevy"), the plugin's `hroc` took 0.89 × (radial-city 5,000) and
+    /// 0.94 × (`houses`) Bevy's frustum culling with cascades left to the
     /// frustum, and 1.42 × and 2.17 × with them culled by occlusion.
     ///
     /// Where on, HROC chooses per view by measurement: each cascade culls
-    /// by occlusion where one frame in eight finds that occlusion culls at
+    /// by occlusion where one frame in eight (or fewer, in a view where
+    /// it did not pay) finds that occlusion culls at
     /// least 5 % of the objects in its frustum, and by the frustum alone
     /// otherwise (`hroc::MethodOptions::hroc_frustum_below`).
     pub cascades: bool,
