@@ -177,8 +177,10 @@ fn read_layers(device: &wgpu::Device, queue: &wgpu::Queue, texture: &wgpu::Textu
 
 /// A frame: the camera's image, the shadow maps' depth (the directional
 /// map's layers, cascades then the spot light's, then the point light's
-/// faces), what hroc drew in the camera.
-type Frame = (Vec<u32>, Vec<Vec<f32>>, Option<u32>);
+/// faces), what hroc drew in the camera, and whether a point light face
+/// culled by the plugin drew fewer objects than Bevy's frustum culling
+/// lists for it.
+type Frame = (Vec<u32>, Vec<Vec<f32>>, Option<u32>, bool);
 
 /// Each frame along `path`.
 fn frames(mode: Mode, msaa: Msaa, path: &[Transform]) -> Vec<Frame> {
@@ -215,12 +217,21 @@ fn frames(mode: Mode, msaa: Msaa, path: &[Transform]) -> Vec<Frame> {
             let mut depth = read_layers(&device, &queue, &directional);
             depth.extend(read_layers(&device, &queue, &point));
             let drawn = render.query_filtered::<&HrocFrameStats, Without<bevy::pbr::LightEntity>>().iter(render).next().and_then(|s| s.0.map(|f| f.objects));
+            let mut faces = Vec::new();
             if let Mode::Hroc(_) = mode {
                 // Every light view culled by hroc: 4 cascades, the spot's view, 6 faces.
                 let lights = render.query_filtered::<&HrocFrameStats, With<bevy::pbr::LightEntity>>().iter(render).filter(|s| s.0.is_some()).count();
                 assert!(k < 2 || lights == 11, "{mode:?} frame {k}: {lights} light views culled by hroc");
+                for (stats, kind) in render.query::<(&HrocFrameStats, &bevy::pbr::LightEntity)>().iter(render) {
+                    if let (bevy::pbr::LightEntity::Point { face_index, .. }, Some(s)) = (kind, stats.0) {
+                        faces.push((*face_index, s.objects));
+                    }
+                }
             }
-            (image, depth, drawn)
+            let world = app.world_mut();
+            let lists = world.query::<&bevy::camera::visibility::CubemapVisibleEntities>().iter(world).next().map(|c| c.iter().map(|f| f.entities.len()).collect::<Vec<_>>());
+            let occluded = lists.is_some_and(|l| faces.iter().any(|&(f, drawn)| (drawn as usize) < l[f]));
+            (image, depth, drawn, occluded)
         })
         .collect();
     // The last frames' findings, once the GPU is done.
@@ -271,10 +282,10 @@ fn same_frames_as_drawing_everything(msaa: Msaa) {
     assert!(truth.iter().all(|(image, ..)| image.iter().any(|&p| p != truth[0].0[0])), "the street is in view");
     let held = |depth: &[Vec<f32>]| depth.iter().map(|l| l.iter().any(|&d| d != 0.0)).collect::<Vec<_>>();
     assert_eq!(truth[0].1.len(), 11, "4 cascades, the spot light, 6 faces");
-    assert!(truth.iter().all(|(_, depth, _)| held(depth).iter().all(|&h| h)), "every shadow map layer holds the street's depth: {:?}", held(&truth[0].1));
+    assert!(truth.iter().all(|(_, depth, ..)| held(depth).iter().all(|&h| h)), "every shadow map layer holds the street's depth: {:?}", held(&truth[0].1));
     for method in [hroc::Method::HROC, hroc::Method::Hzb, hroc::Method::Auto] {
         let culled = frames(Mode::Hroc(method), msaa, &path);
-        for (k, ((image, depth, drawn), (expected, expected_depth, _))) in culled.iter().zip(&truth).enumerate() {
+        for (k, ((image, depth, drawn, _), (expected, expected_depth, ..))) in culled.iter().zip(&truth).enumerate() {
             assert_eq!(depth.len(), expected_depth.len(), "{method} {msaa:?} frame {k}: shadow map layers");
             let layers: Vec<usize> = depth.iter().zip(expected_depth).map(|(l, e)| l.iter().zip(e).filter(|(a, b)| a.to_bits() != b.to_bits()).count()).collect();
             let differ = image.iter().zip(expected).filter(|(a, b)| a != b).count();
@@ -285,5 +296,8 @@ fn same_frames_as_drawing_everything(msaa: Msaa) {
         }
         let drawn: Vec<u32> = culled.iter().filter_map(|f| f.2).collect();
         assert!(!drawn.is_empty() && drawn.iter().any(|&d| (d as usize) < boxes().len()), "{method} {msaa:?} culls: drawn {drawn:?} of {}", boxes().len());
+        if method != hroc::Method::Auto {
+            assert!(culled.iter().any(|f| f.3), "{method} {msaa:?}: no point light face drew fewer objects than Bevy's frustum culling lists for it");
+        }
     }
 }
