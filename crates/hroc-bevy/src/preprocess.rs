@@ -148,7 +148,7 @@ pub fn early_preprocess(current: ViewQuery<Option<&ViewLightEntities>, Without<S
             // A view hroc does not cull, or until the plugin's pipelines
             // compile, where Bevy's Hi-Z is still there: Bevy's test. A
             // culled camera's view before that: everything early.
-            // (A point or spot light's view has no Hi-Z of Bevy's.)
+            // (Bevy never builds a point or spot light view's Hi-Z.)
             _ if occlusion && (hroc.is_some() || point_or_spot(&light_query, view_entity)) && ours.early.is_some() && ours.everything_early.is_some() => {
                 (ours.early, ours.everything_early.as_ref())
             }

@@ -241,8 +241,9 @@ pub fn prepare(
     light_views: crate::lights::Lights,
     (time, mut number): (Option<Res<bevy_time::Time>>, ResMut<HrocFrame>),
 ) {
-    let (Some(culler), Some(slots)) = (objects.culler.as_ref(), objects.slot_buffer.as_ref()) else { return };
+    // Counted first: a frame with nothing to cull records no view's steps.
     number.0 += 1;
+    let (Some(culler), Some(slots)) = (objects.culler.as_ref(), objects.slot_buffer.as_ref()) else { return };
     let seconds = time.map_or(0.0, |t| t.elapsed_secs());
     let frame = Frame { culler, objects: &objects, slots, layout: layout.as_deref(), device: device.wgpu_device(), seconds, number: number.0 };
     // Point and spot lights with HrocCulling: shared by every camera, each
