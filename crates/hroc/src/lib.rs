@@ -312,6 +312,7 @@ mod metrics;
 mod objects;
 pub mod options;
 mod reflect;
+mod set_frustum;
 mod shaders;
 pub mod stats;
 mod tally;

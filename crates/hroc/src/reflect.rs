@@ -40,6 +40,8 @@ pub enum Layout {
     IdMarks,
     /// `vfc`'s frustum test.
     Vfc,
+    /// The frustum test and packing of a set of views.
+    SetFrustum,
     /// The Hi-Z pyramid's build (`hzb`, `woc`).
     HiZBuild,
     /// The Hi-Z test of boxes (`hzb`, `woc`).
@@ -91,7 +93,7 @@ const ROUNDS: &[&str] = &["front_vs", "round_vs", "front_fs", "late_fs"];
 
 impl Layout {
     /// Every layout.
-    pub const ALL: [Layout; 29] = [
+    pub const ALL: [Layout; 30] = [
         Layout::Compact,
         Layout::Refit,
         Layout::FlagSplit,
@@ -100,6 +102,7 @@ impl Layout {
         Layout::Visibility,
         Layout::IdMarks,
         Layout::Vfc,
+        Layout::SetFrustum,
         Layout::HiZBuild,
         Layout::HiZTest,
         Layout::WocWarp,
@@ -134,6 +137,7 @@ impl Layout {
             Layout::Visibility => "hroc visibility",
             Layout::IdMarks => "hroc id marks",
             Layout::Vfc => "vfc",
+            Layout::SetFrustum => "hroc set frustum",
             Layout::HiZBuild => "hi-z build",
             Layout::HiZTest => "hi-z test",
             Layout::WocWarp => "woc warp",
@@ -169,6 +173,7 @@ impl Layout {
             Layout::Visibility => &[("visibility.wgsl", &[])],
             Layout::IdMarks => &[("id_marks.wgsl", &[])],
             Layout::Vfc => &[("vfc.wgsl", &[])],
+            Layout::SetFrustum => &[("set_frustum.wgsl", &[])],
             Layout::HiZBuild => &[("hzb_pyramid.wgsl", &[])],
             Layout::HiZTest => &[("hzb_test.wgsl", &[])],
             Layout::WocWarp => &[("woc_warp.wgsl", &[])],

@@ -14,6 +14,7 @@ pub const SHADERS: &[(&str, &str)] = &[
     ("split.wgsl", include_str!("../shaders/split.wgsl")),
     ("refit.wgsl", include_str!("../shaders/refit.wgsl")),
     ("vfc.wgsl", include_str!("../shaders/vfc.wgsl")),
+    ("set_frustum.wgsl", include_str!("../shaders/set_frustum.wgsl")),
     ("hroc_seed.wgsl", include_str!("../shaders/hroc_seed.wgsl")),
     ("hroc_groups.wgsl", include_str!("../shaders/hroc_groups.wgsl")),
     ("hroc_test.wgsl", include_str!("../shaders/hroc_test.wgsl")),

@@ -144,12 +144,26 @@ impl DrawTally {
     }
 
     /// Starts a frame: takes the totals of earlier frames that arrived and
-    /// zeroes this frame's.
-    pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder) {
+    /// zeroes this frame's (`clear`; else a set's pass writes them,
+    /// [`crate::Culler::cull_views`]).
+    pub(crate) fn begin(&mut self, gpu: &Gpu, enc: &mut wgpu::CommandEncoder, clear: bool) {
         self.harvest(gpu);
-        enc.counted_clear(&self.totals, 0, None);
+        if clear {
+            enc.counted_clear(&self.totals, 0, None);
+        }
         self.pending.clear();
         self.clocked = false;
+    }
+
+    /// Zeroes this frame's totals: a set wrote them for a list the view
+    /// did not draw.
+    pub(crate) fn clear(&mut self, enc: &mut wgpu::CommandEncoder) {
+        enc.counted_clear(&self.totals, 0, None);
+    }
+
+    /// The frame's `[objects, triangles]`, which a set's pass writes.
+    pub(crate) fn totals(&self) -> &wgpu::Buffer {
+        &self.totals
     }
 
     /// Times the frame being recorded from here to its end (where the

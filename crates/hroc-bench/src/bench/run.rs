@@ -173,7 +173,7 @@ impl<'g, 'o> Run<'g, 'o> {
         let n = self.s.renderer.object_count as u64;
         let camera = self.s.truth(k)?;
         let (cascades, time) = (self.s.cascades(k), self.s.times[k]);
-        let shadows = cascades.iter().enumerate().map(|(c, cascade)| self.s.cascade_truth(c as u32, cascade, time)).collect::<Result<Vec<_>>>()?;
+        let shadows = if cascades.is_empty() { Vec::new() } else { self.s.cascade_truths(&cascades, time)? };
         self.ref_culled += std::iter::once(&camera).chain(&shadows).map(|(_, t)| n - t.visible.len() as u64).sum::<u64>();
         Ok(Truths { camera, cascades, shadows })
     }
@@ -208,13 +208,14 @@ impl<'g, 'o> Run<'g, 'o> {
             let mut chk = self.s.check(&r, truth)?;
             let mut stats = view.stats(&self.s.culler)?;
             let mut views = vec![chk.drawn];
-            for (cs, sv) in shadow_views.iter_mut().enumerate() {
-                let shadow_truth = &t.shadows[cs].1;
+            for (sv, (_, shadow_truth)) in shadow_views.iter_mut().zip(&t.shadows) {
                 if sv.wants_oracle() {
                     sv.set_oracle(&self.s.culler, &shadow_truth.visible)?;
                 }
-                let rc = self.s.run_cascade(sv, cs as u32, &t.cascades[cs], self.s.times[k])?;
-                let cc = self.s.check_cascade(cs as u32, &rc, shadow_truth)?;
+            }
+            let results = if shadow_views.is_empty() { Vec::new() } else { self.s.run_cascades(shadow_views, &t.cascades, self.s.times[k])? };
+            for (cs, (rc, sv)) in results.iter().zip(shadow_views.iter()).enumerate() {
+                let cc = self.s.check_cascade(cs as u32, rc, &t.shadows[cs].1)?;
                 views.push(cc.drawn);
                 // The frame's shape is every view's.
                 for (st, v) in sv.shape_stats() {
@@ -222,7 +223,7 @@ impl<'g, 'o> Run<'g, 'o> {
                         x.1 += v;
                     }
                 }
-                r.add(&rc);
+                r.add(rc);
                 chk += cc;
             }
             self.record(*method, k, &r, chk, &views, stats, update);

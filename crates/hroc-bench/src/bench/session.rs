@@ -249,6 +249,41 @@ impl<'g> Session<'g> {
         self.finish_frame(view, enc, start, lists, None)
     }
 
+    /// Runs one frame of the light's cascades, `views[c]` culling cascade
+    /// `c` seen as `cascades[c]`, as one set
+    /// ([`hroc::Culler::cull_views`]) in one encoder, submitted and waited
+    /// for: each cascade's result (the set's time in the first, its views'
+    /// stages and invocations in each).
+    pub fn run_cascades(&mut self, views: &mut [View], cascades: &[CascadeView], time: f32) -> Result<Vec<FrameResult>> {
+        let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Options("the session has no shadow cascades".into()))?;
+        let start = std::time::Instant::now();
+        let mut enc = self.gpu.encoder("cascades");
+        for (c, cascade) in cascades.iter().enumerate() {
+            s.cascades.write_view(self.gpu, c as u32, cascade);
+            s.cascades.clear(&mut enc, c as u32);
+        }
+        let mut hosts: Vec<CascadeRecorder> =
+            (0..views.len()).map(|c| CascadeRecorder { renderer: &self.renderer, cascades: &s.cascades, cascade: c as u32, lists: Vec::new() }).collect();
+        let mut set: Vec<(&mut View, FrameInput, &mut dyn hroc::DrawHost)> = views
+            .iter_mut()
+            .zip(cascades)
+            .zip(hosts.iter_mut())
+            .map(|((v, cascade), h)| (v, FrameInput { view: cascade.view_desc(), cut: false, time }, h as &mut dyn hroc::DrawHost))
+            .collect();
+        self.culler.cull_views(&mut enc, &mut set)?;
+        drop(set);
+        self.gpu.queue.submit([enc.finish()]);
+        self.gpu.wait()?;
+        let wall_ms = start.elapsed().as_secs_f64() * 1e3;
+        let mut out = Vec::with_capacity(views.len());
+        for (c, (view, host)) in views.iter_mut().zip(hosts).enumerate() {
+            let stages = view.stage_ms(&self.culler)?.to_vec();
+            let invocations = view.stage_invocations(&self.culler)?;
+            out.push(FrameResult { wall_ms: if c == 0 { wall_ms } else { 0.0 }, stages, invocations, lists: host.lists, camera: None });
+        }
+        Ok(out)
+    }
+
     /// Submits a view's frame recorded in `enc` and waits: the frame's
     /// result, timed from `start`.
     fn finish_frame(&self, view: &mut View, enc: wgpu::CommandEncoder, start: std::time::Instant, lists: Vec<DrawList>, camera: Option<Camera>) -> Result<FrameResult> {
@@ -272,6 +307,25 @@ impl<'g> Session<'g> {
         let (texture, layer) = s.cascades.depth_of(c);
         let depth = self.gpu.read_depth_layer(texture, layer)?;
         Ok((r, Truth::of(ids, depth, self.renderer.object_count)?))
+    }
+
+    /// Renders the cascades seen as `cascades` with `noc` (as one set,
+    /// [`Session::run_cascades`]), and reads back each one's truth.
+    pub fn cascade_truths(&mut self, cascades: &[CascadeView], time: f32) -> Result<Vec<(FrameResult, Truth)>> {
+        let s = self.shadows.as_mut().ok_or_else(|| crate::Error::Options("the session has no shadow cascades".into()))?;
+        let mut noc = std::mem::take(&mut s.noc);
+        let r = self.run_cascades(&mut noc, cascades, time);
+        self.shadows.as_mut().expect("checked above").noc = noc;
+        let s = self.shadows.as_ref().expect("checked above");
+        r?.into_iter()
+            .enumerate()
+            .map(|(c, r)| {
+                let ids = self.gpu.read_ids(&s.cascades.ids[c])?;
+                let (texture, layer) = s.cascades.depth_of(c as u32);
+                let depth = self.gpu.read_depth_layer(texture, layer)?;
+                Ok((r, Truth::of(ids, depth, self.renderer.object_count)?))
+            })
+            .collect()
     }
 
     pub fn load(gpu: &'g Headless, spec: &str, objects: Option<usize>, camera_path: Option<&Path>, frames: usize, res: (u32, u32), split: Split) -> Result<Self> {

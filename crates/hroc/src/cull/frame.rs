@@ -71,6 +71,9 @@ pub struct Frame<'a> {
     pub(crate) steps: Option<&'a mut super::steps::StepCuts>,
     /// With early-Z marks and CUTOUT objects: the box test that marks them.
     pub(crate) cutout_marks: Option<std::sync::Arc<BoxMarks>>,
+    /// The view is culled in a set that packs its frustum list this frame
+    /// ([`crate::Culler::cull_views`]); taken by [`Frame::set_frustum`].
+    pub(crate) set_packed: bool,
 }
 
 /// Work of one frame that does not depend on how busy the machine is:
@@ -186,14 +189,38 @@ impl<'a> Frame<'a> {
         cutouts
     }
 
+    /// Where the view's set packed its frustum list this frame
+    /// ([`crate::Culler::cull_views`]): hands the host `list`, which the
+    /// set's pass filled (packed, its tail emptied with an emulated draw
+    /// count, and tallied), and returns true. False, recording nothing,
+    /// where the view culls its frustum itself.
+    pub(crate) fn set_frustum(&mut self, list: &DrawList) -> bool {
+        if !std::mem::take(&mut self.set_packed) {
+            return false;
+        }
+        self.stage(Stage::Draw);
+        self.hand_list(Phase::Visible, list, None, false, true);
+        true
+    }
+
+    /// True while the set's list is not yet handed ([`Frame::set_frustum`]).
+    pub(crate) fn set_unused(&self) -> bool {
+        self.set_packed
+    }
+
     /// Hands `list` to the host as it is: with an emulated draw count, the
     /// commands past its GPU count are emptied first; what it draws is
     /// tallied after.
     pub(crate) fn hand(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>, cutout: bool) {
+        self.hand_list(phase, list, marks, cutout, false);
+    }
+
+    /// [`Frame::hand`]; `packed`: a set's list, whose tail and tally its pass wrote.
+    fn hand_list(&mut self, phase: Phase, list: &DrawList, marks: Option<&MarkTarget>, cutout: bool, packed: bool) {
         self.step_list(phase);
         self.work.command_slots += list.max_count as u64;
         crate::gpu::shape::count(|s| s.lists += 1);
-        if let Some(tail) = self.tail.as_deref_mut() {
+        if let Some(tail) = self.tail.as_deref_mut().filter(|_| !packed) {
             tail.record(self.gpu, self.encoder, self.uploads, (&list.commands, &list.count, list.max_count), 0);
         }
         let statistics = self.pass_count();
@@ -226,7 +253,9 @@ impl<'a> Frame<'a> {
         if let Some(v) = self.validation.as_deref_mut() {
             v.after_draw(phase, list, host_marks.is_some());
         }
-        self.tally.count(list);
+        if !packed {
+            self.tally.count(list);
+        }
     }
 
     /// How lists are drawn up to their GPU count.

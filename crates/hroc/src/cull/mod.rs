@@ -47,6 +47,17 @@ pub trait CullMethod: Any + Send {
     /// host its draw lists.
     fn frame(&mut self, f: &mut Frame) -> Result<()>;
 
+    /// Plans the next frame before it is recorded, for a set of views
+    /// ([`crate::Culler::cull_views`]): the list that frame hands where it
+    /// culls by the frustum alone (every object whose box meets the
+    /// frustum, as `vfc.wgsl` tests, in object order), which the set's pass
+    /// packs; `None` where it culls otherwise. Asked only before a frame
+    /// that is not a cut; that frame then hands the list with
+    /// [`Frame::set_frustum`]. The default: `None`.
+    fn plan_set(&mut self, _gpu: &Gpu) -> Option<DrawList> {
+        None
+    }
+
     /// Forgets what earlier frames taught (a camera cut): the next frame is
     /// culled as a first frame. Every method with temporal state overrides it.
     fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}

@@ -45,7 +45,15 @@ impl CullMethod for FrustumCuller {
         Method::Vfc
     }
 
+    fn plan_set(&mut self, _gpu: &crate::gpu::Gpu) -> Option<DrawList> {
+        Some(self.list.clone())
+    }
+
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
+        // In a set of views, the set's pass packed the list.
+        if f.set_frustum(&self.list) {
+            return Ok(());
+        }
         f.stage(Stage::FrustumCull);
         let n = f.object_count();
         {

@@ -145,6 +145,8 @@ pub struct Culler {
     pub(super) pipelines: PipelineCheck,
     /// [`CullerDesc::index_count`], where the culler validates.
     pub(super) index_count: Option<u32>,
+    /// The pass that packs a set's frustum lists ([`Culler::cull_views`]).
+    pub(super) set_frustum: crate::set_frustum::SetFrustum,
 }
 
 impl Culler {
@@ -207,6 +209,7 @@ impl Culler {
         let sink_buffer = gpu.buffer("hroc marks sink", 16, wgpu::BufferUsages::STORAGE);
         let sink_marks = gpu.bind_buffers(&marks_layout, &[&sink_buffer]);
         let pipelines = PipelineCheck::new(device, &sink_buffer, desc.validation);
+        let set_frustum = crate::set_frustum::SetFrustum::new(&gpu, caps.draw_count == DrawCount::Emulated);
         let mut culler = Culler {
             sink_marks,
             bvh_nodes,
@@ -236,6 +239,7 @@ impl Culler {
             validator: desc.validation.then(Validator::default),
             pipelines,
             index_count: desc.index_count.filter(|_| desc.validation),
+            set_frustum,
         };
         culler.rebuild_tree()?;
         culler.upload_bounds();

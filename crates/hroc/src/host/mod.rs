@@ -5,6 +5,7 @@
 mod culler;
 mod motion;
 mod serving;
+mod set;
 mod steps;
 mod view;
 

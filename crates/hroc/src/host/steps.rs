@@ -89,7 +89,7 @@ impl View {
         self.visibility(culler);
         let mut cuts = StepCuts::default();
         let mut encoder = culler.gpu.encoder("hroc steps");
-        let recorded = self.record(culler, &mut encoder, input, &mut EngineDraws, None, Some(&mut cuts));
+        let recorded = self.record(culler, &mut encoder, input, &mut EngineDraws, None, Some(&mut cuts), super::set::SetPart::default());
         if let Some(e) = cuts.error.take() {
             self.interrupted = true;
             return Err(e);

@@ -1,11 +1,13 @@
 //! [`View`]: one method's temporal state over a culler's objects, and its
 //! frame.
 
+use super::set::SetPart;
 use super::*;
 use crate::cull::steps::StepCuts;
 use crate::cull::{CullMethod, Frame, FrameBody, Method, MethodContext, MethodOptions, Stage, Stat, WorkCounts};
 use crate::error::{Error, Result};
 use crate::frustum::ViewDesc;
+use crate::gpu::shape::EncoderShape;
 use crate::gpu::{GpuTimer, InvocationCounter, Invocations, Submission, Uploads};
 use crate::list_pass::ListPass;
 use crate::tally::{DrawTally, FrameStats};
@@ -127,14 +129,14 @@ impl View {
     /// handed and drawn, and the host submits `encoder` as usual (a host
     /// that logs the finding and goes on loses no frame).
     pub fn cull(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost) -> Result<()> {
-        self.record(culler, encoder, input, host, None, None)
+        self.record(culler, encoder, input, host, None, None, SetPart::default())
     }
 
     /// [`View::cull`] with `body` recorded in place of the method's frame:
     /// for tests of a method's building blocks (`cull::queries::QueryRenderer`).
     #[doc(hidden)]
     pub fn cull_with(&mut self, culler: &Culler, encoder: &mut wgpu::CommandEncoder, input: &FrameInput, host: &mut dyn DrawHost, body: FrameBody) -> Result<()> {
-        self.record(culler, encoder, input, host, Some(body), None)
+        self.record(culler, encoder, input, host, Some(body), None, SetPart::default())
     }
 
     /// What this view's methods are built from (with [`View::cull_with`]).
@@ -145,6 +147,7 @@ impl View {
         cx
     }
 
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn record(
         &mut self,
         culler: &Culler,
@@ -153,6 +156,7 @@ impl View {
         host: &mut dyn DrawHost,
         body: Option<FrameBody>,
         steps: Option<&mut StepCuts>,
+        set: SetPart<'_>,
     ) -> Result<()> {
         let (started, shape_before) = (std::time::Instant::now(), crate::gpu::shape::recorded());
         let regrown = self.slots != culler.objects.count;
@@ -188,8 +192,11 @@ impl View {
         let stepwise = steps.is_some();
         let arrived = self.validation.as_mut().filter(|_| !stepwise).and_then(|v| v.harvest(&culler.gpu));
         culler.flush_oriented();
-        let uniform = g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32);
-        self.uploads.write(encoder, &self.frame, 0, bytemuck::bytes_of(&uniform));
+        let uniform = self.uniform(culler, &g);
+        // (A set that packs the view's list wrote it before its pass.)
+        if !set.packed {
+            self.uploads.write(encoder, &self.frame, 0, bytemuck::bytes_of(&uniform));
+        }
         // An engine clears its targets in its early pass, after this point.
         if let Some(v) = self.validation.as_mut() {
             v.begin(encoder, &mut self.uploads, self.frames, stepwise);
@@ -221,7 +228,8 @@ impl View {
             self.cutout_marks = Some(std::sync::Arc::new(crate::cull::BoxMarks::new(&culler.context(&self.frame, &self.targets))));
         }
         self.work = WorkCounts::default();
-        self.tally.begin(&culler.gpu, encoder);
+        // A set that packs the view's list writes its tally.
+        self.tally.begin(&culler.gpu, encoder, !set.packed);
         let mut f = Frame {
             tally: &mut self.tally,
             uploads: &mut self.uploads,
@@ -252,7 +260,14 @@ impl View {
             visibility: self.visibility.as_mut(),
             steps,
             cutout_marks: self.cutout_marks.clone(),
+            set_packed: set.packed,
         };
+        if let Some((pass, jobs)) = set.pass {
+            f.stage(Stage::FrustumCull);
+            let (enc, q) = f.counted();
+            let mut p = enc.counted_compute_pass(&wgpu::ComputePassDescriptor { label: Some("hroc set frustum"), timestamp_writes: None });
+            q.around(&mut p, |p| pass.record(p, jobs));
+        }
         if let Some(always) = culler.objects.always.as_ref() {
             f.stage(Stage::FlaggedObjects);
             f.split_and_hand(Phase::Always, always, None);
@@ -284,6 +299,10 @@ impl View {
         }
         if let Some(v) = f.validation.as_deref_mut() {
             v.end(f.gpu, f.encoder, f.uploads);
+        }
+        if f.set_unused() {
+            // The set tallied a list the frame did not hand.
+            f.tally.clear(f.encoder);
         }
         f.tally.record(f.gpu, f.encoder, f.uploads, &crate::gpu::PassCount::NONE);
         if let Some(t) = f.timer.take() {
@@ -321,6 +340,11 @@ impl View {
         }
     }
 
+    /// The view's `Frame` uniform for `g` this frame.
+    pub(super) fn uniform(&self, culler: &Culler, g: &crate::frustum::ViewGeometry) -> crate::layout::FrameUniform {
+        g.uniform(self.targets.size, culler.objects.count, culler.bvh.nodes.len() as u32)
+    }
+
     /// The statistics every method shares ([`FrameStats`]: objects and
     /// triangles drawn, cut, submits, waits, bytes read back) of the
     /// newest frame whose counts have come back, without waiting: a
@@ -352,8 +376,15 @@ impl View {
     /// of an orthographic view (a shadow cascade, whose box follows the
     /// camera while the light's direction stays put) the ray's origin.
     pub(super) fn detect_cut(&mut self, culler: &Culler, g: &crate::frustum::ViewGeometry) -> bool {
-        let pose = (g.ray_origins.w_axis.truncate(), g.ray_dirs.z_axis.truncate().normalize_or_zero());
-        let Some((eye, dir)) = self.last_pose.replace(pose) else { return false };
+        let cut = self.turned(culler, g);
+        self.last_pose = Some(pose_of(g));
+        cut
+    }
+
+    /// [`View::detect_cut`] without taking the pose.
+    pub(super) fn turned(&self, culler: &Culler, g: &crate::frustum::ViewGeometry) -> bool {
+        let pose = pose_of(g);
+        let Some((eye, dir)) = self.last_pose else { return false };
         let turn = dir.dot(pose.1).clamp(-1.0, 1.0).acos().to_degrees();
         let diagonal = if culler.bvh.nodes.is_empty() { f32::INFINITY } else { culler.bvh.aabb(0).extent().length() };
         turn > self.options.cut_turn_deg || eye.distance(pose.0) > self.options.cut_move * diagonal
@@ -449,6 +480,11 @@ impl View {
     pub fn method_state_mut<T: 'static>(&mut self) -> Option<&mut T> {
         (&mut *self.imp as &mut dyn std::any::Any).downcast_mut::<T>()
     }
+}
+
+/// A view's pose: its central ray's origin and direction.
+fn pose_of(g: &crate::frustum::ViewGeometry) -> (glam::Vec3, glam::Vec3) {
+    (g.ray_origins.w_axis.truncate(), g.ray_dirs.z_axis.truncate().normalize_or_zero())
 }
 
 /// Milliseconds since `*last` (none for a view's first frame); sets it to now.

@@ -192,6 +192,11 @@ impl Hroc {
         let (x, y) = dispatch_size(self.n, 256);
         self.compute(f, "hroc frustum", &[(frustum, Launch::Grid(x, y))], Some(&self.u_job), None);
         f.stage(Stage::Draw);
-        f.draw(Phase::Visible, &DrawList { max_count: self.n, ..self.u_list.clone() }, None);
+        f.draw(Phase::Visible, &self.frustum_list(), None);
+    }
+
+    /// U's list, as a frame of frustum culling alone fills it.
+    pub(super) fn frustum_list(&self) -> DrawList {
+        DrawList { max_count: self.n, ..self.u_list.clone() }
     }
 }

@@ -184,6 +184,9 @@ pub struct Hroc {
     frustum: Option<Step>,
     /// What the last frame ran.
     plan: Plan,
+    /// The plan was made before the frame, for a set of views
+    /// ([`CullMethod::plan_set`]), reading back these bytes.
+    planned: Option<u64>,
     /// The seed's grid ([`seed_grid`]).
     grid: (u32, u32),
     /// One ID pixel read in every `filter_stride²` ([`MethodOptions::hroc_filter_stride`](super::MethodOptions)).
@@ -349,12 +352,20 @@ impl CullMethod for Hroc {
         }
         enc.counted_clear(&self.visible, 0, None);
         self.reset_walk(enc);
+        self.planned = None;
         self.seed_next = true;
         self.v_packed = None;
     }
 
     fn visible_set(&self) -> Option<&wgpu::Buffer> {
         Some(&self.visible)
+    }
+
+    fn plan_set(&mut self, gpu: &Gpu) -> Option<DrawList> {
+        let g = self.gate.as_mut().filter(|_| self.frustum.is_some())?;
+        let (plan, bytes) = g.plan(gpu);
+        (self.plan, self.planned) = (plan, Some(bytes));
+        (!plan.occlusion).then(|| self.frustum_list())
     }
 
     fn take_over(&mut self, enc: &mut wgpu::CommandEncoder, visible: Option<&wgpu::Buffer>) {
@@ -380,16 +391,23 @@ impl CullMethod for Hroc {
             self.reset_walk(f.encoder());
         }
         // What this frame runs, by what the view's last probe measured.
-        self.plan = match self.gate.as_mut() {
-            Some(g) => {
+        self.plan = match (self.planned.take(), self.gate.as_mut()) {
+            (Some(bytes), _) => {
+                f.count_async_read(bytes);
+                self.plan
+            }
+            (None, Some(g)) => {
                 let (plan, bytes) = g.plan(f.gpu);
                 f.count_async_read(bytes);
                 plan
             }
-            None => Plan::whole(self.variant.of),
+            (None, None) => Plan::whole(self.variant.of),
         };
         if let (false, Some(frustum)) = (self.plan.occlusion, &self.frustum) {
-            self.frustum_frame(f, frustum);
+            // In a set of views, the set's pass packed U.
+            if !f.set_frustum(&self.frustum_list()) {
+                self.frustum_frame(f, frustum);
+            }
             // The next HROC frame packs V anew.
             self.v_packed = None;
             return Ok(());

@@ -206,6 +206,7 @@ impl Hroc {
             measure,
             frustum,
             plan: Plan::whole(variant.of),
+            planned: None,
             filter_stride,
             grid: grid_size,
             seed,
