@@ -39,7 +39,7 @@ fn a_set_packs_the_lists_views_culled_alone_hand() {
         let (fitted, time) = (s.cascades(k), s.times[k]);
         let truths = s.cascade_truths(&fitted, time).unwrap();
         let results = s.run_cascades(&mut set, &fitted, time).unwrap();
-        let set_shape: u32 = set.iter().map(|v| shape(v)).sum();
+        let set_shape: u32 = set.iter().map(shape).sum();
         let mut alone_shape = 0;
         for (c, ((r, (_, truth)), cascade)) in results.iter().zip(&truths).zip(&fitted).enumerate() {
             let chk = s.check_cascade(c as u32, r, truth).unwrap();
