@@ -271,7 +271,9 @@
 //! Everything a host touches, at the crate root (`tests/api_list.rs`
 //! checks this list against what the crate exports, and caps it):
 //! - the culler and its views: [`Culler`], [`CullerDesc`], [`View`],
-//!   [`ViewDesc`], [`ViewTargets`], [`DepthRange`], [`FrameInput`];
+//!   [`ViewDesc`], [`ViewTargets`], [`DepthRange`], [`FrameInput`]; a
+//!   frame's views culled as a set ([`Culler::cull_views`]: a camera, its
+//!   light's cascades, a point light's faces);
 //! - objects: [`ObjectDesc`], [`ObjectFlags`], [`Aabb`];
 //! - the draws handed to the host: [`Draw`], [`DrawHost`], [`Phase`];
 //! - an engine's own frame: [`Steps`] ([`View::steps`], with

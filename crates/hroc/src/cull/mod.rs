@@ -53,7 +53,7 @@ pub trait CullMethod: Any + Send {
     /// frustum, as `vfc.wgsl` tests, in object order), which the set's pass
     /// packs; `None` where it culls otherwise. Asked only before a frame
     /// that is not a cut; that frame then hands the list with
-    /// [`Frame::set_frustum`]. The default: `None`.
+    /// `Frame::set_frustum`. The default: `None`.
     fn plan_set(&mut self, _gpu: &Gpu) -> Option<DrawList> {
         None
     }

@@ -23,14 +23,14 @@ impl Culler {
     /// order given, all recorded into `encoder`; but every view that culls
     /// by its frustum alone this frame (`vfc`, and HROC where its probes
     /// found that occlusion culls little,
-    /// [`MethodOptions::hroc_frustum_below`]) is tested and packed in one
+    /// [`crate::MethodOptions::hroc_frustum_below`]) is tested and packed in one
     /// compute pass the set shares, one dispatch per such view, in place
     /// of a pass, a compaction and a tally of its own (`hroc set frustum`,
     /// counted in the first such view's [`View::stats`]). A view that
     /// starts over (a cut, a rebuilt culler) culls alone in that frame.
     ///
     /// Views are packed only where every view of the set keeps to the
-    /// host's encoder (no [`Method::submits_mid_frame`]), no object has
+    /// host's encoder (no [`crate::Method::submits_mid_frame`]), no object has
     /// [`ObjectFlags`] that split lists, and the culler has at most
     /// 131,072 object slots (a set's view is packed by one workgroup).
     /// Otherwise each view culls alone, as [`View::cull`] does.

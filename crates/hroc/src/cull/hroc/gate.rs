@@ -195,6 +195,31 @@ impl Hroc {
         f.draw(Phase::Visible, &self.frustum_list(), None);
     }
 
+    /// Plans the frame: the plan made before it for a set of views, or now.
+    pub(super) fn plan_frame(&mut self, f: &mut Frame) {
+        self.plan = match (self.planned.take(), self.gate.as_mut()) {
+            (Some(bytes), _) => {
+                f.count_async_read(bytes);
+                self.plan
+            }
+            (None, Some(g)) => {
+                let (plan, bytes) = g.plan(f.gpu);
+                f.count_async_read(bytes);
+                plan
+            }
+            (None, None) => Plan::whole(self.variant.of),
+        };
+    }
+
+    /// Plans the next frame before it is recorded, for a set of views
+    /// (`CullMethod::plan_set`): U's list where it culls by the frustum alone.
+    pub(super) fn plan_early(&mut self, gpu: &Gpu) -> Option<DrawList> {
+        let g = self.gate.as_mut().filter(|_| self.frustum.is_some())?;
+        let (plan, bytes) = g.plan(gpu);
+        (self.plan, self.planned) = (plan, Some(bytes));
+        (!plan.occlusion).then(|| self.frustum_list())
+    }
+
     /// U's list, as a frame of frustum culling alone fills it.
     pub(super) fn frustum_list(&self) -> DrawList {
         DrawList { max_count: self.n, ..self.u_list.clone() }

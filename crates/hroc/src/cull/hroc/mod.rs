@@ -184,8 +184,7 @@ pub struct Hroc {
     frustum: Option<Step>,
     /// What the last frame ran.
     plan: Plan,
-    /// The plan was made before the frame, for a set of views
-    /// ([`CullMethod::plan_set`]), reading back these bytes.
+    /// Bytes read back by a plan made before the frame (`plan_set`).
     planned: Option<u64>,
     /// The seed's grid ([`seed_grid`]).
     grid: (u32, u32),
@@ -362,10 +361,7 @@ impl CullMethod for Hroc {
     }
 
     fn plan_set(&mut self, gpu: &Gpu) -> Option<DrawList> {
-        let g = self.gate.as_mut().filter(|_| self.frustum.is_some())?;
-        let (plan, bytes) = g.plan(gpu);
-        (self.plan, self.planned) = (plan, Some(bytes));
-        (!plan.occlusion).then(|| self.frustum_list())
+        self.plan_early(gpu)
     }
 
     fn take_over(&mut self, enc: &mut wgpu::CommandEncoder, visible: Option<&wgpu::Buffer>) {
@@ -391,18 +387,7 @@ impl CullMethod for Hroc {
             self.reset_walk(f.encoder());
         }
         // What this frame runs, by what the view's last probe measured.
-        self.plan = match (self.planned.take(), self.gate.as_mut()) {
-            (Some(bytes), _) => {
-                f.count_async_read(bytes);
-                self.plan
-            }
-            (None, Some(g)) => {
-                let (plan, bytes) = g.plan(f.gpu);
-                f.count_async_read(bytes);
-                plan
-            }
-            (None, None) => Plan::whole(self.variant.of),
-        };
+        self.plan_frame(f);
         if let (false, Some(frustum)) = (self.plan.occlusion, &self.frustum) {
             // In a set of views, the set's pass packed U.
             if !f.set_frustum(&self.frustum_list()) {
