@@ -9,9 +9,9 @@ use hroc_bench::gpu::Headless;
 /// The gate (`cull/hroc/gate.rs`): in the far cascade of a light over the
 /// city, where occlusion culls a few per cent of the frustum's objects and
 /// nearly every object drawn owns a pixel, `hroc` culls by the frustum
-/// alone between its probes (frame 0, then at a rate halving from one in
-/// eight after each probe that finds occlusion not paying) and the frames
-/// before the first probe's counts arrive; the camera culls
+/// alone between its probes (frame 0, then one in `PROBE_LEAST` once a
+/// probe found occlusion not paying) and the frames before the first
+/// probe's counts arrive; the camera culls
 /// every frame by
 /// occlusion and filters in more frames than the light. Every frame of
 /// both draws every object the unculled view shows.
@@ -43,16 +43,10 @@ fn hroc_sizes_its_frame_to_what_it_saves_in_each_view() {
         light_occlusion += stat(&mut light, &s, Occlusion);
     }
     let frames = s.cameras.len() as u32;
-    use hroc::testing::cull::hroc::gate::{PROBE_EVERY, PROBE_LEAST};
-    // At most a probe at frames 0, 2 × PROBE_EVERY, 6 × PROBE_EVERY, … (the
-    // interval doubling from PROBE_EVERY, up to PROBE_LEAST; counts
+    use hroc::testing::cull::hroc::gate::PROBE_LEAST;
+    // At most a probe at frames 0, PROBE_LEAST, 2 × PROBE_LEAST, … (counts
     // arriving a frame or two late put each a little later).
-    let (mut probes, mut at, mut interval) = (0, 0, PROBE_EVERY);
-    while at < frames {
-        probes += 1;
-        interval = (interval * 2).min(PROBE_LEAST);
-        at += interval;
-    }
+    let probes = frames.div_ceil(PROBE_LEAST);
     assert_eq!(camera_occlusion, frames, "the camera culled {camera_occlusion} of {frames} frames by occlusion");
     assert!(light_occlusion <= probes + 4, "the light's view culled {light_occlusion} of {frames} frames by occlusion");
     assert!(camera_filtered > light_filtered, "camera filtered {camera_filtered}, light {light_filtered} of {frames}");

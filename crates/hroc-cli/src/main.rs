@@ -181,6 +181,11 @@ struct MethodArgs {
     /// alone until the next measurement, 0 to 1 (0: always by occlusion).
     #[arg(long, default_value_t = 0.05, value_parser = parse_share)]
     hroc_frustum_below: f32,
+    /// hroc: ... or where the triangles it culled are fewer than this many
+    /// per pixel of the view (a light's cascade culling a few roofs), 0 or
+    /// more (0: the share alone decides).
+    #[arg(long, default_value_t = 0.05)]
+    hroc_frustum_triangles: f32,
     /// Degrees the view may turn between frames before the frame is culled
     /// as after a camera cut (`inf`: never).
     #[arg(long, default_value_t = 45.0)]
@@ -206,6 +211,7 @@ impl MethodArgs {
             hroc_rounds: self.hroc_rounds,
             hroc_occluder_rounds: self.hroc_occluder_rounds,
             hroc_frustum_below: self.hroc_frustum_below,
+            hroc_frustum_triangles: self.hroc_frustum_triangles,
             cut_turn_deg: self.cut_turn,
             cut_move: self.cut_move,
         }

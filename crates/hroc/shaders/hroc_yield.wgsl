@@ -6,12 +6,15 @@
 @group(0) @binding(7) var<storage, read_write> occludees: array<u32>; // U flags
 @group(0) @binding(9) var<storage, read_write> visible: array<u32>;   // V flags (read)
 @group(0) @binding(11) var<storage, read> bounds: array<ObjectBounds>;
+@group(0) @binding(13) var<storage, read> commands: array<DrawCommand>;
 // The gate's tally: [0], [1] the filter's (hroc_next.wgsl); [2] objects
-// in the frustum, [3] of those neither in V nor in U: culled by occlusion.
-@group(0) @binding(20) var<storage, read_write> tally: array<atomic<u32>, 4>;
+// in the frustum, [3] of those neither in V nor in U: culled by
+// occlusion, [4] their triangles.
+@group(0) @binding(20) var<storage, read_write> tally: array<atomic<u32>, 5>;
 
 var<workgroup> inside_sum: atomic<u32>;
 var<workgroup> culled_sum: atomic<u32>;
+var<workgroup> triangles_sum: atomic<u32>;
 
 // After the batch test (U final): counts the objects in the frustum and
 // those the frame culls by occlusion. A refill's objects, drawn but not
@@ -25,6 +28,7 @@ fn measure(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
             atomicAdd(&inside_sum, 1u);
             if visible[i] == 0u && occludees[i] == 0u {
                 atomicAdd(&culled_sum, 1u);
+                atomicAdd(&triangles_sum, commands[i].index_count / 3u);
             }
         }
     }
@@ -34,6 +38,7 @@ fn measure(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
         if inside > 0u {
             atomicAdd(&tally[2], inside);
             atomicAdd(&tally[3], atomicLoad(&culled_sum));
+            atomicAdd(&tally[4], atomicLoad(&triangles_sum));
         }
     }
 }

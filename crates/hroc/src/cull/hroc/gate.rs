@@ -6,12 +6,17 @@
 //!
 //! - **Occlusion where it culls.** The probe counts the objects in the
 //!   view's frustum and those of them the frame culls by occlusion (in
-//!   neither V nor U; `measure` in `hroc_yield.wgsl`). Where occlusion
-//!   culled less than [`MethodOptions::hroc_frustum_below`](crate::MethodOptions)
-//!   of the frustum's objects (a light looking down on roofs: a few per
-//!   cent), the view's frames cull by the frustum alone: one compute pass,
-//!   one list (`frustum`). Frustum culling is conservative, and the next
-//!   probe runs HROC from the last V it had (V only orders a frame).
+//!   neither V nor U, and their triangles; `measure` in
+//!   `hroc_yield.wgsl`). Where occlusion culled less than
+//!   [`MethodOptions::hroc_frustum_below`](crate::MethodOptions) of the
+//!   frustum's objects, or fewer triangles than
+//!   [`MethodOptions::hroc_frustum_triangles`](crate::MethodOptions) per
+//!   pixel of the view (a light looking down on roofs: a few per cent,
+//!   50 objects in 512²), the view's frames cull by the frustum alone: one
+//!   compute pass, one list (`frustum`; in a set of views, one dispatch
+//!   of the set's pass, `crate::Culler::cull_views`). Frustum culling is
+//!   conservative, and the next probe runs HROC from the last V it had
+//!   (V only orders a frame).
 //! - **Occluder filtering where it changes the result.** OF (step 5 with
 //!   the ID target, Lee et al. 2021 §4.2) makes the next V the objects
 //!   that own a pixel, where the merge makes it O ∪ D: it pays where many
@@ -24,11 +29,11 @@
 //!   merge needs.
 //!
 //! - **Probes where they can change the plan.** A view whose probe found
-//!   occlusion not paying probes half as often after each such probe, down
-//!   to one frame in [`PROBE_LEAST`]: a light over roofs measures little
-//!   and often the same. A probe that finds occlusion paying brings back
-//!   one in [`PROBE_EVERY`]. Probes only size the frame, so either rate is
-//!   conservative.
+//!   occlusion not paying probes next [`PROBE_LEAST`] frames later: a
+//!   light over roofs measures little and the same from frame to frame,
+//!   and each probe is HROC's whole frame. A probe that finds occlusion
+//!   paying brings back one in [`PROBE_EVERY`]. Probes only size the
+//!   frame, so either rate is conservative.
 //!
 //! A camera cut runs the whole frame and probes at once: the last counts
 //! describe another view.
@@ -42,7 +47,7 @@ use crate::gpu::{dispatch_size, Gpu, Readback};
 /// A probe every this many frames of the view, where occlusion pays.
 pub const PROBE_EVERY: u32 = 8;
 
-/// At least a probe every this many frames of a view where it does not.
+/// A probe every this many frames of a view where it does not.
 pub const PROBE_LEAST: u32 = 32;
 
 /// Filtering pays when it keeps at most this share of O ∪ D.
@@ -52,8 +57,17 @@ pub const FILTER_PAYS_BELOW: f64 = 0.9;
 const RING: usize = 2;
 
 /// Bytes of the tally: objects the filter keeps, objects of O ∪ D,
-/// objects in the frustum, of those culled by occlusion (u32 each).
-const TALLY: u64 = 16;
+/// objects in the frustum, of those culled by occlusion, and their
+/// triangles (u32 each).
+pub(super) const TALLY: u64 = 20;
+
+/// Where occlusion pays: it culls at least this share of the frustum's
+/// objects, and at least this many triangles.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Pays {
+    pub(super) share: f32,
+    pub(super) triangles: f64,
+}
 
 /// What step 5 runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,37 +101,37 @@ impl Plan {
 
 /// One view's measurements of what its frame's parts change.
 pub(super) struct Gate {
-    /// `[kept, merged, inside, culled]`, counted by the probes.
+    /// `[kept, merged, inside, culled, triangles]`, counted by the probes.
     pub(super) tally: wgpu::Buffer,
     ring: Vec<(wgpu::Buffer, Readback<()>)>,
     /// The view filters with OF where it pays (else `of` alone decides).
     filter: bool,
     /// The variant filters (OF).
     of: bool,
-    /// Occlusion pays from this share of the frustum's objects culled.
-    frustum_below: f64,
+    /// Where occlusion pays.
+    pays: Pays,
     filter_pays: bool,
     occlusion_pays: bool,
     /// Frames since the last probe, this one counted.
     since_probe: u32,
-    /// Frames from one probe to the next: [`PROBE_EVERY`], doubled after
-    /// each probe that found occlusion not paying, up to [`PROBE_LEAST`].
+    /// Frames from one probe to the next: [`PROBE_EVERY`], or
+    /// [`PROBE_LEAST`] after a probe that found occlusion not paying.
     interval: u32,
     /// The last counts that arrived.
-    pub(super) last: Option<[u32; 4]>,
+    pub(super) last: Option<[u32; 5]>,
 }
 
 impl Gate {
     /// A gate for a view of variant `of`: `filter` where D is marked,
-    /// occlusion culled by the frustum below `frustum_below` (0: never).
-    pub(super) fn new(gpu: &Gpu, of: bool, filter: bool, frustum_below: f32) -> Self {
+    /// occlusion culling where it `pays` (a share of 0: always).
+    pub(super) fn new(gpu: &Gpu, of: bool, filter: bool, pays: Pays) -> Self {
         use wgpu::BufferUsages as U;
         Gate {
             tally: gpu.buffer("hroc gate tally", TALLY, U::STORAGE | U::COPY_DST | U::COPY_SRC),
             ring: (0..RING).map(|_| (gpu.buffer("hroc gate tally staging", TALLY, U::MAP_READ | U::COPY_DST), Readback::Free)).collect(),
             filter: of && filter,
             of,
-            frustum_below: frustum_below.max(0.0) as f64,
+            pays: Pays { share: pays.share.max(0.0), triangles: pays.triangles.max(0.0) },
             filter_pays: true,
             occlusion_pays: true,
             since_probe: PROBE_LEAST,
@@ -132,15 +146,16 @@ impl Gate {
         let _ = gpu.device.poll(wgpu::PollType::Poll);
         let mut bytes = 0;
         for (buf, slot) in self.ring.iter_mut() {
-            let Some(c) = slot.take(buf, |(), v| std::array::from_fn::<u32, 4, _>(|k| bytemuck::pod_read_unaligned(&v[k * 4..k * 4 + 4]))) else { continue };
+            let Some(c) = slot.take(buf, |(), v| std::array::from_fn::<u32, 5, _>(|k| bytemuck::pod_read_unaligned(&v[k * 4..k * 4 + 4]))) else { continue };
             bytes += TALLY;
             self.last = Some(c);
-            let [kept, merged, inside, culled] = c.map(f64::from);
+            let [kept, merged, inside, culled, triangles] = c.map(f64::from);
             if self.filter {
                 self.filter_pays = merged == 0.0 || kept <= FILTER_PAYS_BELOW * merged;
             }
-            self.occlusion_pays = inside == 0.0 || culled >= self.frustum_below * inside;
-            self.interval = if self.occlusion_pays { PROBE_EVERY } else { (self.interval * 2).min(PROBE_LEAST) };
+            let share = self.pays.share as f64;
+            self.occlusion_pays = inside == 0.0 || share == 0.0 || (culled >= share * inside && triangles >= self.pays.triangles);
+            self.interval = if self.occlusion_pays { PROBE_EVERY } else { PROBE_LEAST };
         }
         let probe = self.since_probe >= self.interval && self.ring.iter().any(|(_, s)| s.is_free());
         // (Counting this frame: the next probe `interval` frames after it.)

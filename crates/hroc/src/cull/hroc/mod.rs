@@ -70,7 +70,7 @@ use crate::gpu::{dispatch_size, Gpu};
 use crate::reflect::Layout;
 use crate::shaders::source_for as shader_source_for;
 use crate::shaders::{BoxDepth, BoxTarget};
-use gate::{Gate, Next, Plan};
+use gate::{Gate, Next, Pays, Plan};
 use stall_free::{Counted, Spill, StallFree};
 
 /// The facts of HROC's variant `v`: it reads marks, IDs with OF, and

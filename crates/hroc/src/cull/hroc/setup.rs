@@ -78,10 +78,12 @@ impl Hroc {
         let no_rounds = cx.options.hroc_rounds <= 1 && !cx.options.hroc_occluder_rounds;
         let filter_gated = matches!(marks_d, MarkTarget::Host(..));
         let gated = no_rounds && ((variant.of && filter_gated) || cx.options.hroc_frustum_below > 0.0);
-        let gate = gated.then(|| Gate::new(gpu, variant.of, filter_gated, cx.options.hroc_frustum_below));
+        let pixels = cx.targets.size.0 as f64 * cx.targets.size.1 as f64;
+        let pays = Pays { share: cx.options.hroc_frustum_below, triangles: cx.options.hroc_frustum_triangles as f64 * pixels };
+        let gate = gated.then(|| Gate::new(gpu, variant.of, filter_gated, pays));
         let gate_tally = match &gate {
             Some(g) => g.tally.clone(),
-            None => gpu.buffer("hroc gate tally", 16, U::STORAGE),
+            None => gpu.buffer("hroc gate tally", gate::TALLY, U::STORAGE),
         };
         resources.push((20, gate_tally.as_entire_binding()));
         let step = |layout: Layout, pass: &str, entry: &str, constants: &[(&str, f64)]| {
