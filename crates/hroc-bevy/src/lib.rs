@@ -92,10 +92,12 @@ pub struct HrocCulling {
     /// frustum, and 1.42 × and 2.17 × with them culled by occlusion.
     ///
     /// Where on, HROC chooses per view by measurement: each cascade culls
-    /// by occlusion where one frame in eight (or fewer, in a view where
-    /// it did not pay) finds that occlusion culls at
-    /// least 5 % of the objects in its frustum, and by the frustum alone
-    /// otherwise (`hroc::MethodOptions::hroc_frustum_below`).
+    /// by occlusion where one frame in eight (one in 32 in a view where
+    /// it did not pay) finds that occlusion culls at least 5 % of the
+    /// objects in its frustum and 0.05 triangles per pixel of the view,
+    /// and by the frustum alone otherwise
+    /// (`hroc::MethodOptions::hroc_frustum_below`,
+    /// `hroc::MethodOptions::hroc_frustum_triangles`).
     pub cascades: bool,
 }
 
