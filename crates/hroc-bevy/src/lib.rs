@@ -94,8 +94,8 @@ pub struct HrocCulling {
     /// Where on, HROC chooses per view by measurement: each cascade culls
     /// by occlusion where one frame in eight (one in 32 in a view where
     /// it did not pay) finds that occlusion culls at least 5 % of the
-    /// objects in its frustum and 0.05 triangles per pixel of the view,
-    /// and by the frustum alone otherwise
+    /// objects in its frustum and either half of them or 0.05 triangles
+    /// per pixel of the view, and by the frustum alone otherwise
     /// (`hroc::MethodOptions::hroc_frustum_below`,
     /// `hroc::MethodOptions::hroc_frustum_triangles`).
     pub cascades: bool,

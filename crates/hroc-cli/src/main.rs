@@ -181,9 +181,9 @@ struct MethodArgs {
     /// alone until the next measurement, 0 to 1 (0: always by occlusion).
     #[arg(long, default_value_t = 0.05, value_parser = parse_share)]
     hroc_frustum_below: f32,
-    /// hroc: ... or where the triangles it culled are fewer than this many
-    /// per pixel of the view (a light's cascade culling a few roofs), 0 or
-    /// more (0: the share alone decides).
+    /// hroc: ... or where it culled under half of them and fewer triangles
+    /// than this many per pixel of the view (a light's cascade culling a
+    /// few roofs), 0 or more (0: the share alone decides).
     #[arg(long, default_value_t = 0.05)]
     hroc_frustum_triangles: f32,
     /// Degrees the view may turn between frames before the frame is culled

@@ -9,8 +9,12 @@
 @group(0) @binding(13) var<storage, read> commands: array<DrawCommand>;
 // The gate's tally: [0], [1] the filter's (hroc_next.wgsl); [2] objects
 // in the frustum, [3] of those neither in V nor in U: culled by
-// occlusion, [4] their triangles.
+// occlusion, [4] their triangles (at least DRAW_TRIANGLES each).
 @group(0) @binding(20) var<storage, read_write> tally: array<atomic<u32>, 5>;
+
+// Triangles an object culled saves at least: its draw costs about as
+// much, whatever it holds (a box has 12).
+const DRAW_TRIANGLES: u32 = 64u;
 
 var<workgroup> inside_sum: atomic<u32>;
 var<workgroup> culled_sum: atomic<u32>;
@@ -28,7 +32,7 @@ fn measure(@builtin(workgroup_id) wid: vec3<u32>, @builtin(num_workgroups) nwg: 
             atomicAdd(&inside_sum, 1u);
             if visible[i] == 0u && occludees[i] == 0u {
                 atomicAdd(&culled_sum, 1u);
-                atomicAdd(&triangles_sum, commands[i].index_count / 3u);
+                atomicAdd(&triangles_sum, max(commands[i].index_count / 3u, DRAW_TRIANGLES));
             }
         }
     }

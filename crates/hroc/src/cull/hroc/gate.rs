@@ -11,8 +11,9 @@
 //!   [`MethodOptions::hroc_frustum_below`](crate::MethodOptions) of the
 //!   frustum's objects, or fewer triangles than
 //!   [`MethodOptions::hroc_frustum_triangles`](crate::MethodOptions) per
-//!   pixel of the view (a light looking down on roofs: a few per cent,
-//!   50 objects in 512²), the view's frames cull by the frustum alone: one
+//!   pixel of the view while less than half of the frustum's objects (a
+//!   light looking down on roofs: a few per cent, 50 objects in 512²),
+//!   the view's frames cull by the frustum alone: one
 //!   compute pass, one list (`frustum`; in a set of views, one dispatch
 //!   of the set's pass, `crate::Culler::cull_views`). Frustum culling is
 //!   conservative, and the next probe runs HROC from the last V it had
@@ -154,7 +155,9 @@ impl Gate {
                 self.filter_pays = merged == 0.0 || kept <= FILTER_PAYS_BELOW * merged;
             }
             let share = self.pays.share as f64;
-            self.occlusion_pays = inside == 0.0 || share == 0.0 || (culled >= share * inside && triangles >= self.pays.triangles);
+            // (Culling most of the frustum's objects pays whatever they cost.)
+            let saves = triangles >= self.pays.triangles || culled >= 0.5 * inside;
+            self.occlusion_pays = inside == 0.0 || share == 0.0 || (culled >= share * inside && saves);
             self.interval = if self.occlusion_pays { PROBE_EVERY } else { PROBE_LEAST };
         }
         let probe = self.since_probe >= self.interval && self.ring.iter().any(|(_, s)| s.is_free());
