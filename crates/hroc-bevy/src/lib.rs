@@ -87,9 +87,9 @@ pub struct HrocCulling {
     /// hides little, and culling its cascades by occlusion makes Bevy add a
     /// late shadow pass and preprocessing per cascade; measured on
     /// lavapipe at 320 × 180 with 4 cascades of a 1024² map (BENCHMARKS.md,
-    /// "Bevy"), the plugin's `hroc` took 0.89 × (radial-city 5,000) and
-    /// 0.94 × (`houses`) Bevy's frustum culling with cascades left to the
-    /// frustum, and 1.42 × and 2.17 × with them culled by occlusion.
+    /// "Bevy"), the plugin's `hroc` took 0.92 × (radial-city 5,000) and
+    /// 0.93 × (`houses`) Bevy's frustum culling with cascades left to the
+    /// frustum, and 1.19 × and 2.04 × with them culled by occlusion.
     ///
     /// Where on, HROC chooses per view by measurement: each cascade culls
     /// by occlusion where one frame in eight (one in 32 in a view where

@@ -173,7 +173,7 @@ impl Frame<'_> {
         (entity, who): (Entity, &str),
         existing: Option<Mut<HrocView>>,
         (texture, layer, method): Key,
-        (extracted, unclipped): (&ExtractedView, bool),
+        (extracted, unclipped, depth_only): (&ExtractedView, bool, bool),
     ) {
         let targets = ViewTargets::new(&texture, DepthRange::Reversed).at(layer, 0);
         let input = FrameInput { view: view_desc(extracted, unclipped), cut: false, time: self.seconds };
@@ -196,7 +196,7 @@ impl Frame<'_> {
                     commands.entity(entity).insert(HrocFindings(v.logged.clone()));
                 }
             }
-            _ => match self.culler.view_with(method, &targets, &options(&texture)) {
+            _ => match self.culler.view_with(method, &targets, &options(&texture, depth_only)) {
                 Ok(view) => {
                     let mut v = HrocView { view: Mutex::new(view), logged: Vec::new(), key, steps: Mutex::default(), bind_group: None, bound: None, recorded: 0 };
                     v.record(self, &input, who);
@@ -250,13 +250,13 @@ pub fn prepare(
     // view culled once, and first, as Bevy draws them (before its cameras).
     for light in light_views.culled() {
         let Ok((extracted, existing)) = cascades.get_mut(light.entity) else { continue };
-        frame.cull(&mut commands, (light.entity, &light.who), existing, (light.texture, light.layer, light.method), (extracted, false));
+        frame.cull(&mut commands, (light.entity, &light.who), existing, (light.texture, light.layer, light.method), (extracted, false, true));
     }
     for (entity, main, culling, extracted, depth, lights, shadows, existing) in &mut cameras {
         let method = method_without_ids(culling.method);
         let texture: &wgpu::Texture = depth.texture();
         let camera = format!("camera {}", main.map_or(entity, |m| m.id()));
-        frame.cull(&mut commands, (entity, &camera), existing, (texture.clone(), 0, method), (extracted, false));
+        frame.cull(&mut commands, (entity, &camera), existing, (texture.clone(), 0, method), (extracted, false, false));
         let (Some(lights), Some(shadows)) = (lights, shadows) else { continue };
         // The camera's directional cascades, in the order Bevy gave them
         // the layers of its shadow map.
@@ -271,15 +271,21 @@ pub fn prepare(
             let Ok((cascade, existing)) = cascades.get_mut(light) else { continue };
             let texture: &wgpu::Texture = &shadows.directional_light_depth_texture;
             let who = format!("{camera}, directional light cascade {this} (render entity {light})");
-            frame.cull(&mut commands, (light, &who), existing, (texture.clone(), this, method), (cascade, true));
+            frame.cull(&mut commands, (light, &who), existing, (texture.clone(), this, method), (cascade, true, true));
         }
     }
 }
 
 /// The options of a view of `texture`: HROC's test on single pixels below
 /// 640 × 360, where the reduction to blocks costs more than the rays it
-/// saves (docs/history/bevy.md).
-fn options(texture: &wgpu::Texture) -> hroc::MethodOptions {
+/// saves (docs/history/bevy.md); a light's views, drawn depth only, cull
+/// by occlusion only where it saves the triangles of
+/// [`hroc::options::DEPTH_ONLY_TRIANGLES`] per pixel.
+fn options(texture: &wgpu::Texture, depth_only: bool) -> hroc::MethodOptions {
     let small = texture.width() * texture.height() < 640 * 360;
-    hroc::MethodOptions { hroc_test_scale: if small { 1 } else { hroc::MethodOptions::default().hroc_test_scale }, ..Default::default() }
+    hroc::MethodOptions {
+        hroc_test_scale: if small { 1 } else { hroc::MethodOptions::default().hroc_test_scale },
+        hroc_frustum_triangles: if depth_only { hroc::options::DEPTH_ONLY_TRIANGLES } else { 0.0 },
+        ..Default::default()
+    }
 }

@@ -181,10 +181,11 @@ struct MethodArgs {
     /// alone until the next measurement, 0 to 1 (0: always by occlusion).
     #[arg(long, default_value_t = 0.05, value_parser = parse_share)]
     hroc_frustum_below: f32,
-    /// hroc: ... or where it culled under half of them and fewer triangles
-    /// than this many per pixel of the view (a light's cascade culling a
-    /// few roofs), 0 or more (0: the share alone decides).
-    #[arg(long, default_value_t = 0.05)]
+    /// hroc, in the shadow cascades' views (drawn depth only): ... or
+    /// where it culled under half of them and fewer triangles than this
+    /// many per pixel of the view (a light's cascade culling a few roofs),
+    /// 0 or more (0: the share alone decides; cameras always).
+    #[arg(long, default_value_t = hroc::options::DEPTH_ONLY_TRIANGLES)]
     hroc_frustum_triangles: f32,
     /// Degrees the view may turn between frames before the frame is culled
     /// as after a camera cut (`inf`: never).
@@ -211,7 +212,8 @@ impl MethodArgs {
             hroc_rounds: self.hroc_rounds,
             hroc_occluder_rounds: self.hroc_occluder_rounds,
             hroc_frustum_below: self.hroc_frustum_below,
-            hroc_frustum_triangles: self.hroc_frustum_triangles,
+            // (The bench hands it to the cascades' views alone.)
+            hroc_frustum_triangles: 0.0,
             cut_turn_deg: self.cut_turn,
             cut_move: self.cut_move,
         }
@@ -436,6 +438,7 @@ fn bench_cmd(a: BenchArgs) -> Result<()> {
         validate: a.validate,
         msaa: a.msaa,
         shadow_cascades: a.shadow_cascades,
+        shadow_triangles: a.s.m.hroc_frustum_triangles,
         projection: a.projection,
     };
     for &moving in &a.moving {

@@ -3,3 +3,9 @@
 
 pub use crate::cull::{Counters, Seed, Variant};
 pub use crate::host::{MotionOptions, Refit};
+
+/// [`crate::MethodOptions::hroc_frustum_triangles`] for views drawn depth
+/// only (shadow maps: a light's cascades, a point light's faces), where a
+/// culled triangle saves no shading: occlusion must save 0.05 triangles
+/// per pixel of the view (each culled object counted as 64 at least).
+pub const DEPTH_ONLY_TRIANGLES: f32 = 0.05;

@@ -50,6 +50,9 @@ pub struct BenchOptions {
     /// 0 to 4), each a view of its own culled by every method and checked
     /// against its own `noc` picture.
     pub shadow_cascades: u32,
+    /// HROC's bar for the cascades' views, drawn depth only
+    /// (`--hroc-frustum-triangles`; `MethodOptions::hroc_frustum_triangles`).
+    pub shadow_triangles: f32,
     /// How the camera projects (`--projection`).
     pub projection: Projection,
     /// Validate every view's draws ([`hroc::CullerDesc::validation`],
@@ -84,6 +87,7 @@ impl BenchOptions {
             timestamps: false,
             msaa: 1,
             shadow_cascades: 0,
+            shadow_triangles: hroc::options::DEPTH_ONLY_TRIANGLES,
             projection: Projection::Perspective,
             validate: true,
         }

@@ -139,6 +139,7 @@ impl<'g, 'o> Run<'g, 'o> {
             s.culler.set_many_flags(&flags)?;
         }
         s.options = o.method_options.clone();
+        s.shadow_triangles = o.shadow_triangles;
         let cascade_views = |m: Method| (0..s.cascade_count()).map(|c| s.create_cascade(m, c)).collect::<Result<Vec<_>>>();
         let cullers = o.methods.iter().filter(|&&m| m != Method::Noc).map(|&m| Ok((m, s.create(m)?, cascade_views(m)?))).collect::<Result<Vec<_>>>()?;
         let frames = s.cameras.len();

@@ -28,6 +28,10 @@ pub struct Session<'g> {
     pub times: Vec<f32>,
     /// Parameters handed to the methods `create` builds.
     pub options: MethodOptions,
+    /// HROC's bar for the cascades' views, drawn depth only
+    /// (`MethodOptions::hroc_frustum_triangles`; default
+    /// [`hroc::options::DEPTH_ONLY_TRIANGLES`]).
+    pub shadow_triangles: f32,
     noc: Option<View>,
     /// The culler has the objects' oriented boxes ([`Session::set_oriented_boxes`]).
     oriented_boxes: bool,
@@ -178,6 +182,7 @@ impl<'g> Session<'g> {
             cameras,
             times,
             options: MethodOptions::default(),
+            shadow_triangles: hroc::options::DEPTH_ONLY_TRIANGLES,
             noc: Some(noc),
             oriented_boxes: true,
             shadows: None,
@@ -228,10 +233,12 @@ impl<'g> Session<'g> {
         cascades::fit(&self.cameras[k], self.renderer.aspect(), self.renderer.light_dir, &self.scene.bounds(), self.cascade_count())
     }
 
-    /// A view of cascade `c` culled by `method`, with [`Session::options`].
+    /// A view of cascade `c` culled by `method`, with [`Session::options`]
+    /// and [`Session::shadow_triangles`].
     pub fn create_cascade(&self, method: Method, c: u32) -> Result<View> {
         let s = self.shadows.as_ref().ok_or_else(|| crate::Error::Options("the session has no shadow cascades".into()))?;
-        Ok(self.culler.view_with(method, &s.cascades.view_targets(c), &self.options)?)
+        let options = hroc::MethodOptions { hroc_frustum_triangles: self.shadow_triangles, ..self.options.clone() };
+        Ok(self.culler.view_with(method, &s.cascades.view_targets(c), &options)?)
     }
 
     /// Runs one frame of cascade `c` seen as `cascade` with `view`, timed

@@ -371,6 +371,7 @@ impl Runner<'_> {
             timestamps: true,
             msaa: 1,
             shadow_cascades: 0,
+            shadow_triangles: hroc::options::DEPTH_ONLY_TRIANGLES,
             projection: super::Projection::Perspective,
             validate: self.a.validate,
         }
