@@ -95,7 +95,8 @@ pub struct HrocCulling {
     /// by occlusion where one frame in eight (one in 32 in a view where
     /// it did not pay) finds that occlusion culls at least 5 % of the
     /// objects in its frustum and either half of them or 0.05 triangles
-    /// per pixel of the view, and by the frustum alone otherwise
+    /// per pixel of the view (`hroc::options::DEPTH_ONLY_TRIANGLES`, the
+    /// bar of every light view), and by the frustum alone otherwise
     /// (`hroc::MethodOptions::hroc_frustum_below`,
     /// `hroc::MethodOptions::hroc_frustum_triangles`).
     pub cascades: bool,
