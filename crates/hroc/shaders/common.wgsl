@@ -277,3 +277,26 @@ fn box_corner(b: Box, v: u32) -> vec3<f32> {
     let c = CUBE[v];
     return select(b.min, b.max, vec3<bool>((c & 1u) != 0u, (c & 2u) != 0u, (c & 4u) != 0u));
 }
+
+// Threads of a workgroup that scans (`workgroup_scan`).
+const SCAN_WG: u32 = 256u;
+var<workgroup> scan: array<u32, SCAN_WG>;
+
+// Inclusive scan of `v` across the workgroup (Hillis–Steele), for the
+// ordered compactions of workgroups of SCAN_WG threads (`compact.wgsl`,
+// `set_frustum.wgsl`): `scan` then holds every thread's running sum, the
+// workgroup's total last.
+fn workgroup_scan(lid: u32, v: u32) -> u32 {
+    scan[lid] = v;
+    workgroupBarrier();
+    for (var d = 1u; d < SCAN_WG; d = d << 1u) {
+        var x = 0u;
+        if lid >= d {
+            x = scan[lid - d];
+        }
+        workgroupBarrier();
+        scan[lid] += x;
+        workgroupBarrier();
+    }
+    return scan[lid];
+}

@@ -3,7 +3,7 @@
 // a three-pass prefix sum (block sums, scan of block sums, scatter). Object
 // order is kept so equal-depth surfaces never flicker (HROC §4.1).
 
-const WG: u32 = 256u;
+const WG: u32 = SCAN_WG;
 // Items per thread, consecutive: a block is WG * ITEMS items. Counting a
 // run of flags serially costs no barrier, and the scans' barriers (what a
 // CPU rasterizer pays most for, one coroutine switch per SIMD lane group)
@@ -24,24 +24,7 @@ struct Params {
 @group(0) @binding(4) var<storage, read_write> block_sums: array<u32>;
 @group(0) @binding(5) var<storage, read_write> count: array<u32>;
 
-var<workgroup> scan: array<u32, WG>;
 var<workgroup> block_total: atomic<u32>;
-
-// Inclusive scan of `v` across the workgroup (Hillis–Steele).
-fn workgroup_scan(lid: u32, v: u32) -> u32 {
-    scan[lid] = v;
-    workgroupBarrier();
-    for (var d = 1u; d < WG; d = d << 1u) {
-        var x = 0u;
-        if lid >= d {
-            x = scan[lid - d];
-        }
-        workgroupBarrier();
-        scan[lid] += x;
-        workgroupBarrier();
-    }
-    return scan[lid];
-}
 
 fn flag(i: u32) -> u32 {
     if i < params.n && flags[i] != 0u && (params.select == 0u || flags[i] == params.select) {

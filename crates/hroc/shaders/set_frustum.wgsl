@@ -12,7 +12,7 @@
 
 override ZERO_TAIL: bool = false;
 
-const WG: u32 = 256u;
+const WG: u32 = SCAN_WG;
 // Objects per thread and block, as in compact.wgsl.
 const ITEMS: u32 = 8u;
 
@@ -24,24 +24,7 @@ const ITEMS: u32 = 8u;
 // The view's tally: [objects, triangles].
 @group(0) @binding(5) var<storage, read_write> totals: array<u32>;
 
-var<workgroup> scan: array<u32, WG>;
 var<workgroup> sums: array<atomic<u32>, 2>;
-
-// Inclusive scan of `v` across the workgroup (Hillis–Steele).
-fn workgroup_scan(lid: u32, v: u32) -> u32 {
-    scan[lid] = v;
-    workgroupBarrier();
-    for (var d = 1u; d < WG; d = d << 1u) {
-        var x = 0u;
-        if lid >= d {
-            x = scan[lid - d];
-        }
-        workgroupBarrier();
-        scan[lid] += x;
-        workgroupBarrier();
-    }
-    return scan[lid];
-}
 
 fn inside(i: u32) -> bool {
     if i >= frame.object_count {
