@@ -99,3 +99,50 @@ fn hroc_views_that_cull_by_the_frustum_are_packed_by_the_set() {
     }
     assert!(packed_frames >= s.cameras.len() / 2, "{packed_frames} of {} frames packed every cascade", s.cameras.len());
 }
+
+/// HROC's cascades marking from boxes (a host whose shaders cannot mark,
+/// as Bevy's), where occlusion never pays (the bar at 1): the frame of the
+/// frustum before each probe makes V the objects its depth shows, so each
+/// probe after the first starts from V holding every object the previous
+/// frame's `noc` picture shows, not from the V of the last probe; every
+/// frame draws every object `noc` shows.
+#[test]
+fn frames_of_the_frustum_refresh_v_before_a_probe() {
+    use hroc::device::{Capabilities, Marks};
+    use hroc::testing::cull::hroc::Hroc;
+    let gpu = Headless::new().expect("a Vulkan adapter (lavapipe: apt-get install mesa-vulkan-drivers)");
+    let scene = hroc_bench::scene::load("radial-city", Some(3000), 0).unwrap();
+    let capabilities = Some(Capabilities { marks: Marks::Boxes, ..Capabilities::FULL });
+    let mut s = Session::with(&gpu, scene, SessionDesc { validate: false, capabilities, ..SessionDesc::new(70, (320, 180)) }).unwrap();
+    s.options = hroc::MethodOptions { hroc_frustum_below: 1.0, ..hroc::MethodOptions::default() };
+    s.set_shadow_cascades(4).unwrap();
+    // HROC as a host without IDs runs it: no occluder filtering, so its
+    // box marks come at the end of the frame.
+    let hroc::Method::Hroc(v) = Method::HROC else { unreachable!() };
+    let method = Method::Hroc(hroc::options::Variant { of: false, ..v });
+    let cascades = s.cascade_count();
+    let mut views: Vec<hroc::View> = (0..cascades).map(|c| s.create_cascade(method, c).unwrap()).collect();
+    let core = hroc::testing::gpu::Gpu::from_device(&gpu.device, &gpu.queue);
+    let mut last: Vec<Option<(bool, Vec<u32>)>> = vec![None; cascades as usize];
+    let mut refreshed = 0;
+    for k in 0..s.cameras.len() {
+        let (fitted, time) = (s.cascades(k), s.times[k]);
+        let truths = s.cascade_truths(&fitted, time).unwrap();
+        let results = s.run_cascades(&mut views, &fitted, time).unwrap();
+        for (c, (r, (_, truth))) in results.iter().zip(&truths).enumerate() {
+            let chk = s.check_cascade(c as u32, r, truth).unwrap();
+            assert_eq!((chk.false_negatives, chk.missing_pixels), (0, 0), "frame {k}, cascade {c}");
+            let stats = views[c].stats(&s.culler).unwrap();
+            let occlusion = stats.iter().any(|&(st, x)| st == hroc::stats::Stat::Occlusion && x > 0.0);
+            // A probe after a frame of the frustum: V (O, marks at the end) as the frame before left it.
+            if let (true, Some((false, visible))) = (occlusion, &last[c]) {
+                let v = views[c].method_state::<Hroc>().unwrap().debug_state(&core).unwrap().occluders;
+                let missing: Vec<u32> = visible.iter().copied().filter(|&o| !v[o as usize]).collect();
+                assert!(missing.is_empty(), "frame {k}, cascade {c}: the probe's V lacks {} objects the frame before showed: {missing:?}", missing.len());
+                refreshed += 1;
+            }
+            last[c] = Some((occlusion, truth.visible.clone()));
+        }
+    }
+    assert!(refreshed >= cascades as usize, "{refreshed} probes after frames of the frustum");
+}

@@ -286,6 +286,7 @@ fn options(texture: &wgpu::Texture, depth_only: bool) -> hroc::MethodOptions {
     hroc::MethodOptions {
         hroc_test_scale: if small { 1 } else { hroc::MethodOptions::default().hroc_test_scale },
         hroc_frustum_triangles: if depth_only { hroc::options::DEPTH_ONLY_TRIANGLES } else { 0.0 },
+        box_marks_scale: if depth_only && !small { hroc::options::BOX_MARKS_SCALE_LIGHTS } else { 1 },
         ..Default::default()
     }
 }

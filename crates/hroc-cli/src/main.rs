@@ -214,6 +214,7 @@ impl MethodArgs {
             hroc_frustum_below: self.hroc_frustum_below,
             // (The bench hands it to the cascades' views alone.)
             hroc_frustum_triangles: 0.0,
+            box_marks_scale: 1,
             cut_turn_deg: self.cut_turn,
             cut_move: self.cut_move,
         }

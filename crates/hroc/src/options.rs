@@ -9,3 +9,8 @@ pub use crate::host::{MotionOptions, Refit};
 /// culled triangle saves no shading: occlusion must save 0.05 triangles
 /// per pixel of the view (each culled object counted as 64 at least).
 pub const DEPTH_ONLY_TRIANGLES: f32 = 0.05;
+
+/// [`crate::MethodOptions::box_marks_scale`] for views drawn depth only at
+/// shadow-map sizes (the Bevy plugin's light views): one pixel in 4 × 4,
+/// a sixteenth of the fragments of marking a 1024² map per pixel.
+pub const BOX_MARKS_SCALE_LIGHTS: u32 = 4;

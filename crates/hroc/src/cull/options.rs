@@ -80,6 +80,16 @@ pub struct MethodOptions {
     /// the share alone to decide: a camera in an interior measured as
     /// little (0.02-0.03 per pixel), and its shaded pixels pay for it.
     pub hroc_frustum_triangles: f32,
+    /// Marks from boxes ([`crate::device::Marks::Boxes`]): pixels per side
+    /// of the blocks they test, one pixel of each, where the device could
+    /// test every pixel under early-Z against the attached depth (1, the
+    /// default). Above 1 a mark pass costs 1/S² of the fragments (a
+    /// light's 1024² shadow map: the Bevy plugin's light views take
+    /// [`BOX_MARKS_SCALE_LIGHTS`](crate::options::BOX_MARKS_SCALE_LIGHTS)) and
+    /// marks more or fewer objects than own a pixel; marks are conservative
+    /// either way (`crate::cull::marks`). A device without that test uses
+    /// 4 at least.
+    pub box_marks_scale: u32,
     /// A frame whose view direction turned more than this many degrees
     /// since the last frame is culled as after a camera cut (the host need
     /// not say so): 45° is an eighth of a turn, past which most of last
@@ -88,6 +98,9 @@ pub struct MethodOptions {
     /// ... or whose eye (an orthographic view's central ray origin, which
     /// moves with its box) moved more than this fraction of the scene's
     /// diagonal (the BVH root's box): a tenth of a city is a new street.
+    /// An orthographic view (a shadow cascade, refitted to the camera each
+    /// frame) is cut only past half its smaller side too: until then it
+    /// still holds most of what it saw.
     pub cut_move: f32,
 }
 
@@ -145,6 +158,7 @@ impl Default for MethodOptions {
             hroc_occluder_rounds: false,
             hroc_frustum_below: 0.05,
             hroc_frustum_triangles: 0.0,
+            box_marks_scale: 1,
             cut_turn_deg: 45.0,
             cut_move: 0.1,
         }

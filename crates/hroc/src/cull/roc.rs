@@ -87,7 +87,11 @@ impl BoxPass {
         let module = gpu.shader("roc_boxes.wgsl", &crate::shaders::source_for("roc_boxes.wgsl", samples));
         // Marks from boxes that load depth themselves (on a device without
         // early-Z) rasterize at a reduced size, one sample.
-        let scale = if commands && !cx.capabilities.attached_box_tests(&gpu.device, false) { super::marks::MARKS_SCALE } else { 1 };
+        let scale = match commands {
+            true if !cx.capabilities.attached_box_tests(&gpu.device, false) => super::marks::MARKS_SCALE.max(cx.options.box_marks_scale),
+            true => cx.options.box_marks_scale.max(1),
+            false => 1,
+        };
         let (target, drawn) = match scale {
             1 => (BoxTarget::new(gpu, cx.capabilities, false, (cx.targets.size, samples)), samples),
             s => (BoxTarget::manual(gpu, (cx.targets.size.0.div_ceil(s), cx.targets.size.1.div_ceil(s))), 1),

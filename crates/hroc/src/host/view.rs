@@ -387,7 +387,16 @@ impl View {
         let Some((eye, dir)) = self.last_pose else { return false };
         let turn = dir.dot(pose.1).clamp(-1.0, 1.0).acos().to_degrees();
         let diagonal = if culler.bvh.nodes.is_empty() { f32::INFINITY } else { culler.bvh.aabb(0).extent().length() };
-        turn > self.options.cut_turn_deg || eye.distance(pose.0) > self.options.cut_move * diagonal
+        let moved = match g.ray_origins.x_axis.truncate().length().min(g.ray_origins.y_axis.truncate().length()) {
+            // Orthographic, of half extents at least `side`: across the
+            // view (its near plane moves along it as its box is refitted).
+            side if side > 0.0 => {
+                let across = (pose.0 - eye).reject_from_normalized(pose.1);
+                across.length() > (self.options.cut_move * diagonal).max(side)
+            }
+            _ => eye.distance(pose.0) > self.options.cut_move * diagonal,
+        };
+        turn > self.options.cut_turn_deg || moved
     }
 
     /// Per-stage GPU ms of the last frame, in stage order; empty without

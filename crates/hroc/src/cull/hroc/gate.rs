@@ -39,7 +39,7 @@
 //! A camera cut runs the whole frame and probes at once: the last counts
 //! describe another view.
 
-use super::{Hroc, Launch, Step};
+use super::{Hroc, Launch, MarkTarget, Seed, Step};
 use crate::contract::{DrawList, Phase};
 use crate::cull::{Frame, Stage};
 use crate::gpu::shape::EncoderShape;
@@ -91,12 +91,15 @@ pub(super) struct Plan {
     pub(super) occlusion: bool,
     /// Step 5.
     pub(super) next: Next,
+    /// A frame of the frustum alone before a probe: V becomes the
+    /// frustum's objects the frame's depth shows ([`Hroc::refresh_occluders`]).
+    pub(super) refresh: bool,
 }
 
 impl Plan {
     /// The whole frame, as without a gate: `of` filters.
     pub(super) fn whole(of: bool) -> Plan {
-        Plan { probe: false, occlusion: true, next: if of { Next::Filter } else { Next::Merge } }
+        Plan { probe: false, occlusion: true, next: if of { Next::Filter } else { Next::Merge }, refresh: false }
     }
 }
 
@@ -170,7 +173,10 @@ impl Gate {
             (true, true) if self.filter_pays => Next::Filter,
             (true, true) => Next::Merge,
         };
-        (Plan { probe, occlusion: probe || self.occlusion_pays, next }, bytes)
+        let occlusion = probe || self.occlusion_pays;
+        // The next frame probes, by the counts known now.
+        let refresh = !occlusion && self.since_probe >= self.interval;
+        (Plan { probe, occlusion, next, refresh }, bytes)
     }
 
     /// Before a probe's counts: the tally starts at zero.
@@ -188,14 +194,21 @@ impl Gate {
         }
     }
 
-    /// A camera cut: the whole frame, and a probe at once.
+    /// A camera cut: the whole frame, and a probe at once; but in a view
+    /// where occlusion did not pay, a frame of the frustum that refreshes
+    /// V ([`Plan::refresh`]), and a probe the next frame: a cut frame
+    /// seeds V and tests the whole view, the dearest of HROC's frames, and
+    /// a light's cascade refitted to a camera that cuts is cut too.
     pub(super) fn reset(&mut self) {
         self.filter_pays = true;
-        self.occlusion_pays = true;
-        // (Past any interval: counts of an earlier probe, arriving at this
-        // frame's plan, may lengthen it.)
-        self.since_probe = PROBE_LEAST;
-        self.interval = PROBE_EVERY;
+        if self.occlusion_pays {
+            // (Past any interval: counts of an earlier probe, arriving at
+            // this frame's plan, may lengthen it.)
+            self.since_probe = PROBE_LEAST;
+            self.interval = PROBE_EVERY;
+        } else {
+            self.since_probe = self.interval - 1;
+        }
     }
 }
 
@@ -211,6 +224,29 @@ impl Hroc {
         self.compute(f, "hroc frustum", &[(frustum, Launch::Grid(x, y))], Some(&self.u_job), None);
         f.stage(Stage::Draw);
         f.draw(Phase::Visible, &self.frustum_list(), None);
+    }
+
+    /// Where the plan says ([`Plan::refresh`]): the frame before a probe, in a view that culls by its frustum: V
+    /// becomes the objects of the frustum's list whose boxes are at or in
+    /// front of the depth the frame left (box marks against it, then step
+    /// 5's merge). The probe is then an HROC frame from a fresh V, not from
+    /// the V of the view's last HROC frame, up to [`PROBE_LEAST`] frames
+    /// old, which leaves most of the view to the test: on lavapipe, a
+    /// probe of a light's 1024² cascade cost 4 × its steady HROC frame.
+    /// Any V is conservative (V only orders a frame). Only where the view
+    /// marks from boxes ([`crate::capabilities::Marks::Boxes`], with the
+    /// marks at the end of the frame); elsewhere the probe starts from the
+    /// last V.
+    pub(super) fn refresh_occluders(&mut self, f: &mut Frame) {
+        let (true, true, MarkTarget::Boxes(boxes, drawn)) = (self.plan.refresh, self.marks_at_end, &self.marks_d) else { return };
+        // (A cut's seed would replace the V this writes.)
+        self.seed_next = false;
+        f.stage(Stage::Filtering);
+        f.encoder().counted_clear(drawn, 0, None);
+        boxes.record(f, &[&self.frustum_list()], drawn);
+        let cover = if self.seed_mode == Seed::Cuts { self.grid.0 * self.grid.1 } else { 1 };
+        let (x, y) = dispatch_size(self.n.max(cover), 256);
+        self.compute(f, "hroc next occluders", &[(&self.merge, Launch::Grid(x, y))], None, None);
     }
 
     /// Plans the frame: the plan made before it for a set of views, or now.

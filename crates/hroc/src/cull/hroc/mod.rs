@@ -63,13 +63,11 @@ use super::{Counters, CullMethod, Frame, Method, MethodContext, Seed, Stage, Sta
 use crate::capabilities::DrawCount;
 use crate::compact::{CompactJob, Compactor};
 use crate::contract::Phase;
-use crate::cull::DrawList;
-use crate::cull::MarkTarget;
+use crate::cull::{DrawList, MarkTarget};
 use crate::error::{Error, Result};
 use crate::gpu::{dispatch_size, Gpu};
 use crate::reflect::Layout;
-use crate::shaders::source_for as shader_source_for;
-use crate::shaders::{BoxDepth, BoxTarget};
+use crate::shaders::{source_for as shader_source_for, BoxDepth, BoxTarget};
 use gate::{Gate, Next, Pays, Plan};
 use stall_free::{Counted, Spill, StallFree};
 
@@ -389,10 +387,11 @@ impl CullMethod for Hroc {
         // What this frame runs, by what the view's last probe measured.
         self.plan_frame(f);
         if let (false, Some(frustum)) = (self.plan.occlusion, &self.frustum) {
-            // In a set of views, the set's pass packed U.
+            // (In a set of views, the set's pass packed U.)
             if !f.set_frustum(&self.frustum_list()) {
                 self.frustum_frame(f, frustum);
             }
+            self.refresh_occluders(f);
             // The next HROC frame packs V anew.
             self.v_packed = None;
             return Ok(());
