@@ -387,14 +387,15 @@ impl View {
         let Some((eye, dir)) = self.last_pose else { return false };
         let turn = dir.dot(pose.1).clamp(-1.0, 1.0).acos().to_degrees();
         let diagonal = if culler.bvh.nodes.is_empty() { f32::INFINITY } else { culler.bvh.aabb(0).extent().length() };
-        let moved = match g.ray_origins.x_axis.truncate().length().min(g.ray_origins.y_axis.truncate().length()) {
-            // Orthographic, of half extents at least `side`: across the
-            // view (its near plane moves along it as its box is refitted).
-            side if side > 0.0 => {
-                let across = (pose.0 - eye).reject_from_normalized(pose.1);
-                across.length() > (self.options.cut_move * diagonal).max(side)
+        let limit = self.options.cut_move * diagonal;
+        let moved = match g.orthographic {
+            // Across the view (its near plane moves along it as its box is
+            // refitted), past half its smaller side too.
+            true => {
+                let side = g.ray_origins.x_axis.truncate().length().min(g.ray_origins.y_axis.truncate().length());
+                (pose.0 - eye).reject_from_normalized(pose.1).length() > limit.max(side)
             }
-            _ => eye.distance(pose.0) > self.options.cut_move * diagonal,
+            false => eye.distance(pose.0) > limit,
         };
         turn > self.options.cut_turn_deg || moved
     }

@@ -35,9 +35,15 @@
 //!   and each probe is HROC's whole frame. A probe that finds occlusion
 //!   paying brings back one in [`PROBE_EVERY`]. Probes only size the
 //!   frame, so either rate is conservative.
+//! - **Probes from a fresh V.** With marks from boxes, the frame of the
+//!   frustum before a probe marks the boxes of its list against the depth
+//!   it left, and they are the probe's V (`Hroc::refresh_occluders`):
+//!   the probe then tests what V leaves, as a steady frame does, not the
+//!   whole view from a V up to [`PROBE_LEAST`] frames old.
 //!
 //! A camera cut runs the whole frame and probes at once: the last counts
-//! describe another view.
+//! describe another view. In a view where occlusion did not pay, the cut
+//! frame culls by the frustum and refreshes V, and the next frame probes.
 
 use super::{Hroc, Launch, MarkTarget, Seed, Step};
 use crate::contract::{DrawList, Phase};
@@ -195,13 +201,15 @@ impl Gate {
     }
 
     /// A camera cut: the whole frame, and a probe at once; but in a view
-    /// where occlusion did not pay, a frame of the frustum that refreshes
-    /// V ([`Plan::refresh`]), and a probe the next frame: a cut frame
-    /// seeds V and tests the whole view, the dearest of HROC's frames, and
-    /// a light's cascade refitted to a camera that cuts is cut too.
-    pub(super) fn reset(&mut self) {
+    /// that `refreshes` V ([`Hroc::refresh_occluders`]) and where
+    /// occlusion did not pay, a frame of the frustum that refreshes V, and
+    /// a probe the next frame: a cut frame seeds V and tests the whole
+    /// view, the dearest of HROC's frames, and a light's cascade refitted
+    /// to a camera that cuts is cut too.
+    pub(super) fn reset(&mut self, refreshes: bool) {
         self.filter_pays = true;
-        if self.occlusion_pays {
+        if self.occlusion_pays || !refreshes {
+            self.occlusion_pays = true;
             // (Past any interval: counts of an earlier probe, arriving at
             // this frame's plan, may lengthen it.)
             self.since_probe = PROBE_LEAST;
@@ -238,15 +246,27 @@ impl Hroc {
     /// marks at the end of the frame); elsewhere the probe starts from the
     /// last V.
     pub(super) fn refresh_occluders(&mut self, f: &mut Frame) {
-        let (true, true, MarkTarget::Boxes(boxes, drawn)) = (self.plan.refresh, self.marks_at_end, &self.marks_d) else { return };
+        if !self.plan.refresh || self.refreshes().is_none() {
+            return;
+        }
         // (A cut's seed would replace the V this writes.)
         self.seed_next = false;
+        let Some((boxes, drawn)) = self.refreshes() else { return };
         f.stage(Stage::Filtering);
         f.encoder().counted_clear(drawn, 0, None);
         boxes.record(f, &[&self.frustum_list()], drawn);
         let cover = if self.seed_mode == Seed::Cuts { self.grid.0 * self.grid.1 } else { 1 };
         let (x, y) = dispatch_size(self.n.max(cover), 256);
         self.compute(f, "hroc next occluders", &[(&self.merge, Launch::Grid(x, y))], None, None);
+    }
+
+    /// The box marks and their buffer, where frames of the frustum can
+    /// refresh V: marks from boxes at the end of the frame.
+    pub(super) fn refreshes(&self) -> Option<(&std::sync::Arc<crate::cull::BoxMarks>, &wgpu::Buffer)> {
+        match (&self.marks_d, self.marks_at_end) {
+            (MarkTarget::Boxes(boxes, drawn), true) => Some((boxes, drawn)),
+            _ => None,
+        }
     }
 
     /// Plans the frame: the plan made before it for a set of views, or now.

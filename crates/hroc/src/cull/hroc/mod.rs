@@ -344,8 +344,9 @@ impl CullMethod for Hroc {
     }
 
     fn reset(&mut self, enc: &mut wgpu::CommandEncoder) {
+        let refreshes = self.refreshes().is_some();
         if let Some(g) = self.gate.as_mut() {
-            g.reset();
+            g.reset(refreshes);
         }
         enc.counted_clear(&self.visible, 0, None);
         self.reset_walk(enc);
