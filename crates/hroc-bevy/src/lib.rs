@@ -87,9 +87,11 @@ pub struct HrocCulling {
     /// hides little, and culling its cascades by occlusion makes Bevy add a
     /// late shadow pass and preprocessing per cascade; measured on
     /// lavapipe at 320 × 180 with 4 cascades of a 1024² map (BENCHMARKS.md,
-    /// "Bevy"), the plugin's `hroc` took 0.92 × (radial-city 5,000) and
-    /// 0.93 × (`houses`) Bevy's frustum culling with cascades left to the
-    /// frustum, and 1.19 × and 2.04 × with them culled by occlusion.
+    /// "Bevy"), the plugin's `hroc` took 0.79 × (radial-city 5,000) and
+    /// 0.90 × (`houses`) Bevy's frustum culling with cascades left to the
+    /// frustum, and 1.10 × and 1.85 × with them culled by occlusion (where
+    /// `houses`' far cascades, which occlusion culls by half, run HROC's
+    /// frame on a 1024² map each frame).
     ///
     /// Where on, HROC chooses per view by measurement: each cascade culls
     /// by occlusion where one frame in eight (one in 32 in a view where
@@ -98,7 +100,12 @@ pub struct HrocCulling {
     /// per pixel of the view (`hroc::options::DEPTH_ONLY_TRIANGLES`, the
     /// bar of every light view), and by the frustum alone otherwise
     /// (`hroc::MethodOptions::hroc_frustum_below`,
-    /// `hroc::MethodOptions::hroc_frustum_triangles`).
+    /// `hroc::MethodOptions::hroc_frustum_triangles`). The frame of the
+    /// frustum before each measurement makes the boxes its depth shows
+    /// the measurement's occluders, and a cascade cut with its camera
+    /// stays with the frustum and measures the next frame. Light views of
+    /// 640 × 360 or more mark one pixel in 4 × 4
+    /// (`hroc::options::BOX_MARKS_SCALE_LIGHTS`).
     pub cascades: bool,
 }
 

@@ -280,7 +280,10 @@ pub fn prepare(
 /// 640 × 360, where the reduction to blocks costs more than the rays it
 /// saves (docs/history/bevy.md); a light's views, drawn depth only, cull
 /// by occlusion only where it saves the triangles of
-/// [`hroc::options::DEPTH_ONLY_TRIANGLES`] per pixel.
+/// [`hroc::options::DEPTH_ONLY_TRIANGLES`] per pixel, and at shadow-map
+/// sizes mark from boxes one pixel in
+/// [`hroc::options::BOX_MARKS_SCALE_LIGHTS`]² (the dearest pass of their
+/// frames of the frustum before a probe).
 fn options(texture: &wgpu::Texture, depth_only: bool) -> hroc::MethodOptions {
     let small = texture.width() * texture.height() < 640 * 360;
     hroc::MethodOptions {
