@@ -70,6 +70,19 @@ fn shape(v: &hroc::View) -> u32 {
     v.shape_stats().iter().filter(|(s, _)| matches!(s, ComputePasses | RenderPasses | Dispatches)).map(|(_, x)| *x as u32).sum()
 }
 
+/// Frame `k` of `views` (one per cascade, as a set): every cascade draws
+/// every object its `noc` picture shows; returns the pictures' truths.
+fn conservative_frame(s: &mut Session, views: &mut [hroc::View], k: usize) -> Vec<hroc_bench::bench::Truth> {
+    let (fitted, time) = (s.cascades(k), s.times[k]);
+    let truths = s.cascade_truths(&fitted, time).unwrap();
+    let results = s.run_cascades(views, &fitted, time).unwrap();
+    for (c, (r, (_, truth))) in results.iter().zip(&truths).enumerate() {
+        let chk = s.check_cascade(c as u32, r, truth).unwrap();
+        assert_eq!((chk.false_negatives, chk.missing_pixels), (0, 0), "frame {k}, cascade {c}");
+    }
+    truths.into_iter().map(|(_, t)| t).collect()
+}
+
 /// HROC's cascades in a set: where its probes find that occlusion does
 /// not pay (every cascade, with the bar at 1), the set packs their
 /// frames, which draw every object `noc` shows; frames of probes run
@@ -83,13 +96,7 @@ fn hroc_views_that_cull_by_the_frustum_are_packed_by_the_set() {
     let mut views: Vec<hroc::View> = (0..cascades).map(|c| s.create_cascade(Method::HROC, c).unwrap()).collect();
     let mut packed_frames = 0;
     for k in 0..s.cameras.len() {
-        let (fitted, time) = (s.cascades(k), s.times[k]);
-        let truths = s.cascade_truths(&fitted, time).unwrap();
-        let results = s.run_cascades(&mut views, &fitted, time).unwrap();
-        for (c, (r, (_, truth))) in results.iter().zip(&truths).enumerate() {
-            let chk = s.check_cascade(c as u32, r, truth).unwrap();
-            assert_eq!((chk.false_negatives, chk.missing_pixels), (0, 0), "frame {k}, cascade {c}");
-        }
+        conservative_frame(&mut s, &mut views, k);
         // A frame where every cascade culls by its frustum is one pass and a
         // dispatch each (without validation's passes).
         let total: u32 = views.iter().map(shape).sum();
@@ -126,12 +133,8 @@ fn frames_of_the_frustum_refresh_v_before_a_probe() {
     let mut last: Vec<Option<(bool, Vec<u32>)>> = vec![None; cascades as usize];
     let mut refreshed = 0;
     for k in 0..s.cameras.len() {
-        let (fitted, time) = (s.cascades(k), s.times[k]);
-        let truths = s.cascade_truths(&fitted, time).unwrap();
-        let results = s.run_cascades(&mut views, &fitted, time).unwrap();
-        for (c, (r, (_, truth))) in results.iter().zip(&truths).enumerate() {
-            let chk = s.check_cascade(c as u32, r, truth).unwrap();
-            assert_eq!((chk.false_negatives, chk.missing_pixels), (0, 0), "frame {k}, cascade {c}");
+        let truths = conservative_frame(&mut s, &mut views, k);
+        for (c, truth) in truths.iter().enumerate() {
             let stats = views[c].stats(&s.culler).unwrap();
             let occlusion = stats.iter().any(|&(st, x)| st == hroc::stats::Stat::Occlusion && x > 0.0);
             // A probe after a frame of the frustum: V (O, marks at the end) as the frame before left it.
