@@ -234,10 +234,10 @@ impl Hroc {
         f.draw(Phase::Visible, &self.frustum_list(), None);
     }
 
-    /// Where the plan says ([`Plan::refresh`]): the frame before a probe, in a view that culls by its frustum: V
-    /// becomes the objects of the frustum's list whose boxes are at or in
-    /// front of the depth the frame left (box marks against it, then step
-    /// 5's merge). The probe is then an HROC frame from a fresh V, not from
+    /// Where the plan says ([`Plan::refresh`]), in the frame before a
+    /// probe of a view that culls by its frustum: V becomes the objects of
+    /// the frustum's list whose boxes are at or in front of the depth the
+    /// frame left (box marks against it, then step 5's merge). The probe is then an HROC frame from a fresh V, not from
     /// the V of the view's last HROC frame, up to [`PROBE_LEAST`] frames
     /// old, which leaves most of the view to the test: on lavapipe, a
     /// probe of a light's 1024² cascade cost 4 × its steady HROC frame.
