@@ -237,27 +237,39 @@ impl Hroc {
     /// Where the plan says ([`Plan::refresh`]), in the frame before a
     /// probe of a view that culls by its frustum: V becomes the objects of
     /// the frustum's list whose boxes are at or in front of the depth the
-    /// frame left (box marks against it, then step 5's merge). The probe is then an HROC frame from a fresh V, not from
-    /// the V of the view's last HROC frame, up to [`PROBE_LEAST`] frames
-    /// old, which leaves most of the view to the test: on lavapipe, a
-    /// probe of a light's 1024² cascade cost 4 × its steady HROC frame.
+    /// frame left (box marks against it, then step 5's merge). The probe
+    /// is then an HROC frame from a fresh V, not from the V of the view's
+    /// last HROC frame, up to [`PROBE_LEAST`] frames old, which leaves
+    /// most of the view to the test: on lavapipe, a probe of a light's
+    /// 1024² cascade cost 4 × its steady HROC frame.
     /// Any V is conservative (V only orders a frame). Only where the view
     /// marks from boxes ([`crate::capabilities::Marks::Boxes`], with the
     /// marks at the end of the frame); elsewhere the probe starts from the
     /// last V.
     pub(super) fn refresh_occluders(&mut self, f: &mut Frame) {
-        if !self.plan.refresh || self.refreshes().is_none() {
-            return;
-        }
+        let Some((boxes, drawn)) = self.refreshes().filter(|_| self.plan.refresh).map(|(b, d)| (b.clone(), d.clone())) else { return };
         // (A cut's seed would replace the V this writes.)
         self.seed_next = false;
-        let Some((boxes, drawn)) = self.refreshes() else { return };
         f.stage(Stage::Filtering);
-        f.encoder().counted_clear(drawn, 0, None);
-        boxes.record(f, &[&self.frustum_list()], drawn);
-        let cover = if self.seed_mode == Seed::Cuts { self.grid.0 * self.grid.1 } else { 1 };
-        let (x, y) = dispatch_size(self.n.max(cover), 256);
-        self.compute(f, "hroc next occluders", &[(&self.merge, Launch::Grid(x, y))], None, None);
+        f.encoder().counted_clear(&drawn, 0, None);
+        boxes.record(f, &[&self.frustum_list()], &drawn);
+        self.compute(f, "hroc next occluders", &[(&self.merge, self.merge_launch())], None, None);
+    }
+
+    /// Cells of the seed's grid whose coverage step 5 records (for the
+    /// refill; 1 without it).
+    pub(super) fn covered_cells(&self) -> u32 {
+        if self.seed_mode == Seed::Cuts {
+            self.grid.0 * self.grid.1
+        } else {
+            1
+        }
+    }
+
+    /// Step 5's merge: a thread per object, and per covered cell.
+    pub(super) fn merge_launch(&self) -> Launch<'_> {
+        let (x, y) = dispatch_size(self.n.max(self.covered_cells()), 256);
+        Launch::Grid(x, y)
     }
 
     /// The box marks and their buffer, where frames of the frustum can

@@ -541,7 +541,7 @@ impl CullMethod for Hroc {
         // 5. Next frame's occluders; the same threads record the cells the
         // depth covers (for the refill) and reset step 2's counts.
         f.stage(Stage::Filtering);
-        let cover = if self.seed_mode == Seed::Cuts { cells } else { 1 };
+        let cover = self.covered_cells();
         // OF where it changes the result (`gate`).
         let next = self.plan.next;
         // With a spare list, the same pass packs the next frame's V.
@@ -553,8 +553,7 @@ impl CullMethod for Hroc {
             let step = if next == Next::Probe { self.probe.as_ref().unwrap_or(&self.filter) } else { &self.filter };
             (step, "hroc occluder filtering", Launch::Grid(x, h.div_ceil(s).div_ceil(16).max(cover.div_ceil(x * 256))))
         } else {
-            let (x, y) = dispatch_size(n.max(cover), 256);
-            (&self.merge, "hroc next occluders", Launch::Grid(x, y))
+            (&self.merge, "hroc next occluders", self.merge_launch())
         };
         self.compute(f, label, &[(step, launch)], self.spare_v.as_ref().map(|(_, job)| job), None);
         if let (true, Some(g)) = (self.plan.probe, self.gate.as_mut()) {
