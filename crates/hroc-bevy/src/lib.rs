@@ -38,6 +38,7 @@
 //! Hi-Z pyramids (`early_downsample_depth`, `late_downsample_depth`) only
 //! for cameras hroc does not cull, which Bevy culls as it would.
 
+mod late;
 mod lights;
 mod objects;
 mod preprocess;
@@ -223,6 +224,7 @@ impl Plugin for HrocPlugin {
                     preprocess::queue_pipelines.in_set(RenderSystems::Prepare),
                     lights::mark.in_set(RenderSystems::PrepareViews),
                     views::prepare.in_set(RenderSystems::PrepareBindGroups),
+                    late::leave_out.after(RenderSystems::PrepareBindGroups).before(RenderSystems::Render),
                 ),
             );
     }

@@ -35,6 +35,8 @@ pub struct HrocView {
     /// The frame ([`HrocFrame`]) whose steps were last recorded: the
     /// preprocessing reads hroc's visibility only in that frame.
     pub recorded: u64,
+    /// That frame draws objects in the late pass (`hroc::Steps::late`).
+    pub late: bool,
 }
 
 /// The render world's frame number, counted by `prepare`: a view whose
@@ -112,8 +114,9 @@ impl HrocView {
         let stats = view.frame_stats(culler).map(|s| HrocFrameStats(Some(s)));
         let visibility = view.visibility(culler).clone();
         let steps = match view.steps(culler, input) {
-            Ok(Steps { begin, occluders_drawn, occludees_drawn }) => {
+            Ok(Steps { begin, occluders_drawn, occludees_drawn, late }) => {
                 self.recorded = frame.number;
+                self.late = late;
                 StepBuffers { begin: Some(begin), occluders_drawn: Some(occluders_drawn), occludees_drawn: Some(occludees_drawn) }
             }
             Err(e) => {
@@ -198,7 +201,7 @@ impl Frame<'_> {
             }
             _ => match self.culler.view_with(method, &targets, &options(&texture, depth_only)) {
                 Ok(view) => {
-                    let mut v = HrocView { view: Mutex::new(view), logged: Vec::new(), key, steps: Mutex::default(), bind_group: None, bound: None, recorded: 0 };
+                    let mut v = HrocView { view: Mutex::new(view), logged: Vec::new(), key, steps: Mutex::default(), bind_group: None, bound: None, recorded: 0, late: true };
                     v.record(self, &input, who);
                     // With the view, the plugin's other components on its
                     // entity: its statistics (none back yet), its findings.

@@ -20,7 +20,7 @@
 // With MEASURE: [0] objects the filter keeps, [1] objects O ∪ D holds
 // (what the merge would keep), for the view's filter gate
 // (`cull/hroc/gate.rs`).
-@group(0) @binding(20) var<storage, read_write> filter_tally: array<atomic<u32>, 4>;
+@group(0) @binding(20) var<storage, read_write> filter_tally: array<atomic<u32>, 7>;
 
 // Record the covered cells (the refill runs: `Seed::Cuts`).
 override COVER: bool = true;

@@ -4,7 +4,9 @@
 //! visibility buffer, and each frame of each method that can run stepwise
 //! draws every object `noc` shows, on the full and the portable tier, with
 //! marks from boxes and from IDs, single-sample and at MSAA 4, along a
-//! walk, a camera cut, the eye inside a box and an orthographic cascade.
+//! walk, a camera cut, the eye inside a box and an orthographic cascade;
+//! the engine leaves out its late pass where the frame says it draws
+//! nothing there (`Steps::late`).
 
 use common::engine::Engine;
 use common::street::{look, street, street_on, Depth};
@@ -44,6 +46,7 @@ fn stepwise_frames_draw_every_visible_object() {
                 let label = format!("{method} stepwise ({caps:?}, {samples} samples)");
                 let mut view = culler.view(method, &host.targets()).unwrap();
                 let mut culled = 0;
+                engine.late_left_out.set(0);
                 for (k, &(desc, cut)) in path.iter().enumerate() {
                     let drawn = engine.frame(&device, &queue, &host, &culler, &mut view, desc, cut).unwrap_or_else(|e| panic!("{label}: {e}"));
                     let missed: Vec<u32> = visible[k].iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
@@ -53,6 +56,14 @@ fn stepwise_frames_draw_every_visible_object() {
                     culled += objects.len() - drawn.len();
                 }
                 assert!(culled > 0 || method == Method::Noc, "{label} culled nothing");
+                // Methods that decide everything before the early pass leave the late pass
+                // nothing to draw, and say so (Steps::late); a test after the early pass draws late.
+                let left_out = engine.late_left_out.get() as usize;
+                match method {
+                    Method::Noc | Method::Vfc => assert_eq!(left_out, path.len(), "{label}: late passes left out"),
+                    Method::Hzb | Method::Roc => assert!(left_out < path.len(), "{label}: every late pass left out"),
+                    _ => {}
+                }
                 // The same method through the host's draw lists culls as much (HROC's
                 // refill, left out stepwise, culls a little more).
                 let mut lists = culler.view(method, &host.targets()).unwrap();

@@ -31,6 +31,8 @@ pub(crate) struct StepCuts {
     /// The command buffers before each cut taken, in order.
     pub done: Vec<(Cut, wgpu::CommandBuffer)>,
     pending: Option<Cut>,
+    /// A list of the late pass was handed.
+    pub late: bool,
     /// The first list that does not fit two passes.
     pub error: Option<Error>,
 }
@@ -72,6 +74,7 @@ impl Frame<'_> {
             steps.error.get_or_insert(Error::InvalidScene(format!("{} draws {what}: a stepwise frame has one early and one late pass", self.culled_by)));
             return;
         }
+        steps.late |= cut == Cut::Late;
         if steps.pending.is_some_and(|p| p != cut) {
             self.take_cut();
         }

@@ -22,6 +22,11 @@ pub struct Steps {
     /// occluders), and the non-occluders' stamps, which the engine's
     /// blended pass reads.
     pub occludees_drawn: wgpu::CommandBuffer,
+    /// This frame's late pass draws objects: false where the method
+    /// handed no occludees (a frame culled by the frustum alone, `vfc`,
+    /// HROC's frames of the frustum where occlusion does not pay), and no
+    /// object is stamped for that pass; the engine may then leave it out.
+    pub late: bool,
 }
 
 /// Takes the host's draws of a stepwise frame: it has none.
@@ -105,12 +110,15 @@ impl View {
         }
         let empty = || culler.gpu.encoder("hroc step").finish();
         let last = encoder.finish();
+        // (A late list that ends the frame leaves its cut pending.)
+        let draws_late = cuts.late;
         // The buffers in order; a pass that had no cut gets an empty one.
-        Ok(match (early, late) {
-            (Some(e), Some(l)) => Steps { begin: e, occluders_drawn: l, occludees_drawn: last },
-            (Some(e), None) => Steps { begin: e, occluders_drawn: last, occludees_drawn: empty() },
-            (None, Some(l)) => Steps { begin: l, occluders_drawn: empty(), occludees_drawn: last },
-            (None, None) => Steps { begin: last, occluders_drawn: empty(), occludees_drawn: empty() },
-        })
+        let (begin, occluders_drawn, occludees_drawn) = match (early, late) {
+            (Some(e), Some(l)) => (e, l, last),
+            (Some(e), None) => (e, last, empty()),
+            (None, Some(l)) => (l, empty(), last),
+            (None, None) => (last, empty(), empty()),
+        };
+        Ok(Steps { begin, occluders_drawn, occludees_drawn, late: draws_late })
     }
 }

@@ -13,6 +13,8 @@ use wgpu::util::DeviceExt;
 pub struct Engine {
     early: wgpu::RenderPipeline,
     late: wgpu::RenderPipeline,
+    /// Frames whose late pass was left out (`Steps::late` false).
+    pub late_left_out: std::cell::Cell<u32>,
 }
 
 impl Engine {
@@ -72,7 +74,7 @@ impl Engine {
                 cache: None,
             })
         };
-        Engine { early: pipeline(false), late: pipeline(true) }
+        Engine { early: pipeline(false), late: pipeline(true), late_left_out: Default::default() }
     }
 
     /// One frame of `view` driven by the engine: the targets cleared,
@@ -111,11 +113,16 @@ impl Engine {
             drop(pass);
             enc.finish()
         };
-        queue.submit([begin.finish(), steps.begin, pass(&self.early), steps.occluders_drawn, pass(&self.late), steps.occludees_drawn]);
+        // An engine leaves out the late pass where the frame draws nothing in it.
+        let steps_late = steps.late;
+        self.late_left_out.set(self.late_left_out.get() + !steps_late as u32);
+        let late = steps_late.then(|| pass(&self.late));
+        queue.submit([begin.finish(), steps.begin, pass(&self.early), steps.occluders_drawn].into_iter().chain(late).chain([steps.occludees_drawn]));
         let slots: Vec<u32> = hroc_readback::read(device, queue, &visibility, 0, (hroc::device::VISIBILITY_HEADER + culler.object_count()) as u64).unwrap();
         let (header, slots) = slots.split_at(hroc::device::VISIBILITY_HEADER as usize);
         // Drawn in a pass: stamped with this frame's early or late phase.
         let passes = &header[..4];
+        assert!(steps_late || !slots.contains(&header[3]), "a frame whose Steps::late is false stamped objects for its late pass");
         Ok((0..slots.len() as u32).filter(|&o| passes.contains(&slots[o as usize])).collect())
     }
 }

@@ -13,7 +13,11 @@
 //!   [`MethodOptions::hroc_frustum_triangles`](crate::MethodOptions) per
 //!   pixel of the view while less than half of the frustum's objects (a
 //!   light looking down on roofs: a few per cent, 50 objects in 512²),
-//!   the view's frames cull by the frustum alone: one
+//!   or, in a view drawn depth only (with that bar), where the objects it
+//!   culled hold no more triangles than the boxes its test drew (12 for
+//!   each object of the frustum not in V: on `houses`, whose objects are
+//!   all boxes, occlusion culls most of a far cascade and saves nothing
+//!   the test did not cost), the view's frames cull by the frustum alone: one
 //!   compute pass, one list (`frustum`; in a set of views, one dispatch
 //!   of the set's pass, `crate::Culler::cull_views`). Frustum culling is
 //!   conservative, and the next probe runs HROC from the last V it had
@@ -30,11 +34,12 @@
 //!   merge needs.
 //!
 //! - **Probes where they can change the plan.** A view whose probe found
-//!   occlusion not paying probes next [`PROBE_LEAST`] frames later: a
-//!   light over roofs measures little and the same from frame to frame,
-//!   and each probe is HROC's whole frame. A probe that finds occlusion
-//!   paying brings back one in [`PROBE_EVERY`]. Probes only size the
-//!   frame, so either rate is conservative.
+//!   occlusion not paying probes next [`PROBE_LEAST`] frames later (a view
+//!   drawn depth only, twice as late after each further such probe, up
+//!   to [`PROBE_MOST`]): a light over roofs measures little and the same
+//!   from frame to frame, and each probe is HROC's whole frame. A probe
+//!   that finds occlusion paying brings back one in [`PROBE_EVERY`].
+//!   Probes only size the frame, so any rate is conservative.
 //! - **Probes from a fresh V.** With marks from boxes, the frame of the
 //!   frustum before a probe marks the boxes of its list against the depth
 //!   it left, and they are the probe's V (`Hroc::refresh_occluders`):
@@ -43,7 +48,9 @@
 //!
 //! A camera cut runs the whole frame and probes at once: the last counts
 //! describe another view. In a view where occlusion did not pay, the cut
-//! frame culls by the frustum and refreshes V, and the next frame probes.
+//! frame culls by the frustum and refreshes V, and the next frame probes;
+//! in such a view drawn depth only, frames cull by the frustum until its
+//! next probe.
 
 use super::{Hroc, Launch, MarkTarget, Seed, Step};
 use crate::contract::{DrawList, Phase};
@@ -57,16 +64,30 @@ pub const PROBE_EVERY: u32 = 8;
 /// A probe every this many frames of a view where it does not.
 pub const PROBE_LEAST: u32 = 32;
 
+/// ... and in a view drawn depth only (a light's, with a triangle bar),
+/// twice as many after each further probe that finds it not paying, up to
+/// this many: whether occlusion pays there is a property of the light and
+/// the scene, which a camera's moves change little, and on lavapipe a
+/// probe of a 1024² shadow map costs several steady frames.
+pub const PROBE_MOST: u32 = 128;
+
 /// Filtering pays when it keeps at most this share of O ∪ D.
 pub const FILTER_PAYS_BELOW: f64 = 0.9;
 
 /// Staging buffers in flight.
 const RING: usize = 2;
 
-/// Bytes of the tally: objects the filter keeps, objects of O ∪ D,
-/// objects in the frustum, of those culled by occlusion, and their
-/// triangles (u32 each).
-pub(super) const TALLY: u64 = 20;
+/// Bytes of the tally (u32 each): objects the filter keeps, objects of
+/// O ∪ D, objects in the frustum, of those culled by occlusion, their
+/// triangles (at least 64 each, for their draws), the frustum's objects
+/// the batch test takes (not in V), and the culled objects' own triangles.
+pub(super) const TALLY: u64 = 28;
+
+/// Counts in the tally.
+const COUNTS: usize = (TALLY / 4) as usize;
+
+/// Triangles of the box the batch test draws for an object.
+const BOX_TRIANGLES: f64 = 12.0;
 
 /// Where occlusion pays: it culls at least this share of the frustum's
 /// objects, and at least this many triangles.
@@ -111,7 +132,7 @@ impl Plan {
 
 /// One view's measurements of what its frame's parts change.
 pub(super) struct Gate {
-    /// `[kept, merged, inside, culled, triangles]`, counted by the probes.
+    /// `[kept, merged, inside, culled, triangles, tested, own]`, counted by the probes.
     pub(super) tally: wgpu::Buffer,
     ring: Vec<(wgpu::Buffer, Readback<()>)>,
     /// The view filters with OF where it pays (else `of` alone decides).
@@ -128,7 +149,7 @@ pub(super) struct Gate {
     /// [`PROBE_LEAST`] after a probe that found occlusion not paying.
     interval: u32,
     /// The last counts that arrived.
-    pub(super) last: Option<[u32; 5]>,
+    pub(super) last: Option<[u32; COUNTS]>,
 }
 
 impl Gate {
@@ -155,19 +176,26 @@ impl Gate {
     pub(super) fn plan(&mut self, gpu: &Gpu) -> (Plan, u64) {
         let _ = gpu.device.poll(wgpu::PollType::Poll);
         let mut bytes = 0;
+        let depth_only = self.depth_only();
         for (buf, slot) in self.ring.iter_mut() {
-            let Some(c) = slot.take(buf, |(), v| std::array::from_fn::<u32, 5, _>(|k| bytemuck::pod_read_unaligned(&v[k * 4..k * 4 + 4]))) else { continue };
+            let Some(c) = slot.take(buf, |(), v| std::array::from_fn::<u32, COUNTS, _>(|k| bytemuck::pod_read_unaligned(&v[k * 4..k * 4 + 4]))) else { continue };
             bytes += TALLY;
             self.last = Some(c);
-            let [kept, merged, inside, culled, triangles] = c.map(f64::from);
+            let [kept, merged, inside, culled, triangles, tested, own] = c.map(f64::from);
             if self.filter {
                 self.filter_pays = merged == 0.0 || kept <= FILTER_PAYS_BELOW * merged;
             }
             let share = self.pays.share as f64;
-            // (Culling most of the frustum's objects pays whatever they cost.)
-            let saves = triangles >= self.pays.triangles || culled >= 0.5 * inside;
+            // (Culling most of the frustum's objects pays whatever they
+            // cost; but in a view drawn depth only, not where the test's
+            // boxes hold as many triangles as the objects it culls.)
+            let saves = (triangles >= self.pays.triangles || culled >= 0.5 * inside) && (!depth_only || own > BOX_TRIANGLES * tested);
             self.occlusion_pays = inside == 0.0 || share == 0.0 || (culled >= share * inside && saves);
-            self.interval = if self.occlusion_pays { PROBE_EVERY } else { PROBE_LEAST };
+            self.interval = match (self.occlusion_pays, depth_only) {
+                (true, _) => PROBE_EVERY,
+                (false, true) if self.interval >= PROBE_LEAST => (2 * self.interval).min(PROBE_MOST),
+                (false, _) => PROBE_LEAST,
+            };
         }
         let probe = self.since_probe >= self.interval && self.ring.iter().any(|(_, s)| s.is_free());
         // (Counting this frame: the next probe `interval` frames after it.)
@@ -183,6 +211,12 @@ impl Gate {
         // The next frame probes, by the counts known now.
         let refresh = !occlusion && self.since_probe >= self.interval;
         (Plan { probe, occlusion, next, refresh }, bytes)
+    }
+
+    /// The view is drawn depth only: it has a triangle bar
+    /// ([`MethodOptions::hroc_frustum_triangles`](crate::MethodOptions)).
+    fn depth_only(&self) -> bool {
+        self.pays.triangles > 0.0
     }
 
     /// Before a probe's counts: the tally starts at zero.
@@ -203,18 +237,20 @@ impl Gate {
     /// A camera cut: the whole frame, and a probe at once; but in a view
     /// that `refreshes` V ([`Hroc::refresh_occluders`]) and where
     /// occlusion did not pay, a frame of the frustum that refreshes V, and
-    /// a probe the next frame: a cut frame seeds V and tests the whole
-    /// view, the dearest of HROC's frames, and a light's cascade refitted
-    /// to a camera that cuts is cut too.
+    /// a probe the next frame (a cut frame seeds V and tests the whole
+    /// view, the dearest of HROC's frames); and in such a view drawn depth
+    /// only, the frustum until its next probe: a light's cascade refitted
+    /// to a camera that cuts is cut too, and whether occlusion pays there
+    /// is the light's and the scene's ([`PROBE_MOST`]).
     pub(super) fn reset(&mut self, refreshes: bool) {
         self.filter_pays = true;
         if self.occlusion_pays || !refreshes {
             self.occlusion_pays = true;
             // (Past any interval: counts of an earlier probe, arriving at
             // this frame's plan, may lengthen it.)
-            self.since_probe = PROBE_LEAST;
+            self.since_probe = PROBE_MOST;
             self.interval = PROBE_EVERY;
-        } else {
+        } else if !self.depth_only() {
             self.since_probe = self.interval - 1;
         }
     }
