@@ -12,6 +12,8 @@ use bevy_mesh::skinning::SkinnedMesh;
 use bevy_mesh::Mesh3d;
 use bevy_pbr::RenderMeshInstances;
 use bevy_platform::collections::HashMap;
+use bevy_render::mesh::{RenderMesh, RenderMeshBufferInfo};
+use bevy_render::render_asset::RenderAssets;
 use bevy_render::renderer::{RenderDevice, RenderQueue};
 use bevy_render::sync_world::MainEntity;
 use bevy_render::Extract;
@@ -73,7 +75,15 @@ pub struct HrocObjects {
     pub slot_buffer: Option<wgpu::Buffer>,
     /// The last error, reported once.
     pub failed: Option<String>,
+    /// Frames the culler waited for Bevy's meshes.
+    waited: u32,
 }
+
+/// Frames the culler waits for Bevy to have every instance's mesh on the
+/// GPU (which takes a few where a scene's meshes exceed Bevy's upload
+/// budget of a frame); after them, an instance without one is an object
+/// of one triangle.
+const FIRST_WAIT: u32 = 16;
 
 impl HrocObjects {
     /// The entity whose object has slot `slot`.
@@ -88,11 +98,24 @@ fn capacity_for(n: usize) -> u32 {
     (n as u32 * 2).max(1024)
 }
 
-fn desc(b: Box3, deformed: bool) -> ObjectDesc {
+/// `triangles`: the mesh's, for what HROC's gate measures culling saves
+/// (`hroc::MethodOptions::hroc_frustum_triangles`); at least 1 (an
+/// instance whose mesh Bevy did not have yet when it became an object).
+fn desc(b: Box3, deformed: bool, triangles: u32) -> ObjectDesc {
     // The engine draws its own meshes: the command is a placeholder the
-    // stepwise frame only reads the object index of.
+    // stepwise frame only reads the object index and size of.
     let flags = if deformed { ObjectFlags::NEVER_CULL } else { ObjectFlags::NONE };
-    ObjectDesc { bounds: b, index_count: 3, first_index: 0, base_vertex: 0, flags, oriented: None }
+    ObjectDesc { bounds: b, index_count: 3 * triangles.max(1), first_index: 0, base_vertex: 0, flags, oriented: None }
+}
+
+/// Triangles of a mesh instance's mesh, once Bevy has it on the GPU (0
+/// before).
+fn triangles(instances: &RenderMeshInstances, meshes: &RenderAssets<RenderMesh>, entity: MainEntity) -> u32 {
+    let Some(mesh) = instances.render_mesh_queue_data(entity).and_then(|data| meshes.get(data.mesh_asset_id())) else { return 0 };
+    match mesh.buffer_info {
+        RenderMeshBufferInfo::Indexed { count, .. } => count / 3,
+        RenderMeshBufferInfo::NonIndexed => mesh.vertex_count / 3,
+    }
 }
 
 /// Render world, after Bevy prepared its mesh instances: objects added,
@@ -101,17 +124,26 @@ pub fn sync(
     mut objects: ResMut<HrocObjects>,
     mut extracted: ResMut<ExtractedInstances>,
     instances: Res<RenderMeshInstances>,
+    meshes: Res<RenderAssets<RenderMesh>>,
     device: Res<RenderDevice>,
     queue: Res<RenderQueue>,
     validation: Option<Res<crate::HrocValidation>>,
 ) {
     let objects = &mut *objects;
+    let triangles = |e: MainEntity| triangles(&instances, &meshes, e);
+    // The culler is made once Bevy has every instance's mesh on the GPU
+    // (for their triangles), or after FIRST_WAIT frames: until then
+    // nothing is culled.
+    if objects.culler.is_none() && objects.waited < FIRST_WAIT && extracted.changed.keys().any(|&e| triangles(e) == 0) {
+        objects.waited += 1;
+        return;
+    }
     let changes = std::mem::take(&mut *extracted);
     // Until the culler exists, the changes are every instance: kept for
     // the next try if it cannot be made.
     let first = objects.culler.is_none().then(|| ExtractedInstances { changed: changes.changed.clone(), removed: Vec::new() });
     let validation = validation.map_or(crate::HrocValidation::default(), |v| *v).0;
-    if let Err(e) = sync_objects(objects, changes, &device, &queue, validation) {
+    if let Err(e) = sync_objects(objects, changes, &triangles, (&device, &queue), validation) {
         if let Some(first) = first.filter(|_| objects.culler.is_none()) {
             *extracted = first;
         }
@@ -152,12 +184,18 @@ pub fn sync(
     }
 }
 
-fn sync_objects(objects: &mut HrocObjects, changes: ExtractedInstances, device: &RenderDevice, queue: &RenderQueue, validation: bool) -> hroc::Result<()> {
+fn sync_objects(
+    objects: &mut HrocObjects,
+    changes: ExtractedInstances,
+    triangles: &dyn Fn(MainEntity) -> u32,
+    (device, queue): (&RenderDevice, &RenderQueue),
+    validation: bool,
+) -> hroc::Result<()> {
     let ExtractedInstances { changed, removed } = changes;
     if objects.culler.is_none() {
         // The first frame: every instance.
         let entities: Vec<(MainEntity, Box3, bool)> = changed.iter().map(|(e, &(b, d))| (*e, b, d)).collect();
-        let descs: Vec<ObjectDesc> = entities.iter().map(|&(_, b, d)| desc(b, d)).collect();
+        let descs: Vec<ObjectDesc> = entities.iter().map(|&(e, b, d)| desc(b, d, triangles(e))).collect();
         let device = device.wgpu_device();
         let capabilities = Some(Capabilities { marks: Marks::Boxes, ..Capabilities::of(device) });
         let culler = Culler::new(device, queue, &CullerDesc { capabilities, capacity: capacity_for(descs.len()), validation, ..CullerDesc::new(&descs) })?;
@@ -189,14 +227,14 @@ fn sync_objects(objects: &mut HrocObjects, changes: ExtractedInstances, device: 
                     *old = b;
                 }
                 if *deformed != d {
-                    flags.push((*slot, desc(b, d).flags));
+                    flags.push((*slot, desc(b, d, 1).flags));
                     *deformed = d;
                 }
             }
         }
     }
     if !added.is_empty() {
-        let descs: Vec<ObjectDesc> = added.iter().map(|&(_, b, d)| desc(b, d)).collect();
+        let descs: Vec<ObjectDesc> = added.iter().map(|&(e, b, d)| desc(b, d, triangles(e))).collect();
         let slots = culler.add_objects(&descs)?;
         for (&(e, b, d), slot) in added.iter().zip(slots) {
             objects.slots.insert(e, (slot, b, d));
