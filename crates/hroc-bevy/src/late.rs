@@ -1,45 +1,57 @@
-//! Light views whose frame draws nothing in the late pass leave it out.
+//! Light views whose next frame culls by the frustum alone are, for that
+//! frame, views Bevy culls by the frustum.
 //!
-//! Bevy runs a light view's late shadow pass wherever the view has
-//! `OcclusionCulling`: it builds the pass's indirect parameters and
-//! records every batch of the view's shadow phase again, one draw each
-//! where materials differ (`houses`: 11,000 a cascade), to draw what the
-//! occlusion test left. Where hroc's frame hands no occludees
-//! (`hroc::Steps::late` false: HROC's frames of the frustum, where
-//! occlusion does not pay in the view), that pass draws nothing, and it
-//! cost the plugin's `houses` cascades more than their culling saved.
-//! So once the frame's steps are recorded, such a view loses Bevy's
-//! `OcclusionCulling` for the frame's render ([`leave_out`]): Bevy's late
-//! shadow pass returns at once for a view without it, and the plugin's
-//! late preprocessing skips it. Its buffers and bind groups were prepared
-//! with it, and Bevy's `prepare_lights` (a directional cascade) or the
-//! plugin's `crate::lights::mark` (a point or spot light's view) gives it
-//! back the next frame, before they are prepared again. The plugin's
-//! early preprocessing reads [`LateLeftOut`] as occlusion culling still.
+//! A light view with Bevy's `OcclusionCulling` costs Bevy, every frame,
+//! late work items and indirect parameters for each of its batches, and a
+//! late shadow pass that records every batch of the view's shadow phase
+//! again, one draw each where materials differ (`houses`: 11,000 a
+//! cascade), to draw what the occlusion test left. Where hroc's plan for
+//! the view's next frame draws nothing late (`hroc::View::plans_late`:
+//! HROC's frames of the frustum, where its measurements found occlusion
+//! not paying), that is all waste: so once Bevy has made its light views
+//! and before it prepares their buffers, [`leave_out`] takes
+//! `OcclusionCulling` off such a view for the frame and marks it
+//! [`LateLeftOut`]. Bevy then prepares, culls (its own frustum culling,
+//! in its preprocessing) and draws it as any view without occlusion
+//! culling, in one shadow pass, and hroc still records the view's frame
+//! ([`crate::views::prepare`] takes marked views too), which keeps its
+//! measurements and next occluders. Bevy's `prepare_lights` (a
+//! directional cascade) or the plugin's `crate::lights::mark` (a point or
+//! spot light's view) gives `OcclusionCulling` back the next frame, and
+//! the plan is made again. Either way the view's depth is that of drawing
+//! everything its frustum holds.
 
 use bevy_ecs::prelude::*;
 use bevy_pbr::LightEntity;
 use bevy_render::occlusion_culling::OcclusionCulling;
+use bevy_render::view::ExtractedView;
 
-use crate::views::{HrocFrame, HrocView};
+use crate::objects::HrocObjects;
+use crate::views::HrocView;
 
-/// On a light view whose late pass this frame (the number) leaves out.
+/// On a light view that this frame Bevy culls by the frustum alone, where
+/// the plugin took `OcclusionCulling` off it.
 #[derive(Component, Clone, Copy, Debug)]
-pub struct LateLeftOut(pub u64);
+pub struct LateLeftOut;
 
-/// Render world, after the bind groups are prepared and before Bevy's
-/// render: light views whose steps this frame recorded with no late draws
-/// lose `OcclusionCulling` for the frame.
-pub fn leave_out(mut commands: Commands, views: Query<(Entity, &HrocView), (With<OcclusionCulling>, With<LightEntity>)>, frame: Res<HrocFrame>) {
-    for (entity, view) in &views {
-        if view.recorded == frame.0 && !view.late {
-            commands.entity(entity).remove::<OcclusionCulling>().insert(LateLeftOut(frame.0));
+/// Render world, once Bevy and the plugin have given this frame's light
+/// views `OcclusionCulling` and before Bevy prepares their buffers: last
+/// frame's marks go, and each light view hroc culls whose next frame
+/// draws nothing late loses `OcclusionCulling` and is marked.
+pub fn leave_out(
+    mut commands: Commands,
+    marked: Query<Entity, With<LateLeftOut>>,
+    mut views: Query<(Entity, &mut HrocView, &ExtractedView, &LightEntity), With<OcclusionCulling>>,
+    objects: Res<HrocObjects>,
+) {
+    for entity in &marked {
+        commands.entity(entity).remove::<LateLeftOut>();
+    }
+    let Some(culler) = objects.culler.as_ref() else { return };
+    for (entity, mut view, extracted, kind) in &mut views {
+        let cascade = matches!(kind, LightEntity::Directional { .. });
+        if !view.plans_late(culler, extracted, cascade) {
+            commands.entity(entity).remove::<OcclusionCulling>().insert(LateLeftOut);
         }
     }
-}
-
-/// Whether a view culled by occlusion this frame: it has
-/// `OcclusionCulling`, or [`leave_out`] took it off for this frame.
-pub fn occlusion(has: bool, left_out: Option<&LateLeftOut>, frame: &HrocFrame) -> bool {
-    has || left_out.is_some_and(|l| l.0 == frame.0)
 }

@@ -36,7 +36,11 @@
 //! (`early_gpu_preprocess`, `late_gpu_preprocess`) by its own, which
 //! dispatch Bevy's work items with Bevy's bind groups, and builds Bevy's
 //! Hi-Z pyramids (`early_downsample_depth`, `late_downsample_depth`) only
-//! for cameras hroc does not cull, which Bevy culls as it would.
+//! for cameras hroc does not cull, which Bevy culls as it would. A light
+//! view whose next frame culls by the frustum alone (`hroc::View::plans_late`)
+//! loses Bevy's `OcclusionCulling` for that frame, so that Bevy culls and
+//! draws it as a view without: no late work items, no late shadow pass,
+//! which would record every batch of the view again to draw none.
 
 mod late;
 mod lights;
@@ -85,27 +89,33 @@ pub struct HrocCulling {
     /// `OcclusionCulling`.
     ///
     /// Off by default: the mode that pays. A light looking down on roofs
-    /// hides little, and culling its cascades by occlusion makes Bevy add a
-    /// late shadow pass and preprocessing per cascade; measured on
-    /// lavapipe at 320 × 180 with 4 cascades of a 1024² map (BENCHMARKS.md,
-    /// "Bevy"), the plugin's `hroc` took 0.79 × (radial-city 5,000) and
-    /// 0.90 × (`houses`) Bevy's frustum culling with cascades left to the
-    /// frustum, and 1.10 × and 1.85 × with them culled by occlusion (where
-    /// `houses`' far cascades, which occlusion culls by half, run HROC's
-    /// frame on a 1024² map each frame).
+    /// hides little, and culling its cascades by occlusion makes Bevy add
+    /// preprocessing per cascade, and a late shadow pass wherever a
+    /// cascade's frame tests by occlusion; measured on lavapipe at
+    /// 320 × 180 with 4 cascades of a 1024² map (BENCHMARKS.md, "Bevy"),
+    /// the plugin's `hroc` took 0.77 × (radial-city 5,000) and 0.95 ×
+    /// (`houses`) Bevy's frustum culling with cascades left to the
+    /// frustum, and 0.88 × and 1.14 × with them culled by occlusion (where
+    /// the measurements of `houses`' cascades, each an HROC frame on its
+    /// 1024² map, cost more than their frames of the frustum save).
     ///
     /// Where on, HROC chooses per view by measurement: each cascade culls
-    /// by occlusion where one frame in eight (one in 32 in a view where
-    /// it did not pay) finds that occlusion culls at least 5 % of the
-    /// objects in its frustum and either half of them or 0.05 triangles
-    /// per pixel of the view (`hroc::options::DEPTH_ONLY_TRIANGLES`, the
-    /// bar of every light view), and by the frustum alone otherwise
+    /// by occlusion where one frame in eight finds that occlusion culls at
+    /// least 5 % of the objects in its frustum and either half of them or
+    /// 0.05 triangles per pixel of the view
+    /// (`hroc::options::DEPTH_ONLY_TRIANGLES`, the bar of every light
+    /// view), and more triangles than the boxes its test draws (12 for
+    /// each object it tests: on `houses`, whose objects are boxes, never);
+    /// and by the frustum alone otherwise
     /// (`hroc::MethodOptions::hroc_frustum_below`,
-    /// `hroc::MethodOptions::hroc_frustum_triangles`). The frame of the
-    /// frustum before each measurement makes the boxes its depth shows
-    /// the measurement's occluders, and a cascade cut with its camera
-    /// stays with the frustum and measures the next frame. Light views of
-    /// 640 × 360 or more mark one pixel in 4 × 4
+    /// `hroc::MethodOptions::hroc_frustum_triangles`), measuring again
+    /// after 32 frames, then 64, then every 128. A frame of the frustum
+    /// draws everything in Bevy's early shadow pass, and Bevy leaves out
+    /// that cascade's late one. The frame of the frustum before each
+    /// measurement makes the boxes its depth shows the measurement's
+    /// occluders, and a cascade cut with its camera stays with the
+    /// frustum until its next measurement. Light views of 640 × 360 or
+    /// more mark one pixel in 4 × 4
     /// (`hroc::options::BOX_MARKS_SCALE_LIGHTS`).
     pub cascades: bool,
 }
@@ -223,8 +233,8 @@ impl Plugin for HrocPlugin {
                     objects::sync.in_set(RenderSystems::PrepareResourcesFlush),
                     preprocess::queue_pipelines.in_set(RenderSystems::Prepare),
                     lights::mark.in_set(RenderSystems::PrepareViews),
+                    late::leave_out.in_set(RenderSystems::PrepareViews).after(lights::mark),
                     views::prepare.in_set(RenderSystems::PrepareBindGroups),
-                    late::leave_out.after(RenderSystems::PrepareBindGroups).before(RenderSystems::Render),
                 ),
             );
     }

@@ -5,8 +5,9 @@
 //! occlusion: the plugin gives these views Bevy's `OcclusionCulling`,
 //! which makes Bevy build their late work items and run their late shadow
 //! pass (Bevy's shared shadow passes already run both phases for any view
-//! with it), and hroc's steps run at Bevy's points of each such view's own
-//! `Core3d` frame (`crate::steps`).
+//! with it; left out in frames that draw nothing late, `crate::late`), and
+//! hroc's steps run at Bevy's points of each such view's own `Core3d`
+//! frame (`crate::steps`).
 
 use bevy_ecs::prelude::*;
 use bevy_ecs::system::SystemParam;

@@ -117,15 +117,7 @@ fn point_or_spot(light_query: &Query<&LightEntity>, view: Entity) -> bool {
     light_query.get(view).ok().and_then(crate::lights::point_or_spot).is_some()
 }
 
-type ViewItem<'a> = (
-    &'a ExtractedView,
-    Option<&'a PreprocessBindGroups>,
-    Option<&'a ViewUniformOffset>,
-    Has<NoIndirectDrawing>,
-    Has<OcclusionCulling>,
-    Option<&'a HrocView>,
-    Option<&'a crate::late::LateLeftOut>,
-);
+type ViewItem<'a> = (&'a ExtractedView, Option<&'a PreprocessBindGroups>, Option<&'a ViewUniformOffset>, Has<NoIndirectDrawing>, Has<OcclusionCulling>, Option<&'a HrocView>);
 
 /// What both dispatches read: the views, Bevy's work items and
 /// pipelines, and ours.
@@ -148,9 +140,7 @@ pub fn early_preprocess(current: ViewQuery<Option<&ViewLightEntities>, Without<S
     let encoder = ctx.command_encoder();
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("early mesh preprocessing (hroc)"), timestamp_writes: None });
     for view_entity in all {
-        let Ok((view, Some(bind_groups), Some(offset), no_indirect, occlusion, hroc, left_out)) = views.get(view_entity) else { continue };
-        // (A light view whose late pass is left out culls by occlusion still.)
-        let occlusion = crate::late::occlusion(occlusion, left_out, &frame);
+        let Ok((view, Some(bind_groups), Some(offset), no_indirect, occlusion, hroc)) = views.get(view_entity) else { continue };
         let hroc_group = hroc.filter(|h| h.recorded == frame.0).and_then(|h| h.bind_group.as_ref()).filter(|_| occlusion && !no_indirect);
         let (id, group1) = match (hroc_group, ours.early) {
             (Some(g), Some(id)) => (Some(id), Some(g)),
@@ -223,7 +213,7 @@ pub fn late_preprocess(
     let encoder = ctx.command_encoder();
     let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor { label: Some("late mesh preprocessing (hroc)"), timestamp_writes: None });
     for view_entity in all {
-        let Ok((view, Some(bind_groups), Some(offset), no_indirect, occlusion, hroc, _)) = views.get(view_entity) else { continue };
+        let Ok((view, Some(bind_groups), Some(offset), no_indirect, occlusion, hroc)) = views.get(view_entity) else { continue };
         if no_indirect || !occlusion {
             continue;
         }

@@ -35,8 +35,6 @@ pub struct HrocView {
     /// The frame ([`HrocFrame`]) whose steps were last recorded: the
     /// preprocessing reads hroc's visibility only in that frame.
     pub recorded: u64,
-    /// That frame draws objects in the late pass (`hroc::Steps::late`).
-    pub late: bool,
 }
 
 /// The render world's frame number, counted by `prepare`: a view whose
@@ -107,6 +105,13 @@ fn view_desc(view: &ExtractedView, unclipped: bool) -> ViewDesc {
 }
 
 impl HrocView {
+    /// Plans the view's next frame as `extracted` sees it (a cascade:
+    /// `unclipped`): whether its late pass draws (`hroc::View::plans_late`).
+    pub fn plans_late(&mut self, culler: &hroc::Culler, extracted: &ExtractedView, unclipped: bool) -> bool {
+        let input = FrameInput { view: view_desc(extracted, unclipped), cut: false, time: 0.0 };
+        self.view.get_mut().unwrap_or_else(|p| p.into_inner()).plans_late(culler, &input)
+    }
+
     /// Records this frame's steps, and group 1 where the buffers changed.
     fn record(&mut self, frame: &Frame, input: &FrameInput, who: &str) -> (Option<HrocFrameStats>, bool) {
         let (culler, slots, layout, device) = (frame.culler, frame.slots, frame.layout, frame.device);
@@ -114,9 +119,8 @@ impl HrocView {
         let stats = view.frame_stats(culler).map(|s| HrocFrameStats(Some(s)));
         let visibility = view.visibility(culler).clone();
         let steps = match view.steps(culler, input) {
-            Ok(Steps { begin, occluders_drawn, occludees_drawn, late }) => {
+            Ok(Steps { begin, occluders_drawn, occludees_drawn, .. }) => {
                 self.recorded = frame.number;
-                self.late = late;
                 StepBuffers { begin: Some(begin), occluders_drawn: Some(occluders_drawn), occludees_drawn: Some(occludees_drawn) }
             }
             Err(e) => {
@@ -201,7 +205,7 @@ impl Frame<'_> {
             }
             _ => match self.culler.view_with(method, &targets, &options(&texture, depth_only)) {
                 Ok(view) => {
-                    let mut v = HrocView { view: Mutex::new(view), logged: Vec::new(), key, steps: Mutex::default(), bind_group: None, bound: None, recorded: 0, late: true };
+                    let mut v = HrocView { view: Mutex::new(view), logged: Vec::new(), key, steps: Mutex::default(), bind_group: None, bound: None, recorded: 0 };
                     v.record(self, &input, who);
                     // With the view, the plugin's other components on its
                     // entity: its statistics (none back yet), its findings.
@@ -240,7 +244,7 @@ pub fn prepare(
     device: Res<RenderDevice>,
     layout: Option<Res<crate::preprocess::HrocLayout>>,
     mut cameras: Query<CameraItem>,
-    mut cascades: Query<CascadeItem, (With<OcclusionCulling>, Without<HrocCulling>)>,
+    mut cascades: Query<CascadeItem, (Or<(With<OcclusionCulling>, With<crate::late::LateLeftOut>)>, Without<HrocCulling>)>,
     light_views: crate::lights::Lights,
     (time, mut number): (Option<Res<bevy_time::Time>>, ResMut<HrocFrame>),
 ) {

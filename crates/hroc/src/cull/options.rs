@@ -79,6 +79,11 @@ pub struct MethodOptions {
     /// roofs of 80 triangles culls 0.015 per pixel. 0 (the default) leaves
     /// the share alone to decide: a camera in an interior measured as
     /// little (0.02-0.03 per pixel), and its shaded pixels pay for it.
+    /// Above 0 the view also counts as drawn depth only: occlusion pays
+    /// there only where the objects it culls hold more triangles than the
+    /// boxes its test draws (12 for each object of the frustum it tests),
+    /// and probes that find it not paying come ever further apart
+    /// (`cull/hroc/gate.rs`).
     pub hroc_frustum_triangles: f32,
     /// Marks from boxes ([`crate::device::Marks::Boxes`]): pixels per side
     /// of the blocks they test, one pixel of each, where the device could

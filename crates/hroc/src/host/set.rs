@@ -70,7 +70,7 @@ impl View {
     /// a set: it neither starts over (a cut, a rebuilt culler, a failed
     /// frame) nor fails before its method's frame (the checks of
     /// [`View::cull`]), and no object's flags split its lists.
-    fn set_ready(&self, culler: &Culler, input: &FrameInput) -> Option<ViewGeometry> {
+    pub(super) fn set_ready(&self, culler: &Culler, input: &FrameInput) -> Option<ViewGeometry> {
         let regrown = self.slots != culler.objects.count;
         let rebuilt = self.generation != culler.generation && self.method.keeps_tree();
         let refused = (culler.moves > 0 && !self.method.takes_motion()) || (!self.method.takes_dynamic() && culler.objects.alone > 0);

@@ -52,6 +52,26 @@ impl View {
         &self.visibility.get_or_insert_with(|| Visibility::new(&culler.gpu, culler.objects.count)).buffer
     }
 
+    /// Plans the view's next stepwise frame before the engine prepares
+    /// its passes, and says whether that frame's late pass draws: false
+    /// where it culls by the frustum alone (`vfc`; HROC where its
+    /// measurements found occlusion not paying in the view), and the
+    /// engine may then prepare and draw the view that frame as one without
+    /// occlusion culling (every object its own frustum culling keeps, in
+    /// its early pass), while [`View::steps`] still records the frame,
+    /// which keeps the view's measurements and next occluders. True where
+    /// it cannot tell: a cut, a culler regrown or rebuilt, a method that
+    /// tests after the early pass. The next [`View::steps`] keeps to the
+    /// plan unless the view starts over first, and says what it drew in
+    /// [`Steps::late`]. Any plan is conservative: a frame of the frustum
+    /// draws every object the view shows.
+    pub fn plans_late(&mut self, culler: &Culler, input: &FrameInput) -> bool {
+        match self.set_ready(culler, input) {
+            Some(_) => self.imp.plan_set(&culler.gpu).is_none(),
+            None => true,
+        }
+    }
+
     /// Culls one frame for an engine that draws it itself: it records the
     /// view's culling as [`View::cull`] does, and in place of handing draw
     /// lists, stamps [`View::visibility`] and ends a command buffer at each
