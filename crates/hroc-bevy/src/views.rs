@@ -112,6 +112,11 @@ impl HrocView {
         self.view.get_mut().unwrap_or_else(|p| p.into_inner()).plans_late(culler, &input)
     }
 
+    /// The planned frame needs recording (`hroc::View::wants_steps`).
+    fn wants_steps(&self) -> bool {
+        self.view.lock().unwrap_or_else(|p| p.into_inner()).wants_steps()
+    }
+
     /// Records this frame's steps, and group 1 where the buffers changed.
     fn record(&mut self, frame: &Frame, input: &FrameInput, who: &str) -> (Option<HrocFrameStats>, bool) {
         let (culler, slots, layout, device) = (frame.culler, frame.slots, frame.layout, frame.device);
@@ -186,6 +191,14 @@ impl Frame<'_> {
         let input = FrameInput { view: view_desc(extracted, unclipped), cut: false, time: self.seconds };
         let key = (texture.clone(), layer, method);
         match existing {
+            // A light view Bevy culls by the frustum this frame
+            // (`crate::late`), whose frame hroc needs nothing of: its
+            // statistics of the last frame it recorded still come back.
+            Some(mut v) if v.key == key && !v.wants_steps() => {
+                if let Some(stats) = v.view.get_mut().unwrap_or_else(|p| p.into_inner()).frame_stats(self.culler) {
+                    commands.entity(entity).insert(HrocFrameStats(Some(stats)));
+                }
+            }
             Some(mut v) if v.key.2 == method => {
                 if v.key != key {
                     // A new size, texture or layer: the view carries over where it can.

@@ -58,6 +58,14 @@ pub trait CullMethod: Any + Send {
         None
     }
 
+    /// After [`CullMethod::plan_set`] returned a list: whether the frame
+    /// still needs recording where the host culls it by its own frustum
+    /// culling and reads nothing of it (`View::wants_steps`). The default:
+    /// true.
+    fn planned_frame_needed(&self) -> bool {
+        true
+    }
+
     /// Forgets what earlier frames taught (a camera cut): the next frame is
     /// culled as a first frame. Every method with temporal state overrides it.
     fn reset(&mut self, _enc: &mut wgpu::CommandEncoder) {}

@@ -49,6 +49,10 @@ impl CullMethod for FrustumCuller {
         Some(self.list.clone())
     }
 
+    fn planned_frame_needed(&self) -> bool {
+        false
+    }
+
     fn frame(&mut self, f: &mut Frame) -> Result<()> {
         // In a set of views, the set's pass packed the list.
         if f.set_frustum(&self.list) {

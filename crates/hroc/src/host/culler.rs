@@ -467,6 +467,7 @@ impl Culler {
             tail: None,
             tail_pass: (self.caps.draw_count == DrawCount::Emulated).then(|| ListPass::new(&self.gpu, Layout::Tail, ("tail.wgsl", "tail"), None, &[])),
             interrupted: false,
+            wants_steps: true,
             last_start: None,
             culled_by: method,
             frames: 0,

@@ -66,10 +66,20 @@ impl View {
     /// [`Steps::late`]. Any plan is conservative: a frame of the frustum
     /// draws every object the view shows.
     pub fn plans_late(&mut self, culler: &Culler, input: &FrameInput) -> bool {
-        match self.set_ready(culler, input) {
-            Some(_) => self.imp.plan_set(&culler.gpu).is_none(),
-            None => true,
-        }
+        let frustum = self.set_ready(culler, input).is_some() && self.imp.plan_set(&culler.gpu).is_some();
+        self.wants_steps = !frustum || self.imp.planned_frame_needed();
+        !frustum
+    }
+
+    /// After [`View::plans_late`] said false: whether the view needs that
+    /// frame recorded at all. Where not, an engine that culls the frame by
+    /// its own frustum culling, and reads nothing of hroc's for it, may
+    /// leave out [`View::steps`]: the view only counts the frame toward its
+    /// next measurement (HROC records the frame before one, whose depth
+    /// makes the measurement's occluders; `vfc` needs none). True until
+    /// the next plan.
+    pub fn wants_steps(&self) -> bool {
+        self.wants_steps
     }
 
     /// Culls one frame for an engine that draws it itself: it records the
@@ -111,6 +121,7 @@ impl View {
     /// [`device::Marks::Ids`]: crate::device::Marks::Ids
     pub fn steps(&mut self, culler: &Culler, input: &FrameInput) -> Result<Steps> {
         check(self.method, culler.caps.marks)?;
+        self.wants_steps = true;
         self.visibility(culler);
         let mut cuts = StepCuts::default();
         let mut encoder = culler.gpu.encoder("hroc steps");

@@ -70,6 +70,9 @@ pub struct View {
     pub(super) visibility: Option<crate::visibility::Visibility>,
     /// With early-Z marks, once some object is CUTOUT: its box marks.
     pub(super) cutout_marks: Option<std::sync::Arc<crate::cull::BoxMarks>>,
+    /// The next stepwise frame, as planned ([`View::plans_late`]), needs
+    /// recording ([`View::wants_steps`]).
+    pub(super) wants_steps: bool,
 }
 
 impl View {

@@ -137,8 +137,7 @@ pub struct Hroc {
     /// Step 2 ran and step 5 has not yet reset its counts.
     walk_open: bool,
     ray_stats: wgpu::Buffer,
-    /// This frame's packed V (with a spare, the next frame's once step 5
-    /// packed it).
+    /// This frame's packed V (with a spare: next frame's, once step 5 packed it).
     v_list: DrawList,
     /// The list V was drawn from in the last frame (debugging).
     v_drawn: DrawList,
@@ -158,14 +157,12 @@ pub struct Hroc {
     marks_d: MarkTarget,
     /// With marks from boxes (and no OF, no rounds): V's objects are all
     /// occluders O, and one box pass after U's draw marks V's and U's
-    /// objects against the frame's final depth as D, which alone is next
-    /// frame's V. One box pass a frame, not one per list: the walk from all
-    /// of V tests none of V's objects, which step 1 drew anyway, and V
-    /// keeps only what is in front of the final depth.
+    /// objects against the frame's final depth as D, alone next frame's V
+    /// (one pass a frame, not one per list; V keeps what is in front).
     marks_at_end: bool,
     test_bind: wgpu::BindGroup,
     /// Step 2's passes: the walk up from the effective occluders, the
-    /// objects tested alone, and the collection of the groups.
+    /// objects tested alone, the collection of the groups.
     extract: Step,
     alone: Step,
     collect: Step,
@@ -361,6 +358,10 @@ impl CullMethod for Hroc {
 
     fn plan_set(&mut self, gpu: &Gpu) -> Option<DrawList> {
         self.plan_early(gpu)
+    }
+
+    fn planned_frame_needed(&self) -> bool {
+        self.plan.refresh // (Before a probe: its depth makes V.)
     }
 
     fn take_over(&mut self, enc: &mut wgpu::CommandEncoder, visible: Option<&wgpu::Buffer>) {
