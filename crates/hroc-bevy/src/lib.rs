@@ -71,8 +71,8 @@ pub use views::{HrocFinding, HrocFindings, HrocFrameStats};
 /// depth stays bit-equal to drawing everything (`tests/headless.rs`).
 /// Each face is a view with the whole culling frame: measured on lavapipe
 /// (BENCHMARKS.md, "Bevy"), 4 point lights over radial-city 5,000 (24
-/// faces of 256²) took 11 × Bevy's frustum culling with `hroc` and 6 ×
-/// with `hzb`, where drawing a face's boxes costs less than culling it.
+/// faces of 256²) took 6.4 × Bevy's frustum culling with `hroc` and
+/// 4.9 × with `hzb`, where drawing a face's boxes costs less than culling it.
 /// Where occlusion hides little, HROC culls a view by its frustum between
 /// measurements (as cascades).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
@@ -93,11 +93,11 @@ pub struct HrocCulling {
     /// preprocessing per cascade, and a late shadow pass wherever a
     /// cascade's frame tests by occlusion; measured on lavapipe at
     /// 320 × 180 with 4 cascades of a 1024² map (BENCHMARKS.md, "Bevy"),
-    /// the plugin's `hroc` took 0.77 × (radial-city 5,000) and 0.95 ×
+    /// the plugin's `hroc` took 0.79 × (radial-city 5,000) and 0.97 ×
     /// (`houses`) Bevy's frustum culling with cascades left to the
-    /// frustum, and 0.88 × and 1.14 × with them culled by occlusion (where
+    /// frustum, and 0.92 × and 1.05 × with them culled by occlusion (where
     /// the measurements of `houses`' cascades, each an HROC frame on its
-    /// 1024² map, cost more than their frames of the frustum save).
+    /// 1024² map, cost about 4 ms a frame on lavapipe).
     ///
     /// Where on, HROC chooses per view by measurement: each cascade culls
     /// by occlusion where one frame in eight finds that occlusion culls at
@@ -110,8 +110,9 @@ pub struct HrocCulling {
     /// (`hroc::MethodOptions::hroc_frustum_below`,
     /// `hroc::MethodOptions::hroc_frustum_triangles`), measuring again
     /// after 32 frames, then 64, then every 128. A frame of the frustum
-    /// draws everything in Bevy's early shadow pass, and Bevy leaves out
-    /// that cascade's late one. The frame of the frustum before each
+    /// is, for Bevy, a view without `OcclusionCulling` (one shadow pass,
+    /// Bevy's own frustum culling; `hroc::View::plans_late`), and hroc
+    /// records it only before a measurement. The frame of the frustum before each
     /// measurement makes the boxes its depth shows the measurement's
     /// occluders, and a cascade cut with its camera stays with the
     /// frustum until its next measurement. Light views of 640 × 360 or

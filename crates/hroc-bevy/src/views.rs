@@ -243,6 +243,9 @@ type CameraItem<'a> = (
 );
 /// What `prepare` reads of a cascade.
 type CascadeItem<'a> = (&'a ExtractedView, Option<&'a mut HrocView>);
+/// The light views hroc culls this frame: those with `OcclusionCulling`,
+/// and those the plugin took it off for the frame (`crate::late`).
+type CascadeFilter = (Or<(With<OcclusionCulling>, With<crate::late::LateLeftOut>)>, Without<HrocCulling>);
 
 /// Render world, once Bevy's depth textures, shadow maps and hroc's
 /// objects are ready: each culling camera's view, the views of its
@@ -257,7 +260,7 @@ pub fn prepare(
     device: Res<RenderDevice>,
     layout: Option<Res<crate::preprocess::HrocLayout>>,
     mut cameras: Query<CameraItem>,
-    mut cascades: Query<CascadeItem, (Or<(With<OcclusionCulling>, With<crate::late::LateLeftOut>)>, Without<HrocCulling>)>,
+    mut cascades: Query<CascadeItem, CascadeFilter>,
     light_views: crate::lights::Lights,
     (time, mut number): (Option<Res<bevy_time::Time>>, ResMut<HrocFrame>),
 ) {
