@@ -13,7 +13,7 @@ use common::street::{look, street, street_on, Depth};
 use glam::{Mat4, Vec3};
 use hroc::device::{Capabilities, Marks};
 use hroc::options::Variant;
-use hroc::{Culler, CullerDesc, Error, Method, MethodOptions, ViewDesc};
+use hroc::{Culler, CullerDesc, Error, FrameInput, Method, MethodOptions, ViewDesc};
 
 mod common;
 
@@ -72,6 +72,42 @@ fn stepwise_frames_draw_every_visible_object() {
             }
         }
     }
+}
+
+/// A view drawn depth only where occlusion does not pay (the share bar
+/// at 1): `View::plans_late` plans its frames of the frustum ahead,
+/// without a late pass, and `View::wants_steps` asks to record only the
+/// measurements and the frames before them; the engine leaves out the
+/// rest. Every frame recorded draws every object `noc` shows and keeps to
+/// its plan.
+#[test]
+fn frames_of_the_frustum_are_planned_ahead_and_recorded_where_needed() {
+    let (device, queue) = common::device(hroc::device::FULL_FEATURES);
+    let (host, objects) = street(&device);
+    let engine = Engine::new(&device, &host);
+    let desc = look(Vec3::new(0.0, 1.5, 8.0), Vec3::new(0.0, 1.0, -10.0));
+    let truth = Culler::new(&device, &queue, &CullerDesc::new(&objects)).unwrap();
+    let visible = host.visible_along(&device, &queue, &truth, &[(desc, false)]).remove(0);
+    let culler = Culler::new(&device, &queue, &CullerDesc { capabilities: Some(Capabilities { marks: Marks::Boxes, ..Capabilities::FULL }), ..CullerDesc::new(&objects) }).unwrap();
+    let options = MethodOptions { hroc_frustum_below: 1.0, hroc_frustum_triangles: hroc::options::DEPTH_ONLY_TRIANGLES, ..MethodOptions::default() };
+    let mut view = culler.view_with(Method::Hroc(Variant::SF), &host.targets(), &options).unwrap();
+    let input = FrameInput { view: desc, cut: false, time: 0.0 };
+    let (frames, mut planned, mut recorded) = (80, 0, 0);
+    for k in 0..frames {
+        let late = view.plans_late(&culler, &input);
+        planned += !late as u32;
+        if !late && !view.wants_steps() {
+            continue;
+        }
+        engine.late_left_out.set(0);
+        let drawn = engine.frame(&device, &queue, &host, &culler, &mut view, desc, false).unwrap();
+        recorded += 1;
+        assert!(late || engine.late_left_out.get() == 1, "frame {k}: planned without a late pass, and drew one");
+        let missed: Vec<u32> = visible.iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();
+        assert!(missed.is_empty(), "frame {k}: visible objects {missed:?} not drawn");
+    }
+    assert!(planned > frames * 3 / 4, "{planned} of {frames} frames planned to the frustum");
+    assert!(recorded < frames / 4, "{recorded} of {frames} frames recorded");
 }
 
 /// Visibility as data in a frame culled through the host's draw lists:

@@ -238,19 +238,22 @@ impl Gate {
     /// that `refreshes` V ([`Hroc::refresh_occluders`]) and where
     /// occlusion did not pay, a frame of the frustum that refreshes V, and
     /// a probe the next frame (a cut frame seeds V and tests the whole
-    /// view, the dearest of HROC's frames); and in such a view drawn depth
-    /// only, the frustum until its next probe: a light's cascade refitted
-    /// to a camera that cuts is cut too, and whether occlusion pays there
-    /// is the light's and the scene's ([`PROBE_MOST`]).
+    /// view, the dearest of HROC's frames); and in a view drawn depth only
+    /// where it did not pay, the frustum until its next probe: a light's
+    /// cascade refitted to a camera that cuts is cut too, and whether
+    /// occlusion pays there is the light's and the scene's ([`PROBE_MOST`]).
     pub(super) fn reset(&mut self, refreshes: bool) {
         self.filter_pays = true;
+        if self.depth_only() && !self.occlusion_pays {
+            return;
+        }
         if self.occlusion_pays || !refreshes {
             self.occlusion_pays = true;
             // (Past any interval: counts of an earlier probe, arriving at
             // this frame's plan, may lengthen it.)
             self.since_probe = PROBE_MOST;
             self.interval = PROBE_EVERY;
-        } else if !self.depth_only() {
+        } else {
             self.since_probe = self.interval - 1;
         }
     }
