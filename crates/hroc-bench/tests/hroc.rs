@@ -418,7 +418,7 @@ fn stall_free_overflow_draws_what_the_estimate_misses() {
 /// its gate's tallies; hroc (sf+of) never
 /// waits either, yet its counts arrive (bytes read without a wait): |V|,
 /// |G| and |U|, 12 bytes a frame's counts, and no more (no lists of rounds
-/// it does not run), beside its gate's 20-byte tallies.
+/// it does not run), beside its gate's 28-byte tallies.
 #[test]
 fn work_counters_count_submits_waits_and_bytes() {
     // Every list above the 4,096 commands under which SF draws to the capacity.
@@ -432,21 +432,21 @@ fn work_counters_count_submits_waits_and_bytes() {
             let st = v.stats(&s.culler).unwrap();
             let get = |w: hroc::stats::Stat| st.iter().find(|x| x.0 == w).unwrap().1;
             assert_eq!((get(hroc::stats::Stat::Waits), get(hroc::stats::Stat::Submits)), (waits, waits), "{m} frame {k}");
-            // The gate's tallies (20 bytes each, one a probe) come back
+            // The gate's tallies (28 bytes each, one a probe) come back
             // without a wait too (`cull/hroc/gate.rs`).
             let read = get(hroc::stats::Stat::BytesRead) as u32;
             if waits > 0.0 {
-                assert!(read >= 4 * waits as u32 && (read - 4 * waits as u32).is_multiple_of(20), "{m} frame {k}: {read} bytes");
+                assert!(read >= 4 * waits as u32 && (read - 4 * waits as u32).is_multiple_of(28), "{m} frame {k}: {read} bytes");
             }
             if m == "hroc" {
-                assert!((0..=read / 20).any(|t| (read - 20 * t).is_multiple_of(12)), "{m} frame {k}: {read} bytes, not whole frames of three counts and whole tallies");
+                assert!((0..=read / 28).any(|t| (read - 28 * t).is_multiple_of(12)), "{m} frame {k}: {read} bytes, not whole frames of three counts and whole tallies");
             }
             bytes += get(hroc::stats::Stat::BytesRead);
         }
         // hroc-na reads only its gate's tallies.
         assert!(bytes > 0.0, "{m}: no bytes read");
         if m == "hroc-na" {
-            assert_eq!(bytes % 20.0, 0.0, "{m}: {bytes} bytes read, not whole tallies");
+            assert_eq!(bytes % 28.0, 0.0, "{m}: {bytes} bytes read, not whole tallies");
         }
     }
 }
