@@ -21,7 +21,9 @@
 //!   compute pass, one list (`frustum`; in a set of views, one dispatch
 //!   of the set's pass, `crate::Culler::cull_views`). Frustum culling is
 //!   conservative, and the next probe runs HROC from the last V it had
-//!   (V only orders a frame).
+//!   (V only orders a frame). A view drawn depth only over objects that
+//!   hold no more triangles than their boxes culls by the frustum without
+//!   probing: there the rule above cannot hold ([`Gate::objects`]).
 //! - **Occluder filtering where it changes the result.** OF (step 5 with
 //!   the ID target, Lee et al. 2021 §4.2) makes the next V the objects
 //!   that own a pixel, where the merge makes it O ∪ D: it pays where many
@@ -57,6 +59,7 @@ use crate::contract::{DrawList, Phase};
 use crate::cull::{Frame, Stage};
 use crate::gpu::shape::EncoderShape;
 use crate::gpu::{dispatch_size, Gpu, Readback};
+use crate::layout::DrawCommand;
 
 /// A probe every this many frames of the view, where occlusion pays.
 pub const PROBE_EVERY: u32 = 8;
@@ -150,6 +153,9 @@ pub(super) struct Gate {
     interval: u32,
     /// The last counts that arrived.
     pub(super) last: Option<[u32; COUNTS]>,
+    /// No object holds more triangles than the box the test draws for it,
+    /// as of the objects' commands of this version ([`Gate::objects`]).
+    boxes_only: Option<(u64, bool)>,
 }
 
 impl Gate {
@@ -168,7 +174,28 @@ impl Gate {
             since_probe: PROBE_LEAST,
             interval: PROBE_EVERY,
             last: None,
+            boxes_only: None,
         }
+    }
+
+    /// Learns the objects' triangles from their commands (of `version`,
+    /// read again only when it changes). In a view drawn depth only where
+    /// no object holds more triangles than the box the test draws for it,
+    /// occlusion cannot pay by the measurement's own rule (the culled
+    /// objects' triangles are then at most 12 for each object tested), so
+    /// the view culls by the frustum and never probes, until an object
+    /// with more triangles comes.
+    pub(super) fn objects(&mut self, version: u64, commands: &[DrawCommand]) {
+        if self.boxes_only.is_none_or(|(v, _)| v != version) {
+            let boxes = commands.iter().all(|c| f64::from(c.index_count / 3) <= BOX_TRIANGLES);
+            self.boxes_only = Some((version, boxes));
+        }
+    }
+
+    /// Occlusion cannot pay in this view: drawn depth only, over objects
+    /// no richer than their boxes ([`Gate::objects`]).
+    fn cannot_pay(&self) -> bool {
+        self.depth_only() && self.boxes_only.is_some_and(|(_, b)| b)
     }
 
     /// Takes the counts that arrived (polling, never waiting) and plans
@@ -197,7 +224,11 @@ impl Gate {
                 (false, _) => PROBE_LEAST,
             };
         }
-        let probe = self.since_probe >= self.interval && self.ring.iter().any(|(_, s)| s.is_free());
+        let cannot_pay = self.cannot_pay();
+        if cannot_pay {
+            self.occlusion_pays = false;
+        }
+        let probe = !cannot_pay && self.since_probe >= self.interval && self.ring.iter().any(|(_, s)| s.is_free());
         // (Counting this frame: the next probe `interval` frames after it.)
         self.since_probe = if probe { 1 } else { self.since_probe + 1 };
         let next = match (self.of, self.filter) {
@@ -209,7 +240,7 @@ impl Gate {
         };
         let occlusion = probe || self.occlusion_pays;
         // The next frame probes, by the counts known now.
-        let refresh = !occlusion && self.since_probe >= self.interval;
+        let refresh = !occlusion && !cannot_pay && self.since_probe >= self.interval;
         (Plan { probe, occlusion, next, refresh }, bytes)
     }
 
@@ -322,6 +353,10 @@ impl Hroc {
 
     /// Plans the frame: the plan made before it for a set of views, or now.
     pub(super) fn plan_frame(&mut self, f: &mut Frame) {
+        // (A plan made before the frame knew the objects of the last.)
+        if let Some(g) = self.gate.as_mut() {
+            g.objects(f.objects.commands_version, &f.objects.cpu_commands);
+        }
         self.plan = match (self.planned.take(), self.gate.as_mut()) {
             (Some(bytes), _) => {
                 f.count_async_read(bytes);
