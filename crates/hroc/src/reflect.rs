@@ -219,7 +219,8 @@ impl Layout {
     /// Creates it for host targets of `samples` samples per pixel: the
     /// passes then load the host's depth and IDs as multisampled textures.
     pub fn create_for(self, gpu: &Gpu, samples: u32) -> wgpu::BindGroupLayout {
-        gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(self.label()), entries: &self.entries_for(samples) })
+        let entries = self.entries_for(samples);
+        gpu.cache.bind_layout(self.label(), &entries, || gpu.device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor { label: Some(self.label()), entries: &entries }))
     }
 
     /// A bind group of `layout` (created from this) holding, for each of
@@ -254,7 +255,9 @@ impl Layout {
 
 /// A pipeline layout of one bind group.
 pub fn pipeline_layout(gpu: &Gpu, label: &str, layout: &wgpu::BindGroupLayout) -> wgpu::PipelineLayout {
-    gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(label), bind_group_layouts: &[Some(layout)], immediate_size: 0 })
+    gpu.cache.pipeline_layout(label, layout, || {
+        gpu.device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor { label: Some(label), bind_group_layouts: &[Some(layout)], immediate_size: 0 })
+    })
 }
 
 /// The bind-group layout entries of `group` that `passes` declare, in

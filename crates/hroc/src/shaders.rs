@@ -226,27 +226,39 @@ pub fn box_pipeline(
         (DepthRange::Reversed, BoxDepth::Write) => (wgpu::CompareFunction::Greater, 0),
     };
     let manual = [Some(wgpu::ColorTargetState { format: MANUAL_TARGET, blend: None, write_mask: wgpu::ColorWrites::empty() })];
-    gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(label),
-        layout: Some(layout),
-        vertex: wgpu::VertexState { module, entry_point: Some(vertex), compilation_options: options(), buffers: &[] },
-        primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
-        depth_stencil: (mode != BoxDepth::Manual).then(|| wgpu::DepthStencilState {
-            format: depth.0,
-            depth_write_enabled: Some(mode == BoxDepth::Write),
-            depth_compare: Some(compare),
-            stencil: Default::default(),
-            bias: wgpu::DepthBiasState { constant: bias, slope_scale: 0.0, clamp: 0.0 },
-        }),
-        multisample: wgpu::MultisampleState { count: depth.2, ..Default::default() },
-        fragment: fragment.map(|entry| wgpu::FragmentState {
-            module,
-            entry_point: Some(entry),
-            compilation_options: options(),
-            targets: if mode == BoxDepth::Manual { &manual } else { &[] },
-        }),
-        multiview_mask: None,
-        cache: None,
+    let key = crate::gpu::RenderKey {
+        label: label.to_owned(),
+        layout: layout.clone(),
+        module: module.clone(),
+        entries: (vertex.to_owned(), fragment.map(str::to_owned)),
+        constants: crate::gpu::constants_key(constants),
+        depth: (mode != BoxDepth::Manual).then_some((depth.0, compare, bias, mode == BoxDepth::Write)),
+        samples: depth.2,
+        targets: if mode == BoxDepth::Manual { vec![MANUAL_TARGET] } else { Vec::new() },
+    };
+    gpu.cache.render(key, || {
+        gpu.device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(label),
+            layout: Some(layout),
+            vertex: wgpu::VertexState { module, entry_point: Some(vertex), compilation_options: options(), buffers: &[] },
+            primitive: wgpu::PrimitiveState { cull_mode: Some(wgpu::Face::Back), front_face: wgpu::FrontFace::Ccw, ..Default::default() },
+            depth_stencil: (mode != BoxDepth::Manual).then(|| wgpu::DepthStencilState {
+                format: depth.0,
+                depth_write_enabled: Some(mode == BoxDepth::Write),
+                depth_compare: Some(compare),
+                stencil: Default::default(),
+                bias: wgpu::DepthBiasState { constant: bias, slope_scale: 0.0, clamp: 0.0 },
+            }),
+            multisample: wgpu::MultisampleState { count: depth.2, ..Default::default() },
+            fragment: fragment.map(|entry| wgpu::FragmentState {
+                module,
+                entry_point: Some(entry),
+                compilation_options: options(),
+                targets: if mode == BoxDepth::Manual { &manual } else { &[] },
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
     })
 }
 

@@ -181,7 +181,11 @@ fn unclipped_depth_draws_what_lies_before_the_near_plane() {
 /// two depth textures) keeps the view's visible set: the next frame is no
 /// cut, and draws everything `noc` shows there. Another shape starts over
 /// as after a cut. A projection whose depth range is not the targets' is
-/// refused, naming where the range is given.
+/// refused, naming where the range is given. Views share the culler's
+/// pipelines: a second view of a method, and a view moved to another
+/// texture of the same shape, make no new module or pipeline (a point
+/// light's six faces, made again whenever the engine reallocates its
+/// shadow maps).
 #[test]
 fn a_view_keeps_its_state_across_targets_of_the_same_shape() {
     let (device, queue) = common::device(hroc::device::FULL_FEATURES);
@@ -199,7 +203,11 @@ fn a_view_keeps_its_state_across_targets_of_the_same_shape() {
         let mut view = culler.view(method, &a.targets()).unwrap();
         let steady = (0..3).map(|k| a.frame(&device, &queue, &culler, &mut view, desc, k == 0)).last().unwrap();
         assert!(!cut(&mut view), "{method}: a steady frame");
+        let made = culler.gpu().cache.counts();
+        let mut second = culler.view(method, &b.targets()).unwrap();
+        b.frame(&device, &queue, &culler, &mut second, desc, true);
         view.resize(&culler, &b.targets()).unwrap();
+        assert_eq!(culler.gpu().cache.counts(), made, "{method}: modules and pipelines made by a second view and a resize");
         let drawn = b.frame(&device, &queue, &culler, &mut view, desc, false);
         assert!(!cut(&mut view), "{method}: another texture of the same shape is no cut");
         assert_eq!(drawn, steady, "{method}: the frame after the resize culls as the one before");

@@ -1,6 +1,7 @@
 //! The host's device and queue as the culler records with them, read-back
 //! helpers, GPU timestamps and pipeline statistics.
 
+mod cache;
 mod readback;
 pub mod shape;
 pub mod stats;
@@ -11,6 +12,7 @@ use crate::error::{Error, Result};
 use crate::gpu::shape::{DeviceShape, EncoderShape, QueueShape};
 use wgpu::util::DeviceExt;
 
+pub use cache::{constants_key, Cache, RenderKey};
 pub use readback::{Readback, Submission};
 pub use shape::FrameShape;
 pub use stats::{InvocationCounter, Invocations, PassCount};
@@ -25,12 +27,15 @@ pub struct Gpu {
     pub device: wgpu::Device,
     /// The host's queue.
     pub queue: wgpu::Queue,
+    /// Modules, layouts and pipelines made once, shared by every view
+    /// of the culler (`cache.rs`).
+    pub cache: cache::Cache,
 }
 
 impl Gpu {
     /// Wraps the host's device and queue (clones share them).
     pub fn from_device(device: &wgpu::Device, queue: &wgpu::Queue) -> Gpu {
-        Gpu { device: device.clone(), queue: queue.clone() }
+        Gpu { device: device.clone(), queue: queue.clone(), cache: cache::Cache::default() }
     }
 
     /// The device's limits.
@@ -149,18 +154,22 @@ impl Gpu {
             true => std::borrow::Cow::Borrowed(source),
             false => std::borrow::Cow::Owned(without_early_z(source)),
         };
-        self.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(source) })
+        self.cache
+            .module(label, &source, || self.device.create_shader_module(wgpu::ShaderModuleDescriptor { label: Some(label), source: wgpu::ShaderSource::Wgsl(source.clone()) }))
     }
 
     /// A compute pipeline at `entry`, with override `constants`.
+    /// Made once per culler for each module, entry, layout and constants.
     pub fn compute_pipeline(&self, module: &wgpu::ShaderModule, entry: &str, layout: Option<&wgpu::PipelineLayout>, constants: &[(&str, f64)]) -> wgpu::ComputePipeline {
-        self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout,
-            module,
-            entry_point: Some(entry),
-            compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
-            cache: None,
+        self.cache.compute(module, entry, layout, constants, || {
+            self.device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout,
+                module,
+                entry_point: Some(entry),
+                compilation_options: wgpu::PipelineCompilationOptions { constants, ..Default::default() },
+                cache: None,
+            })
         })
     }
 

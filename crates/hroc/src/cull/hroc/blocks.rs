@@ -56,27 +56,39 @@ impl Blocks {
         });
         let pl = crate::reflect::pipeline_layout(gpu, "hroc reduce", &layout);
         let constants = [("TEST_SCALE", scale as f64)];
-        let reduce = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("hroc reduce"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState { module, entry_point: Some("reduce_vs"), compilation_options: Default::default(), buffers: &[] },
-            primitive: Default::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: BLOCK_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Always),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: Some(wgpu::FragmentState {
-                module,
-                entry_point: Some("reduce_fs"),
-                compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
-                targets: &[],
-            }),
-            multiview_mask: None,
-            cache: None,
+        let key = crate::gpu::RenderKey {
+            label: "hroc reduce".to_owned(),
+            layout: pl.clone(),
+            module: module.clone(),
+            entries: ("reduce_vs".to_owned(), Some("reduce_fs".to_owned())),
+            constants: crate::gpu::constants_key(&constants),
+            depth: Some((BLOCK_FORMAT, wgpu::CompareFunction::Always, 0, true)),
+            samples: 1,
+            targets: Vec::new(),
+        };
+        let reduce = gpu.cache.render(key, || {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("hroc reduce"),
+                layout: Some(&pl),
+                vertex: wgpu::VertexState { module, entry_point: Some("reduce_vs"), compilation_options: Default::default(), buffers: &[] },
+                primitive: Default::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: BLOCK_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Always),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module,
+                    entry_point: Some("reduce_fs"),
+                    compilation_options: wgpu::PipelineCompilationOptions { constants: &constants, ..Default::default() },
+                    targets: &[],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
         });
         Blocks { scale, view, bind, reduce }
     }
