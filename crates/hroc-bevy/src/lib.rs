@@ -71,8 +71,8 @@ pub use views::{HrocFinding, HrocFindings, HrocFrameStats};
 /// depth stays bit-equal to drawing everything (`tests/headless.rs`).
 /// Each face is a view with the whole culling frame: measured on lavapipe
 /// (BENCHMARKS.md, "Bevy"), 4 point lights over radial-city 5,000 (24
-/// faces of 256²) took 6.4 × Bevy's frustum culling with `hroc` and
-/// 4.9 × with `hzb`, where drawing a face's boxes costs less than culling it.
+/// faces of 256²) took 1.35 × Bevy's frustum culling with `hroc` and
+/// 2.9 × with `hzb`.
 /// Where occlusion hides little, HROC culls a view by its frustum between
 /// measurements (as cascades).
 #[derive(Component, Clone, Copy, Debug, PartialEq)]
@@ -93,11 +93,9 @@ pub struct HrocCulling {
     /// preprocessing per cascade, and a late shadow pass wherever a
     /// cascade's frame tests by occlusion; measured on lavapipe at
     /// 320 × 180 with 4 cascades of a 1024² map (BENCHMARKS.md, "Bevy"),
-    /// the plugin's `hroc` took 0.79 × (radial-city 5,000) and 0.97 ×
+    /// the plugin's `hroc` took 0.85 × (radial-city 5,000) and 0.96 ×
     /// (`houses`) Bevy's frustum culling with cascades left to the
-    /// frustum, and 0.92 × and 1.05 × with them culled by occlusion (where
-    /// the measurements of `houses`' cascades, each an HROC frame on its
-    /// 1024² map, cost about 4 ms a frame on lavapipe).
+    /// frustum, and 0.90 × and 0.98 × with them culled by occlusion.
     ///
     /// Where on, HROC chooses per view by measurement: each cascade culls
     /// by occlusion where one frame in eight finds that occlusion culls at
@@ -105,7 +103,8 @@ pub struct HrocCulling {
     /// 0.05 triangles per pixel of the view
     /// (`hroc::options::DEPTH_ONLY_TRIANGLES`, the bar of every light
     /// view), and more triangles than the boxes its test draws (12 for
-    /// each object it tests: on `houses`, whose objects are boxes, never);
+    /// each object it tests: over objects no richer than their boxes, as
+    /// on `houses`, never, and it does not measure);
     /// and by the frustum alone otherwise
     /// (`hroc::MethodOptions::hroc_frustum_below`,
     /// `hroc::MethodOptions::hroc_frustum_triangles`), measuring again
