@@ -23,7 +23,7 @@
 //!   conservative, and the next probe runs HROC from the last V it had
 //!   (V only orders a frame). A view drawn depth only over objects that
 //!   hold no more triangles than their boxes culls by the frustum without
-//!   probing: there the rule above cannot hold ([`Gate::objects`]).
+//!   probing: there the rule above cannot hold (`Gate::objects`).
 //! - **Occluder filtering where it changes the result.** OF (step 5 with
 //!   the ID target, Lee et al. 2021 §4.2) makes the next V the objects
 //!   that own a pixel, where the merge makes it O ∪ D: it pays where many
