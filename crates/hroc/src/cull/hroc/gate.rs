@@ -56,11 +56,10 @@
 
 use super::{Hroc, Launch, MarkTarget, Seed, Step};
 use crate::contract::{DrawList, Phase};
-use crate::cull::{CullMethod, Frame, Stage};
+use crate::cull::{Frame, Stage};
 use crate::gpu::shape::EncoderShape;
 use crate::gpu::{dispatch_size, Gpu, Readback};
 use crate::layout::DrawCommand;
-use std::any::Any;
 
 /// A probe every this many frames of the view, where occlusion pays.
 pub const PROBE_EVERY: u32 = 8;
@@ -288,22 +287,6 @@ impl Gate {
         } else {
             self.since_probe = self.interval - 1;
         }
-    }
-}
-
-/// After [`crate::View::resize`] to targets of the same shape: `fresh`
-/// takes `old`'s measurements and the plan made ahead for this frame,
-/// where both are HROC views with a gate. They describe the view (its
-/// camera and the scene), not its texture: a point light's faces, which
-/// an engine moves to other layers or textures as its lights come and
-/// go, keep culling by the frustum where occlusion did not pay, rather
-/// than measuring anew, and keep to the plan the engine was told
-/// (`View::plans_late`).
-pub(crate) fn carry_gate(fresh: &mut dyn CullMethod, old: &mut dyn CullMethod) {
-    let (Some(fresh), Some(old)) = ((fresh as &mut dyn Any).downcast_mut::<Hroc>(), (old as &mut dyn Any).downcast_mut::<Hroc>()) else { return };
-    if fresh.gate.is_some() && old.gate.is_some() {
-        fresh.gate = old.gate.take();
-        (fresh.plan, fresh.planned) = (old.plan, old.planned.take());
     }
 }
 
