@@ -79,7 +79,9 @@ fn stepwise_frames_draw_every_visible_object() {
 /// without a late pass, and `View::wants_steps` asks to record only the
 /// measurements and the frames before them; the engine leaves out the
 /// rest. Every frame recorded draws every object `noc` shows and keeps to
-/// its plan.
+/// its plan. Moved halfway to another texture of the same shape (an
+/// engine's shadow map reallocated), the view keeps its measurements:
+/// its next frame is still planned to the frustum.
 #[test]
 fn frames_of_the_frustum_are_planned_ahead_and_recorded_where_needed() {
     let (device, queue) = common::device(hroc::device::FULL_FEATURES);
@@ -92,15 +94,21 @@ fn frames_of_the_frustum_are_planned_ahead_and_recorded_where_needed() {
     let options = MethodOptions { hroc_frustum_below: 1.0, hroc_frustum_triangles: hroc::options::DEPTH_ONLY_TRIANGLES, ..MethodOptions::default() };
     let mut view = culler.view_with(Method::Hroc(Variant::SF), &host.targets(), &options).unwrap();
     let input = FrameInput { view: desc, cut: false, time: 0.0 };
+    let (other, _) = street(&device);
     let (frames, mut planned, mut recorded) = (80, 0, 0);
     for k in 0..frames {
+        let host = if k < frames / 2 { &host } else { &other };
+        if k == frames / 2 {
+            view.resize(&culler, &other.targets()).unwrap();
+        }
         let late = view.plans_late(&culler, &input);
+        assert!(k != frames / 2 || !late, "the frame after the resize is planned to the frustum");
         planned += !late as u32;
         if !late && !view.wants_steps() {
             continue;
         }
         engine.late_left_out.set(0);
-        let drawn = engine.frame(&device, &queue, &host, &culler, &mut view, desc, false).unwrap();
+        let drawn = engine.frame(&device, &queue, host, &culler, &mut view, desc, false).unwrap();
         recorded += 1;
         assert!(late || engine.late_left_out.get() == 1, "frame {k}: planned without a late pass, and drew one");
         let missed: Vec<u32> = visible.iter().copied().filter(|o| drawn.binary_search(o).is_err()).collect();

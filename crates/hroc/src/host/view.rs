@@ -92,7 +92,8 @@ impl View {
     /// textures). The method's state is rebuilt for them; where the new
     /// targets have the old ones' size, format and samples, the view keeps
     /// its visible set (the next frame culls as the last one did, one small
-    /// submit on the culler's queue carries it over), else it starts over
+    /// submit on the culler's queue carries it over) and what HROC measured
+    /// of it, else it starts over
     /// as after a camera cut. Fails, leaving the view as it was, on targets
     /// no method can draw into (as [`Culler::view`]).
     pub fn resize(&mut self, culler: &Culler, targets: &ViewTargets) -> Result<()> {
@@ -103,6 +104,7 @@ impl View {
         if same_shape && !self.interrupted {
             let mut enc = culler.gpu.encoder("hroc resize");
             fresh.imp.take_over(&mut enc, self.imp.visible_set());
+            crate::cull::hroc::gate::carry_gate(&mut *fresh.imp, &mut *self.imp);
             culler.gpu.queue.submit([enc.finish()]);
             fresh.last_pose = self.last_pose;
         } else {

@@ -56,10 +56,11 @@
 
 use super::{Hroc, Launch, MarkTarget, Seed, Step};
 use crate::contract::{DrawList, Phase};
-use crate::cull::{Frame, Stage};
+use crate::cull::{CullMethod, Frame, Stage};
 use crate::gpu::shape::EncoderShape;
 use crate::gpu::{dispatch_size, Gpu, Readback};
 use crate::layout::DrawCommand;
+use std::any::Any;
 
 /// A probe every this many frames of the view, where occlusion pays.
 pub const PROBE_EVERY: u32 = 8;
@@ -287,6 +288,24 @@ impl Gate {
         } else {
             self.since_probe = self.interval - 1;
         }
+    }
+}
+
+/// After [`crate::View::resize`] to targets of the same shape: `fresh`
+/// takes `old`'s measurements and the plan made ahead for this frame,
+/// where both are HROC views with a gate. They describe the view (its
+/// camera and the scene), not its texture: a point light's faces, which
+/// an engine moves to other layers or textures as its lights come and
+/// go, keep culling by the frustum where occlusion did not pay, rather
+/// than measuring anew, and keep to the plan the engine was told
+/// (`View::plans_late`).
+pub(crate) fn carry_gate(fresh: &mut dyn CullMethod, old: &mut dyn CullMethod) {
+    let (Some(fresh), Some(old)) = ((fresh as &mut dyn Any).downcast_mut::<Hroc>(), (old as &mut dyn Any).downcast_mut::<Hroc>()) else { return };
+    // (The fresh view's passes write its own tally: only what was
+    // learned moves, and the old view's counts in flight are dropped.)
+    if let (Some(g), Some(o)) = (fresh.gate.as_mut(), old.gate.as_ref()) {
+        (g.filter_pays, g.occlusion_pays, g.since_probe, g.interval, g.last, g.boxes_only) = (o.filter_pays, o.occlusion_pays, o.since_probe, o.interval, o.last, o.boxes_only);
+        (fresh.plan, fresh.planned) = (old.plan, old.planned.take());
     }
 }
 
